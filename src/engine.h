@@ -1,0 +1,56 @@
+/* The visibility engines and the entry point that picks one. */
+#ifndef VIS_ENGINE_H
+#define VIS_ENGINE_H
+
+#include <stdint.h>
+
+#include "stack.h"
+
+enum vis_engine {
+	VIS_ENGINE_AUTO,     /* region method until it grows costly, then the sweep */
+	VIS_ENGINE_GMV,      /* section 6 sweep: offline top-of-heap lists */
+	VIS_ENGINE_GMV_HEAP, /* sections 4–5 sweep: per-node max-heaps */
+	VIS_ENGINE_REGION,   /* top-down pixman region subtraction, as X.Org does */
+	VIS_ENGINE_BRUTE,    /* coordinate compression and painting: obviously correct, slow */
+};
+
+#define VIS_ENGINE_COUNT 5
+
+/* The engine's name as visctl spells it ("auto", "gmv", "gmv-heap", "region", "brute"). O(1). */
+const char *vis_engine_name(enum vis_engine engine);
+
+/* Looks an engine up by name; returns 0, or -1 when the name is unknown. O(1). */
+int vis_engine_from_name(const char *name, enum vis_engine *engine);
+
+/*
+ * Computes the state of every window of the stack: states[i] is that of stack->rects[i].
+ * Returns 0, or -1 with errno set (ENOMEM; EOVERFLOW for a stack larger than the engine can
+ * index). Time and space are those of the engine chosen; see each engine's function.
+ */
+int vis_compute(enum vis_engine engine, const struct vis_stack *stack, uint8_t *states);
+
+/* O(n log² n) time, O(n log n) space: the sweep with per-node heaps, plus the classifier. */
+int vis_gmv_heap_compute(const struct vis_stack *stack, uint8_t *states);
+
+/*
+ * O(n log n · α(n)) time, O(n log n) space: the sweep reading offline top lists, plus the
+ * classifier.
+ */
+int vis_gmv_compute(const struct vis_stack *stack, uint8_t *states);
+
+/*
+ * Region subtraction with pixman: O(n · r) time and O(r) space, where r is the size of the union of
+ * the windows above; r reaches Θ(n²) on the grid scene, and 1 once the union covers the screen.
+ */
+int vis_region_compute(const struct vis_stack *stack, uint8_t *states);
+
+/* Painting on the compressed grid: O(n³) time, O(n²) space. For tests only. */
+int vis_brute_compute(const struct vis_stack *stack, uint8_t *states);
+
+/*
+ * The region method under a work budget of O(n log n) region boxes; past the budget, the sweep.
+ * O(n log n · α(n)) time in the worst case; the region method's time when that is cheaper.
+ */
+int vis_auto_compute(const struct vis_stack *stack, uint8_t *states);
+
+#endif
