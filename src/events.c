@@ -1,0 +1,198 @@
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "events.h"
+
+#define RADIX_BITS 11
+#define RADIX_SIZE (1u << RADIX_BITS)
+
+/*
+ * Stable LSD radix sort of (key, val) pairs by key, 11 bits a pass, skipping passes in which every
+ * key has the same digit. Stability is what lets the schedules put their tie order in first.
+ */
+static int radix_sort(uint64_t *key, uint32_t *val, size_t n)
+{
+	uint64_t max = 0;
+	for (size_t i = 0; i < n; i++)
+		max |= key[i];
+	uint64_t *key2 = malloc(n * sizeof(*key2) + 1);
+	uint32_t *val2 = malloc(n * sizeof(*val2) + 1);
+	size_t *count = malloc(RADIX_SIZE * sizeof(*count));
+	if (!key2 || !val2 || !count) {
+		free(key2);
+		free(val2);
+		free(count);
+		errno = ENOMEM;
+		return -1;
+	}
+	uint64_t *src_k = key, *dst_k = key2;
+	uint32_t *src_v = val, *dst_v = val2;
+	for (unsigned shift = 0; shift < 64 && (max >> shift) != 0; shift += RADIX_BITS) {
+		memset(count, 0, RADIX_SIZE * sizeof(*count));
+		for (size_t i = 0; i < n; i++)
+			count[(src_k[i] >> shift) & (RADIX_SIZE - 1)]++;
+		if (count[(src_k[0] >> shift) & (RADIX_SIZE - 1)] == n)
+			continue;
+		size_t sum = 0;
+		for (size_t d = 0; d < RADIX_SIZE; d++) {
+			size_t c = count[d];
+			count[d] = sum;
+			sum += c;
+		}
+		for (size_t i = 0; i < n; i++) {
+			size_t at = count[(src_k[i] >> shift) & (RADIX_SIZE - 1)]++;
+			dst_k[at] = src_k[i];
+			dst_v[at] = src_v[i];
+		}
+		uint64_t *tk = src_k;
+		src_k = dst_k;
+		dst_k = tk;
+		uint32_t *tv = src_v;
+		src_v = dst_v;
+		dst_v = tv;
+	}
+	if (src_k != key) {
+		memcpy(key, src_k, n * sizeof(*key));
+		memcpy(val, src_v, n * sizeof(*val));
+	}
+	free(key2);
+	free(val2);
+	free(count);
+	return 0;
+}
+
+void vis_events_finish(struct vis_events *ev)
+{
+	free(ev->idx);
+	free(ev->lo);
+	free(ev->hi);
+	free(ev->x1);
+	free(ev->x2);
+	memset(ev, 0, sizeof(*ev));
+}
+
+/* Ranks the 2n y edges: after it, lo[k] and hi[k] are leaf indices. */
+static int rank_y(struct vis_events *ev, const int64_t *y1, const int64_t *y2)
+{
+	size_t n = ev->n, m = 2 * n;
+	uint64_t *key = malloc(m * sizeof(*key) + 1);
+	uint32_t *val = malloc(m * sizeof(*val) + 1);
+	if (!key || !val) {
+		free(key);
+		free(val);
+		errno = ENOMEM;
+		return -1;
+	}
+	int64_t ymin = INT64_MAX;
+	for (size_t k = 0; k < n; k++)
+		ymin = y1[k] < ymin ? y1[k] : ymin;
+	for (size_t k = 0; k < n; k++) {
+		key[2 * k] = (uint64_t)(y1[k] - ymin);
+		val[2 * k] = (uint32_t)(2 * k);
+		key[2 * k + 1] = (uint64_t)(y2[k] - ymin);
+		val[2 * k + 1] = (uint32_t)(2 * k + 1);
+	}
+	if (radix_sort(key, val, m) < 0) {
+		free(key);
+		free(val);
+		return -1;
+	}
+	uint32_t rank = 0;
+	for (size_t i = 0; i < m; i++) {
+		if (i > 0 && key[i] != key[i - 1])
+			rank++;
+		uint32_t e = val[i];
+		if (e & 1)
+			ev->hi[e >> 1] = rank;
+		else
+			ev->lo[e >> 1] = rank;
+	}
+	ev->nleaves = m ? rank : 0;
+	free(key);
+	free(val);
+	return 0;
+}
+
+int vis_events_init(struct vis_events *ev, const struct vis_stack *stack, size_t first)
+{
+	memset(ev, 0, sizeof(*ev));
+	if (stack->n > (1u << 30)) {
+		errno = EOVERFLOW;
+		return -1;
+	}
+	size_t cap = stack->n > first ? stack->n - first : 0;
+	int64_t *y1 = malloc(cap * sizeof(*y1) + 1);
+	int64_t *y2 = malloc(cap * sizeof(*y2) + 1);
+	ev->idx = malloc(cap * sizeof(*ev->idx) + 1);
+	ev->lo = malloc(cap * sizeof(*ev->lo) + 1);
+	ev->hi = malloc(cap * sizeof(*ev->hi) + 1);
+	ev->x1 = malloc(cap * sizeof(*ev->x1) + 1);
+	ev->x2 = malloc(cap * sizeof(*ev->x2) + 1);
+	if (!y1 || !y2 || !ev->idx || !ev->lo || !ev->hi || !ev->x1 || !ev->x2)
+		goto nomem;
+	size_t n = 0;
+	for (size_t i = first; i < stack->n; i++) {
+		struct vis_box b = vis_stack_clip(stack, i);
+		if (vis_box_empty(b))
+			continue;
+		ev->idx[n] = (uint32_t)i;
+		ev->x1[n] = b.x1;
+		ev->x2[n] = b.x2;
+		y1[n] = b.y1;
+		y2[n] = b.y2;
+		n++;
+	}
+	ev->n = n;
+	if (rank_y(ev, y1, y2) < 0)
+		goto fail;
+	free(y1);
+	free(y2);
+	return 0;
+nomem:
+	errno = ENOMEM;
+fail:
+	free(y1);
+	free(y2);
+	vis_events_finish(ev);
+	return -1;
+}
+
+int vis_events_schedule(const struct vis_events *ev, enum vis_order order, uint32_t *sched)
+{
+	size_t n = ev->n, m = 2 * n;
+	if (n == 0)
+		return 0;
+	uint64_t *key = malloc(m * sizeof(*key));
+	if (!key) {
+		errno = ENOMEM;
+		return -1;
+	}
+	int64_t xmin = INT64_MAX;
+	for (size_t k = 0; k < n; k++)
+		xmin = ev->x1[k] < xmin ? ev->x1[k] : xmin;
+	/* The radix sort is stable: lay the events out in their tie order first. */
+	size_t at = 0;
+	if (order == VIS_ORDER_VISIBILITY) {
+		for (size_t k = n; k-- > 0;) {
+			key[at] = (uint64_t)(ev->x1[k] - xmin);
+			sched[at++] = (uint32_t)(k << 1);
+		}
+		for (size_t k = 0; k < n; k++) {
+			key[at] = (uint64_t)(ev->x2[k] - xmin);
+			sched[at++] = (uint32_t)(k << 1 | 1);
+		}
+	} else {
+		for (size_t k = 0; k < n; k++) {
+			key[at] = (uint64_t)(ev->x2[k] - xmin);
+			sched[at++] = (uint32_t)(k << 1 | 1);
+		}
+		for (size_t k = 0; k < n; k++) {
+			key[at] = (uint64_t)(ev->x1[k] - xmin);
+			sched[at++] = (uint32_t)(k << 1);
+		}
+	}
+	int rc = radix_sort(key, sched, m);
+	free(key);
+	return rc;
+}

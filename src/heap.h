@@ -1,0 +1,42 @@
+/* Binary max-heaps of window numbers in caller-provided storage, for the per-node heaps. */
+#ifndef VIS_HEAP_H
+#define VIS_HEAP_H
+
+#include <stdint.h>
+
+/* Adds x to the max-heap a[0 … *len). The caller guarantees room. O(log len). */
+static inline void vis_heap_push(uint32_t *a, uint32_t *len, uint32_t x)
+{
+	uint32_t i = (*len)++;
+	while (i > 0) {
+		uint32_t p = (i - 1) / 2;
+		if (a[p] >= x)
+			break;
+		a[i] = a[p];
+		i = p;
+	}
+	a[i] = x;
+}
+
+/* Removes the largest element of the non-empty max-heap a[0 … *len). O(log len). */
+static inline void vis_heap_pop(uint32_t *a, uint32_t *len)
+{
+	uint32_t n = --(*len);
+	if (n == 0)
+		return;
+	uint32_t x = a[n], i = 0;
+	for (;;) {
+		uint32_t c = 2 * i + 1;
+		if (c >= n)
+			break;
+		if (c + 1 < n && a[c + 1] > a[c])
+			c++;
+		if (a[c] <= x)
+			break;
+		a[i] = a[c];
+		i = c;
+	}
+	a[i] = x;
+}
+
+#endif

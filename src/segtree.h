@@ -1,0 +1,47 @@
+/* The shape of the segment tree the sweeps share. */
+#ifndef VIS_SEGTREE_H
+#define VIS_SEGTREE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/*
+ * A segment tree over m leaves (elementary intervals 0 … m − 1), laid out in pre-order so that a
+ * subtree is one contiguous block: the deep end of a root-to-leaf path, where the cache misses are,
+ * stays within a few lines. Node 0 covers [0, m); a node covering [lo, hi) with hi − lo ≥ 2 splits
+ * at mid = lo + (hi − lo) / 2, its left child (v + 1) covering [lo, mid) and its right child
+ * (v + 2 (mid − lo)) covering [mid, hi). There are 2m − 1 nodes; the height is ⌈log2 m⌉.
+ * A range [a, b) is stored at its canonical nodes: the maximal nodes whose interval lies inside it,
+ * at most two a level.
+ */
+
+#define VIS_SEGTREE_MAX_CANONICAL 64
+
+static inline uint32_t vis_segtree_mid(uint32_t lo, uint32_t hi)
+{
+	return lo + (hi - lo) / 2;
+}
+
+static inline uint32_t vis_segtree_left(uint32_t v)
+{
+	return v + 1;
+}
+
+static inline uint32_t vis_segtree_right(uint32_t v, uint32_t lo, uint32_t mid)
+{
+	return v + 2 * (mid - lo);
+}
+
+/* The number of nodes of a tree over m leaves (0 for m = 0). O(1). */
+static inline size_t vis_segtree_nodes(uint32_t m)
+{
+	return m ? 2 * (size_t)m - 1 : 0;
+}
+
+/*
+ * Writes the canonical nodes of [a, b) (0 ≤ a < b ≤ m) into out, left to right, and returns their
+ * number (at most 2 ⌈log2 m⌉ ≤ VIS_SEGTREE_MAX_CANONICAL). O(log m).
+ */
+size_t vis_segtree_canonical(uint32_t m, uint32_t a, uint32_t b, uint32_t *out);
+
+#endif
