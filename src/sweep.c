@@ -2,7 +2,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "classify.h"
 #include "segtree.h"
 #include "sweep.h"
 
@@ -13,17 +12,40 @@
  *   subtree: max(min(l of the children), top), top at a leaf; 0 if some leaf has nothing;
  * - h: an upper bound on the highest unreported window that is the top of a subtree node and
  *   visible within the subtree (0 if none). It is exact except for windows reported during the
- *   current event, whose nodes are refreshed right after it (section 6).
+ *   current event, whose nodes are refreshed right after it (section 6);
+ * - m: the highest window stored in the subtree.
  */
 struct node {
-	uint32_t top, l, h;
+	uint32_t top, l, h, m;
+};
+
+/*
+ * Unobscured windows. A window is unobscured iff it is on the screen and no higher window
+ * overlaps it, i.e. iff it is the top at every leaf of its range once the events at its x1 are
+ * done (the higher windows that start before it or with it are there, those that end there are
+ * gone), and no higher window starting later, while it is active, overlaps it. The candidates —
+ * windows that passed the first test and are not yet overlapped — are pairwise disjoint, so each
+ * tree node holds at most one: cand[v] (0 if none) and submin[v], the lowest candidate in the
+ * subtree (UINT32_MAX if none).
+ */
+enum cand_state {
+	CAND_NONE,
+	CAND_ACTIVE,
+	CAND_DONE, /* ended while a candidate: unobscured */
+	CAND_OVERLAPPED,
 };
 
 struct sweep {
 	struct node *node;
 	uint8_t *reported; /* by z */
-	uint32_t *newly;   /* windows reported during the current event */
+	uint8_t *cstate;   /* by z: enum cand_state */
+	uint32_t *cand, *submin;
+	uint32_t *newly; /* windows reported during the current event */
 	size_t nnewly;
+	uint32_t *group; /* windows inserted at the current x */
+	size_t ngroup;
+	uint32_t *found; /* candidates overlapped by the window being checked */
+	size_t nfound;
 	const struct vis_top_source *src;
 	uint32_t a, b, z; /* the current event's leaf range and window */
 };
@@ -51,15 +73,16 @@ static inline uint32_t children_l(const struct sweep *s, uint32_t v, uint32_t lo
 static inline void update(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi)
 {
 	struct node *nd = &s->node[v];
-	uint32_t cl = 0, ch = 0;
+	uint32_t t = nd->top, cl = 0, ch = 0, cm = 0;
 	if (hi - lo > 1) {
 		uint32_t mid = vis_segtree_mid(lo, hi);
 		const struct node *u = &s->node[vis_segtree_left(v)];
 		const struct node *w = &s->node[vis_segtree_right(v, lo, mid)];
 		cl = min32(u->l, w->l);
 		ch = max32(u->h, w->h);
+		cm = max32(u->m, w->m);
 	}
-	uint32_t t = nd->top;
+	nd->m = max32(cm, t);
 	nd->l = max32(cl, t);
 	if (ch < t)
 		ch = 0; /* t spans the whole subtree: everything under it is hidden */
@@ -156,78 +179,222 @@ static void refresh(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi)
 	update(s, v, lo, hi);
 }
 
-int vis_sweep_run(const struct vis_events *ev, const uint32_t *sched,
-		  const struct vis_top_source *src, uint8_t *visible)
+/* Whether window z is the top at every leaf of [a, b): S-free since any ancestor above fails. */
+static bool on_top(const struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi)
 {
-	size_t n = ev->n;
+	const struct node *nd = &s->node[v];
+	if (s->a <= lo && hi <= s->b) {
+		if (nd->top != s->z)
+			return false;
+		if (hi - lo == 1)
+			return true;
+		uint32_t mid = vis_segtree_mid(lo, hi);
+		return max32(s->node[vis_segtree_left(v)].m,
+			     s->node[vis_segtree_right(v, lo, mid)].m) < s->z;
+	}
+	if (nd->top > s->z)
+		return false;
+	uint32_t mid = vis_segtree_mid(lo, hi);
+	if (s->a < mid && !on_top(s, vis_segtree_left(v), lo, mid))
+		return false;
+	return !(s->b > mid && !on_top(s, vis_segtree_right(v, lo, mid), mid, hi));
+}
+
+/* Sets the candidate of the canonical nodes of [a, b) to c (0 to clear), keeping submin. */
+static void cand_store(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t c)
+{
+	uint32_t mn = UINT32_MAX;
+	if (s->a <= lo && hi <= s->b) {
+		s->cand[v] = c;
+	} else {
+		uint32_t mid = vis_segtree_mid(lo, hi);
+		if (s->a < mid)
+			cand_store(s, vis_segtree_left(v), lo, mid, c);
+		if (s->b > mid)
+			cand_store(s, vis_segtree_right(v, lo, mid), mid, hi, c);
+	}
+	if (hi - lo > 1) {
+		uint32_t mid = vis_segtree_mid(lo, hi);
+		mn = min32(s->submin[vis_segtree_left(v)], s->submin[vis_segtree_right(v, lo, mid)]);
+	}
+	s->submin[v] = s->cand[v] ? min32(mn, s->cand[v]) : mn;
+}
+
+static inline void overlapped(struct sweep *s, uint32_t c)
+{
+	if (c && c < s->z && s->cstate[c] == CAND_ACTIVE) {
+		s->cstate[c] = CAND_OVERLAPPED;
+		s->found[s->nfound++] = c;
+	}
+}
+
+/* Finds the candidates below z in v's subtree (all of which overlap the window). */
+static void find_below(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi)
+{
+	if (s->submin[v] >= s->z)
+		return;
+	overlapped(s, s->cand[v]);
+	if (hi - lo > 1) {
+		uint32_t mid = vis_segtree_mid(lo, hi);
+		find_below(s, vis_segtree_left(v), lo, mid);
+		find_below(s, vis_segtree_right(v, lo, mid), mid, hi);
+	}
+}
+
+/* Finds the candidates below z that overlap [a, b). */
+static void find_overlapped(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi)
+{
+	if (s->submin[v] >= s->z)
+		return;
+	if (s->a <= lo && hi <= s->b) {
+		find_below(s, v, lo, hi);
+		return;
+	}
+	overlapped(s, s->cand[v]);
+	uint32_t mid = vis_segtree_mid(lo, hi);
+	if (s->a < mid)
+		find_overlapped(s, vis_segtree_left(v), lo, mid);
+	if (s->b > mid)
+		find_overlapped(s, vis_segtree_right(v, lo, mid), mid, hi);
+}
+
+/* Sets the current window and its leaf range. */
+static inline void set_window(struct sweep *s, const struct vis_events *ev, uint32_t k)
+{
+	s->z = k + 1;
+	s->a = ev->lo[k];
+	s->b = ev->hi[k];
+}
+
+/*
+ * After all events at one x: the windows that started there overlap the candidates they meet,
+ * and those on the screen and on top everywhere become candidates.
+ */
+static void end_group(struct sweep *s, const struct vis_events *ev, const uint8_t *onscreen)
+{
+	uint32_t m = ev->nleaves;
+	for (size_t g = 0; g < s->ngroup; g++) {
+		set_window(s, ev, s->group[g]);
+		s->nfound = 0;
+		find_overlapped(s, 0, 0, m);
+		for (size_t f = 0; f < s->nfound; f++) {
+			set_window(s, ev, s->found[f] - 1);
+			cand_store(s, 0, 0, m, 0);
+		}
+	}
+	for (size_t g = 0; g < s->ngroup; g++) {
+		uint32_t k = s->group[g];
+		set_window(s, ev, k);
+		if (onscreen[k] && on_top(s, 0, 0, m)) {
+			s->cstate[s->z] = CAND_ACTIVE;
+			cand_store(s, 0, 0, m, s->z);
+		}
+	}
+	s->ngroup = 0;
+}
+
+static void sweep_free(struct sweep *s)
+{
+	free(s->node);
+	free(s->reported);
+	free(s->cstate);
+	free(s->cand);
+	free(s->submin);
+	free(s->newly);
+	free(s->group);
+	free(s->found);
+}
+
+int vis_sweep_run(const struct vis_events *ev, const uint32_t *sched,
+		  const struct vis_top_source *src, const uint8_t *onscreen, uint8_t *states)
+{
+	size_t n = ev->n, nodes = vis_segtree_nodes(ev->nleaves);
 	uint32_t m = ev->nleaves;
 	if (n == 0)
 		return 0;
 	struct sweep s = { .src = src };
-	s.node = calloc(vis_segtree_nodes(m), sizeof(*s.node));
+	s.node = calloc(nodes, sizeof(*s.node));
 	s.reported = calloc(n + 1, 1);
+	s.cstate = calloc(n + 1, 1);
+	s.cand = calloc(nodes, sizeof(*s.cand));
+	s.submin = malloc(nodes * sizeof(*s.submin));
 	s.newly = malloc(n * sizeof(*s.newly));
-	if (!s.node || !s.reported || !s.newly) {
-		free(s.node);
-		free(s.reported);
-		free(s.newly);
+	s.group = malloc(n * sizeof(*s.group));
+	s.found = malloc(n * sizeof(*s.found));
+	if (!s.node || !s.reported || !s.cstate || !s.cand || !s.submin || !s.newly || !s.group ||
+	    !s.found) {
+		sweep_free(&s);
 		errno = ENOMEM;
 		return -1;
 	}
+	for (size_t v = 0; v < nodes; v++)
+		s.submin[v] = UINT32_MAX;
+	int64_t x = 0;
 	for (size_t i = 0; i < 2 * n; i++) {
 		uint32_t k = VIS_EV_WINDOW(sched[i]);
-		s.z = k + 1;
-		s.a = ev->lo[k];
-		s.b = ev->hi[k];
-		if (VIS_EV_IS_DELETE(sched[i])) {
+		bool del = VIS_EV_IS_DELETE(sched[i]);
+		int64_t ex = del ? ev->x2[k] : ev->x1[k];
+		if (i > 0 && ex != x)
+			end_group(&s, ev, onscreen);
+		x = ex;
+		set_window(&s, ev, k);
+		if (del) {
 			if (src->deleted)
 				src->deleted(src->ctx, s.z);
 			right_delete(&s, 0, 0, m, 0);
+			if (s.cstate[s.z] == CAND_ACTIVE) {
+				s.cstate[s.z] = CAND_DONE;
+				cand_store(&s, 0, 0, m, 0);
+			}
 		} else {
 			left_insert(&s, 0, 0, m, 0);
+			s.group[s.ngroup++] = k;
 		}
 		/* Section 6: a newly reported window no longer counts in h anywhere. */
 		for (size_t j = 0; j < s.nnewly; j++) {
-			uint32_t r = s.newly[j] - 1;
-			s.a = ev->lo[r];
-			s.b = ev->hi[r];
+			set_window(&s, ev, s.newly[j] - 1);
 			refresh(&s, 0, 0, m);
 		}
 		s.nnewly = 0;
 	}
-	for (size_t k = 0; k < n; k++)
-		visible[k] = s.reported[k + 1];
-	free(s.node);
-	free(s.reported);
-	free(s.newly);
+	end_group(&s, ev, onscreen);
+	for (size_t k = 0; k < n; k++) {
+		uint32_t z = (uint32_t)k + 1;
+		states[ev->idx[k]] = !s.reported[z]		 ? VIS_FULLY_OBSCURED
+				     : s.cstate[z] == CAND_DONE ? VIS_UNOBSCURED
+								 : VIS_PARTIALLY_OBSCURED;
+	}
+	sweep_free(&s);
 	return 0;
 }
 
 int vis_sweep_compute(const struct vis_stack *stack, const struct vis_top_source_ops *ops,
 		      uint8_t *states)
 {
+	for (size_t i = 0; i < stack->n; i++)
+		states[i] = VIS_FULLY_OBSCURED;
 	struct vis_events ev;
 	if (vis_events_init(&ev, stack, 0) < 0)
 		return -1;
 	int rc = -1;
 	struct vis_top_source src = { 0 };
 	uint32_t *sched = malloc(2 * ev.n * sizeof(*sched) + 1);
-	uint8_t *visible = calloc(ev.n + 1, 1);
-	if (!sched || !visible) {
+	uint8_t *onscreen = malloc(ev.n + 1);
+	if (!sched || !onscreen) {
 		errno = ENOMEM;
 		goto out;
 	}
+	for (size_t k = 0; k < ev.n; k++)
+		onscreen[k] = vis_stack_on_screen(stack, ev.idx[k]);
 	if (vis_events_schedule(&ev, VIS_ORDER_VISIBILITY, sched) < 0)
 		goto out;
 	if (ops->make(&src, &ev, sched) < 0)
 		goto out;
-	rc = vis_sweep_run(&ev, sched, &src, visible);
+	rc = vis_sweep_run(&ev, sched, &src, onscreen, states);
 	ops->free(&src);
-	if (rc == 0)
-		rc = vis_classify(stack, &ev, visible, states);
 out:
 	free(sched);
-	free(visible);
+	free(onscreen);
 	vis_events_finish(&ev);
 	return rc;
 }

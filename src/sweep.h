@@ -21,12 +21,12 @@ struct vis_top_source {
 };
 
 /*
- * Runs the sweep over the events in VIS_ORDER_VISIBILITY order and sets visible[k] to 1 for every
- * kept window k with a visible pixel (visible has room for ev->n, zeroed by the caller).
+ * Runs the sweep over the events in VIS_ORDER_VISIBILITY order and writes the state of every kept
+ * window k into states[ev->idx[k]]; onscreen[k] says whether k lies wholly on the screen.
  * Returns 0, or -1 (ENOMEM). O(n log n) node visits, plus what the top source costs.
  */
 int vis_sweep_run(const struct vis_events *ev, const uint32_t *sched,
-		  const struct vis_top_source *src, uint8_t *visible);
+		  const struct vis_top_source *src, const uint8_t *onscreen, uint8_t *states);
 
 /*
  * The sweep's whole job for one engine: events, schedule, the sweep with the given source, and
