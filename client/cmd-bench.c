@@ -1,0 +1,894 @@
+/* visctl bench: every engine timed on generated scenes of growing size, against a qsort floor. */
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "engine.h"
+#include "gen.h"
+#include "scene.h"
+#include "visctl.h"
+
+#define MAX_SIZES 64
+
+static const size_t default_sizes[] = {
+	1000, 2000, 10000, 100000, 200000, 400000, 1000000,
+};
+
+/* Brute is left out: it is the tests' oracle, O(n³), and would only be skipped past n = 10^3. */
+static const enum vis_engine default_engines[] = {
+	VIS_ENGINE_AUTO, VIS_ENGINE_GMV, VIS_ENGINE_GMV_HEAP, VIS_ENGINE_REGION,
+};
+
+/* One colour per engine, indexed by enum vis_engine, so a plot reads the same across runs. */
+static const char *const engine_colours[VIS_ENGINE_COUNT] = {
+	[VIS_ENGINE_AUTO] = "#1f77b4",
+	[VIS_ENGINE_GMV] = "#d62728",
+	[VIS_ENGINE_GMV_HEAP] = "#2ca02c",
+	[VIS_ENGINE_REGION] = "#ff7f0e",
+	[VIS_ENGINE_BRUTE] = "#9467bd",
+};
+
+/* What became of one (kind, size, column) measurement; the column past the engines is qsort. */
+enum cell_status {
+	CELL_PENDING,   /* not reached */
+	CELL_RAN,       /* ms holds the minimum over the repetitions */
+	CELL_PREDICTED, /* skipped: extrapolation says it would run past the limit */
+	CELL_STOPPED,   /* skipped: a smaller size already ran past the limit */
+};
+
+struct cell {
+	enum cell_status status;
+	double ms;
+};
+
+/*
+ * The run's settings and results. sizes are ascending and unique, which the extrapolation
+ * relies on; cells holds nkinds × nsizes × (nengines + 1) entries, qsort last in each row.
+ */
+struct bench {
+	enum vis_gen_kind kinds[VIS_GEN_KIND_COUNT];
+	size_t nkinds;
+	enum vis_engine engines[VIS_ENGINE_COUNT];
+	size_t nengines;
+	size_t sizes[MAX_SIZES];
+	size_t nsizes;
+	unsigned reps;    /* 0: adaptive */
+	double target_s;  /* adaptive: repeat until this much time is spent on a cell */
+	double limit_s;   /* a cell predicted or measured past this is skipped at larger sizes */
+	uint64_t seed;
+	long ncpu;
+	char cpu[128];
+	char date[64];
+	struct cell *cells;
+};
+
+/* The cell of kind k, size s and column c. */
+static struct cell *cell_at(const struct bench *b, size_t k, size_t s, size_t c)
+{
+	return &b->cells[(k * b->nsizes + s) * (b->nengines + 1) + c];
+}
+
+/* Seconds on the monotonic clock, which NTP slewing cannot bend. */
+static double now_s(void)
+{
+	struct timespec ts;
+
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* Formats a time in ms with about three significant figures, so columns stay narrow. */
+static const char *fmt_ms(char *buf, size_t len, double ms)
+{
+	snprintf(buf, len, ms < 10 ? "%.3f" : ms < 10000 ? "%.1f" : "%.0f", ms);
+	return buf;
+}
+
+/* Parses a whole unsigned decimal number; strtoull alone would accept "-1" and "12abc". */
+static int parse_u64(const char *s, uint64_t *out)
+{
+	char *end;
+
+	if (*s < '0' || *s > '9')
+		return -1;
+	errno = 0;
+	unsigned long long v = strtoull(s, &end, 10);
+	if (errno != 0 || *end != '\0')
+		return -1;
+	*out = v;
+	return 0;
+}
+
+/* Orders sizes for qsort. */
+static int cmp_size(const void *a, const void *b)
+{
+	size_t x = *(const size_t *)a, y = *(const size_t *)b;
+
+	return (x > y) - (x < y);
+}
+
+/* Orders coordinates: the plain comparison the reference qsort is meant to measure. */
+static int cmp_i64(const void *a, const void *b)
+{
+	int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+
+	return (x > y) - (x < y);
+}
+
+/* Parses a comma-separated list of names or numbers into the bench; returns -1 after a message. */
+static int parse_list(struct bench *b, int which, const char *arg)
+{
+	char *copy = strdup(arg), *save = NULL, *tok;
+
+	if (copy == NULL) {
+		fprintf(stderr, "visctl bench: out of memory\n");
+		return -1;
+	}
+	if (which == 'k')
+		b->nkinds = 0;
+	else if (which == 'e')
+		b->nengines = 0;
+	else
+		b->nsizes = 0;
+	for (tok = strtok_r(copy, ",", &save); tok != NULL; tok = strtok_r(NULL, ",", &save)) {
+		enum vis_gen_kind kind;
+		enum vis_engine engine;
+		uint64_t n;
+
+		if (which == 'k' && vis_gen_kind_from_name(tok, &kind) == 0) {
+			for (size_t i = 0; i < b->nkinds; i++)
+				if (b->kinds[i] == kind)
+					goto dup;
+			b->kinds[b->nkinds++] = kind;
+		} else if (which == 'e' && vis_engine_from_name(tok, &engine) == 0) {
+			for (size_t i = 0; i < b->nengines; i++)
+				if (b->engines[i] == engine)
+					goto dup;
+			b->engines[b->nengines++] = engine;
+		} else if (which == 's' && parse_u64(tok, &n) == 0 && n >= 1 &&
+			   n <= SIZE_MAX / 64) {
+			if (b->nsizes == MAX_SIZES) {
+				fprintf(stderr, "visctl bench: at most %d sizes\n", MAX_SIZES);
+				goto fail;
+			}
+			b->sizes[b->nsizes++] = (size_t)n;
+		} else {
+			fprintf(stderr, "visctl bench: %s '%s'\n",
+				which == 'k' ? "unknown kind" : which == 'e' ? "unknown engine" :
+				"bad size", tok);
+			goto fail;
+		}
+		continue;
+dup:
+		fprintf(stderr, "visctl bench: '%s' given twice\n", tok);
+		goto fail;
+	}
+	if ((which == 'k' && b->nkinds == 0) || (which == 'e' && b->nengines == 0) ||
+	    (which == 's' && b->nsizes == 0)) {
+		fprintf(stderr, "visctl bench: empty list '%s'\n", arg);
+		goto fail;
+	}
+	free(copy);
+	return 0;
+fail:
+	free(copy);
+	return -1;
+}
+
+/* Prints the usage text, for --help and after a bad option. */
+static void usage(FILE *f)
+{
+	fprintf(f,
+		"usage: visctl bench [--kinds K,...] [--engines E,...] [--sizes N,...]\n"
+		"                    [--max-n N] [--reps R] [--seed S] [--limit SECONDS]\n"
+		"                    [--svg FILE] [--csv FILE] [--quick]\n"
+		"Times vis_compute per engine on generated scenes (minimum over repetitions;\n"
+		"by default repeated until 0.2 s is spent on a cell) against qsort of the 4n\n"
+		"coordinates. Defaults: all kinds; engines auto,gmv,gmv-heap,region;\n"
+		"sizes 1000,2000,10000,100000,200000,400000,1000000; seed 1; limit 60 s.\n"
+		"--quick: sizes up to 10000 and 0.02 s per cell, a smoke run.\n");
+}
+
+/* Reads the CPU model and the date, so a table or plot says where and when it was made. */
+static void describe_machine(struct bench *b)
+{
+	FILE *f = fopen("/proc/cpuinfo", "r");
+	char line[512];
+	time_t t = time(NULL);
+	struct tm tm;
+
+	snprintf(b->cpu, sizeof(b->cpu), "unknown CPU");
+	while (f != NULL && fgets(line, sizeof(line), f) != NULL) {
+		char *colon = strchr(line, ':');
+
+		/* x86 says "model name", some ARM kernels only "Hardware" or "Processor". */
+		if (colon == NULL || (strncmp(line, "model name", 10) != 0 &&
+				      strncmp(line, "Processor", 9) != 0))
+			continue;
+		colon += strspn(colon + 1, " \t") + 1;
+		colon[strcspn(colon, "\n")] = '\0';
+		snprintf(b->cpu, sizeof(b->cpu), "%s", colon);
+		break;
+	}
+	if (f != NULL)
+		fclose(f);
+	b->ncpu = sysconf(_SC_NPROCESSORS_ONLN);
+	if (localtime_r(&t, &tm) == NULL ||
+	    strftime(b->date, sizeof(b->date), "%Y-%m-%d %H:%M %Z", &tm) == 0)
+		snprintf(b->date, sizeof(b->date), "unknown date");
+}
+
+/* Whether a cell has had enough repetitions: a fixed count, or enough time for a stable minimum. */
+static bool reps_done(const struct bench *b, unsigned reps, double total_s, double last_s)
+{
+	if (last_s > b->limit_s)
+		return true;
+	if (b->reps != 0)
+		return reps >= b->reps;
+	return total_s >= b->target_s || reps >= 100000;
+}
+
+/* Times one engine on a stack, leaving its states in states; returns -1 with errno on failure. */
+static int time_engine(const struct bench *b, enum vis_engine engine,
+		       const struct vis_stack *stack, uint8_t *states, double *ms,
+		       unsigned *reps)
+{
+	double best = INFINITY, total = 0, t;
+
+	*reps = 0;
+	do {
+		double t0 = now_s();
+
+		if (vis_compute(engine, stack, states) < 0)
+			return -1;
+		t = now_s() - t0;
+		total += t;
+		(*reps)++;
+		if (t < best)
+			best = t;
+	} while (!reps_done(b, *reps, total, t));
+	*ms = best * 1e3;
+	return 0;
+}
+
+/* Times qsort of count coordinates, each rep on a fresh copy so it never sorts sorted data. */
+static void time_qsort(const struct bench *b, const int64_t *coords, int64_t *work,
+		       size_t count, double *ms, unsigned *reps)
+{
+	double best = INFINITY, total = 0, t;
+
+	*reps = 0;
+	do {
+		memcpy(work, coords, count * sizeof(*work));
+		double t0 = now_s();
+
+		qsort(work, count, sizeof(*work), cmp_i64);
+		t = now_s() - t0;
+		total += t;
+		(*reps)++;
+		if (t < best)
+			best = t;
+	} while (!reps_done(b, *reps, total, t));
+	*ms = best * 1e3;
+}
+
+/*
+ * Predicts column c's time at size s from its earlier sizes on the same kind, so a cell that
+ * would run past the limit is never started. The growth exponent is the one observed between the
+ * last two sizes, clamped to [1, 3]: no engine is sublinear or worse than cubic, and small-n
+ * timing noise can suggest either. The region method, once past 1 s, is held to at least 2:
+ * its box count grows as Θ(n²) on bad scenes, and being slow means it is on that curve.
+ * Returns 0 when there is no earlier size to extrapolate from.
+ */
+static double predict_ms(const struct bench *b, size_t k, size_t s, size_t c)
+{
+	size_t last = SIZE_MAX, prev = SIZE_MAX;
+
+	for (size_t i = 0; i < s; i++) {
+		if (cell_at(b, k, i, c)->status == CELL_RAN) {
+			prev = last;
+			last = i;
+		}
+	}
+	if (last == SIZE_MAX)
+		return 0;
+	double t1 = cell_at(b, k, last, c)->ms, n1 = (double)b->sizes[last];
+	double e = 1;
+	if (prev != SIZE_MAX) {
+		double t0 = cell_at(b, k, prev, c)->ms, n0 = (double)b->sizes[prev];
+
+		if (t0 > 0 && t1 > 0)
+			e = log(t1 / t0) / log(n1 / n0);
+	}
+	if (c < b->nengines && b->engines[c] == VIS_ENGINE_REGION && t1 > 1000 && e < 2)
+		e = 2;
+	e = e < 1 ? 1 : e > 3 ? 3 : e;
+	return t1 * pow((double)b->sizes[s] / n1, e);
+}
+
+/* Prints the first window two engines disagree on, the one failure a benchmark must not hide. */
+static void report_mismatch(const struct bench *b, size_t k, size_t n, enum vis_engine ref,
+			    const uint8_t *want, enum vis_engine engine, const uint8_t *got)
+{
+	size_t i = 0;
+
+	while (i < n && want[i] == got[i])
+		i++;
+	fprintf(stderr, "visctl bench: engines disagree on %s n=%zu seed %llu: window %zu "
+		"(id %zu) is %s under %s but %s under %s\n",
+		vis_gen_kind_name(b->kinds[k]), n, (unsigned long long)b->seed, i, i + 1,
+		vis_state_name((enum vis_state)want[i]), vis_engine_name(ref),
+		vis_state_name((enum vis_state)got[i]), vis_engine_name(engine));
+}
+
+/* Measures every column at size s of kind k; returns 0, or -1 after printing why. */
+static int bench_size(struct bench *b, size_t k, size_t s)
+{
+	const char *kind = vis_gen_kind_name(b->kinds[k]);
+	size_t n = b->sizes[s], have_ref = SIZE_MAX;
+	struct vis_scene scene;
+	uint8_t *states = NULL, *ref = NULL;
+	int64_t *coords = NULL, *work = NULL;
+	char buf[32];
+	unsigned reps;
+	int ret = -1;
+
+	vis_scene_init(&scene);
+	if (vis_gen(&scene, b->kinds[k], n, b->seed, 0, 0) < 0) {
+		fprintf(stderr, "visctl bench: generating %s n=%zu: %s\n", kind, n,
+			strerror(errno));
+		goto out;
+	}
+	struct vis_stack stack = vis_scene_stack(&scene);
+	/* n ≤ SIZE_MAX / 64 was checked when parsing, so 4n coordinates cannot overflow. */
+	states = malloc(n);
+	ref = malloc(n);
+	coords = malloc(4 * n * sizeof(*coords));
+	work = malloc(4 * n * sizeof(*work));
+	if (states == NULL || ref == NULL || coords == NULL || work == NULL) {
+		fprintf(stderr, "visctl bench: %s n=%zu: out of memory\n", kind, n);
+		goto out;
+	}
+	for (size_t i = 0; i < n; i++) {
+		struct vis_box box = vis_rect_box(stack.rects[i]);
+
+		coords[4 * i] = box.x1;
+		coords[4 * i + 1] = box.y1;
+		coords[4 * i + 2] = box.x2;
+		coords[4 * i + 3] = box.y2;
+	}
+	struct cell *q = cell_at(b, k, s, b->nengines);
+	time_qsort(b, coords, work, 4 * n, &q->ms, &reps);
+	q->status = CELL_RAN;
+	fprintf(stderr, "bench: %s n=%zu qsort %s ms (%u rep%s)\n", kind, n,
+		fmt_ms(buf, sizeof(buf), q->ms), reps, reps == 1 ? "" : "s");
+	/* 64 bytes a window the engines need not compete with (64 MB at n = 10^6). */
+	free(work);
+	free(coords);
+	work = coords = NULL;
+
+	for (size_t c = 0; c < b->nengines; c++) {
+		enum vis_engine engine = b->engines[c];
+		struct cell *cell = cell_at(b, k, s, c);
+		const struct cell *before = s > 0 ? cell_at(b, k, s - 1, c) : NULL;
+		double predicted = predict_ms(b, k, s, c);
+
+		/* Once skipped, an engine stays skipped: larger scenes only take longer. */
+		if (before != NULL && before->status != CELL_RAN)
+			cell->status = before->status;
+		else if (before != NULL && before->ms > b->limit_s * 1e3)
+			cell->status = CELL_STOPPED;
+		else if (predicted > b->limit_s * 1e3)
+			cell->status = CELL_PREDICTED;
+		if (cell->status == CELL_PREDICTED) {
+			fprintf(stderr, "bench: %s n=%zu %s skipped (predicted %.3g s > %g s)\n",
+				kind, n, vis_engine_name(engine), predicted / 1e3, b->limit_s);
+			continue;
+		} else if (cell->status != CELL_PENDING) {
+			fprintf(stderr, "bench: %s n=%zu %s skipped (a smaller size took > %g s)\n",
+				kind, n, vis_engine_name(engine), b->limit_s);
+			continue;
+		}
+		if (time_engine(b, engine, &stack, states, &cell->ms, &reps) < 0) {
+			fprintf(stderr, "visctl bench: %s on %s n=%zu: %s\n",
+				vis_engine_name(engine), kind, n, strerror(errno));
+			goto out;
+		}
+		cell->status = CELL_RAN;
+		fprintf(stderr, "bench: %s n=%zu %s %s ms (%u rep%s)\n", kind, n,
+			vis_engine_name(engine), fmt_ms(buf, sizeof(buf), cell->ms), reps,
+			reps == 1 ? "" : "s");
+		if (have_ref == SIZE_MAX) {
+			memcpy(ref, states, n);
+			have_ref = c;
+		} else if (memcmp(ref, states, n) != 0) {
+			report_mismatch(b, k, n, b->engines[have_ref], ref, engine, states);
+			goto out;
+		}
+	}
+	ret = 0;
+out:
+	free(work);
+	free(coords);
+	free(ref);
+	free(states);
+	vis_scene_finish(&scene);
+	return ret;
+}
+
+/* Prints a ratio as a fixed-width figure followed by ×, or a dash when it cannot be formed. */
+static void print_ratio(double num, double den, int width)
+{
+	if (num > 0 && den > 0) {
+		double r = num / den;
+
+		if (r < 0.001)
+			printf(" %*s×", width - 1, "<0.001");
+		else
+			printf(" %*.*f×", width - 1, r < 0.1 ? 3 : r < 10 ? 2 : r < 100 ? 1 : 0, r);
+	} else {
+		printf(" %*s", width, "-");
+	}
+}
+
+/* Prints the table of kind k to stdout: a row per size, a column group per engine. */
+static void print_table(const struct bench *b, size_t k)
+{
+	size_t region = SIZE_MAX;
+	char buf[48];
+
+	for (size_t c = 0; c < b->nengines; c++)
+		if (b->engines[c] == VIS_ENGINE_REGION)
+			region = c;
+	printf("\n%s (seed %llu; /qsort = engine / qsort, speed-up = region / engine)\n%9s %11s",
+	       vis_gen_kind_name(b->kinds[k]), (unsigned long long)b->seed, "n", "qsort ms");
+	for (size_t c = 0; c < b->nengines; c++) {
+		snprintf(buf, sizeof(buf), "%s ms", vis_engine_name(b->engines[c]));
+		printf(" | %11s %8s %9s", buf, "/qsort", "speed-up");
+	}
+	printf("\n");
+	for (size_t s = 0; s < b->nsizes; s++) {
+		const struct cell *q = cell_at(b, k, s, b->nengines);
+		const struct cell *r = region == SIZE_MAX ? NULL : cell_at(b, k, s, region);
+		double region_ms = r != NULL && r->status == CELL_RAN ? r->ms : 0;
+
+		if (q->status != CELL_RAN)
+			break;
+		printf("%9zu %11s", b->sizes[s], fmt_ms(buf, sizeof(buf), q->ms));
+		for (size_t c = 0; c < b->nengines; c++) {
+			const struct cell *cell = cell_at(b, k, s, c);
+
+			printf(" |");
+			if (cell->status == CELL_RAN) {
+				printf(" %11s", fmt_ms(buf, sizeof(buf), cell->ms));
+				print_ratio(cell->ms, q->ms, 8);
+				print_ratio(region_ms, cell->ms, 9);
+			} else {
+				snprintf(buf, sizeof(buf), "skipped (%s > %g s)",
+					 cell->status == CELL_PREDICTED ? "predicted" : "earlier",
+					 b->limit_s);
+				/* No padding after the last column: no trailing blanks. */
+				printf(" %-*s", c + 1 < b->nengines ? 30 : 0, buf);
+			}
+		}
+		printf("\n");
+	}
+	fflush(stdout);
+}
+
+/* Writes the measured cells as kind,n,engine,ms rows; skipped cells have no row. */
+static int write_csv(const struct bench *b, FILE *f)
+{
+	fprintf(f, "kind,n,engine,ms\n");
+	for (size_t k = 0; k < b->nkinds; k++)
+		for (size_t s = 0; s < b->nsizes; s++)
+			for (size_t c = 0; c <= b->nengines; c++) {
+				const struct cell *cell = cell_at(b, k, s, c);
+
+				if (cell->status != CELL_RAN)
+					continue;
+				fprintf(f, "%s,%zu,%s,%.6f\n", vis_gen_kind_name(b->kinds[k]),
+					b->sizes[s], c == b->nengines ? "qsort" :
+					vis_engine_name(b->engines[c]), cell->ms);
+			}
+	return ferror(f) ? -1 : 0;
+}
+
+/* Panel geometry of the SVG plot, in pixels: one panel per kind, three to a row. */
+#define SVG_PW 400  /* panel width */
+#define SVG_PH 300  /* panel height */
+#define SVG_ML 66   /* plot area inset: left (time labels) */
+#define SVG_MR 18   /* right */
+#define SVG_MT 32   /* top (panel title) */
+#define SVG_MB 48   /* bottom (n labels and axis title) */
+#define SVG_PAD 20  /* page margin */
+#define SVG_TOP 78  /* title band */
+#define SVG_FOOT 78 /* legend band */
+
+/* Writes text with XML's special characters escaped, since the CPU model comes from outside. */
+static void svg_text(FILE *f, const char *s)
+{
+	for (; *s != '\0'; s++) {
+		if (*s == '&')
+			fputs("&amp;", f);
+		else if (*s == '<')
+			fputs("&lt;", f);
+		else if (*s == '>')
+			fputs("&gt;", f);
+		else
+			fputc(*s, f);
+	}
+}
+
+/* Labels a decade of n: 1k, 10k, 1M, … reads faster on a small axis than 10^3. */
+static const char *decade_n(char *buf, size_t len, int d)
+{
+	static const char *const suffix[] = { "", "k", "M", "G" };
+
+	if (d < 0 || d > 11)
+		snprintf(buf, len, "1e%d", d);
+	else
+		snprintf(buf, len, "%.0f%s", pow(10, d % 3), suffix[d / 3]);
+	return buf;
+}
+
+/* Labels a decade of milliseconds in the unit that keeps it a small round number. */
+static const char *decade_ms(char *buf, size_t len, int d)
+{
+	static const char *const unit[] = { "µs", "ms", "s" };
+
+	if (d < -3 || d > 5)
+		snprintf(buf, len, "1e%d ms", d);
+	else
+		snprintf(buf, len, "%.0f %s", pow(10, (d + 3) % 3), unit[(d + 3) / 3]);
+	return buf;
+}
+
+/* Draws a grid line of a panel. */
+static void svg_line(FILE *f, double x1, double y1, double x2, double y2, const char *stroke)
+{
+	fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\"/>\n",
+		x1, y1, x2, y2, stroke);
+}
+
+/* Draws one kind's panel: decade grid, labels, then a polyline with markers per column. */
+static void svg_panel(const struct bench *b, FILE *f, size_t k, double px, double py,
+		      const int xr[2], const int yr[2])
+{
+	double x0 = px + SVG_ML, x1 = px + SVG_PW - SVG_MR;
+	double y0 = py + SVG_PH - SVG_MB, y1 = py + SVG_MT;
+	char buf[32];
+
+#define SX(n) (x0 + (log10(n) - xr[0]) / (xr[1] - xr[0]) * (x1 - x0))
+#define SY(ms) (y0 - (log10(ms) - yr[0]) / (yr[1] - yr[0]) * (y0 - y1))
+	fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"15\" font-weight=\"bold\" "
+		"text-anchor=\"middle\">%s</text>\n", (x0 + x1) / 2, py + 20,
+		vis_gen_kind_name(b->kinds[k]));
+	/* Faint lines at 2…9 × each decade, stronger ones and a label at the decade itself. */
+	for (int d = xr[0]; d <= xr[1]; d++) {
+		for (int m = d < xr[1] ? 9 : 1; m >= 1; m--) {
+			double x = SX(m * pow(10, d));
+
+			svg_line(f, x, y0, x, y1, m == 1 ? "#c8c8c8" : "#eeeeee");
+		}
+		fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"11\" "
+			"text-anchor=\"middle\">%s</text>\n", SX(pow(10, d)), y0 + 15,
+			decade_n(buf, sizeof(buf), d));
+	}
+	for (int d = yr[0]; d <= yr[1]; d++) {
+		for (int m = d < yr[1] ? 9 : 1; m >= 1; m--) {
+			double y = SY(m * pow(10, d));
+
+			svg_line(f, x0, y, x1, y, m == 1 ? "#c8c8c8" : "#eeeeee");
+		}
+		fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"11\" "
+			"text-anchor=\"end\">%s</text>\n", x0 - 6, SY(pow(10, d)) + 4,
+			decade_ms(buf, sizeof(buf), d));
+	}
+	fprintf(f, "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"none\" "
+		"stroke=\"#555555\"/>\n", x0, y1, x1 - x0, y0 - y1);
+	fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"12\" text-anchor=\"middle\">"
+		"n (windows)</text>\n", (x0 + x1) / 2, y0 + 34);
+	fprintf(f, "<text transform=\"translate(%.1f %.1f) rotate(-90)\" font-size=\"12\" "
+		"text-anchor=\"middle\">time</text>\n", px + 14, (y0 + y1) / 2);
+
+	/*
+	 * A × along the bottom where an engine's skipping began, so a short line reads as skipped;
+	 * the bottom right is where data never is (big scenes are slow).
+	 */
+	for (size_t c = 0; c < b->nengines; c++) {
+		for (size_t s = 0; s < b->nsizes; s++) {
+			enum cell_status st = cell_at(b, k, s, c)->status;
+
+			if (st != CELL_PREDICTED && st != CELL_STOPPED)
+				continue;
+			fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"16\" "
+				"font-weight=\"bold\" fill=\"%s\" "
+				"text-anchor=\"middle\">×</text>\n",
+				SX((double)b->sizes[s]), y0 - 6 - 13 * (double)c,
+				engine_colours[b->engines[c]]);
+			break;
+		}
+	}
+
+	/* qsort first, so the engines' lines are drawn over the reference. */
+	for (size_t i = 0; i <= b->nengines; i++) {
+		size_t c = i == 0 ? b->nengines : i - 1;
+		const char *colour = c == b->nengines ? "#444444" : engine_colours[b->engines[c]];
+
+		fprintf(f, "<polyline fill=\"none\" stroke=\"%s\" stroke-width=\"2\"%s points=\"",
+			colour, c == b->nengines ? " stroke-dasharray=\"6 4\"" : "");
+		for (size_t s = 0; s < b->nsizes; s++) {
+			const struct cell *cell = cell_at(b, k, s, c);
+
+			if (cell->status == CELL_RAN && cell->ms > 0)
+				fprintf(f, "%.1f,%.1f ", SX((double)b->sizes[s]), SY(cell->ms));
+		}
+		fprintf(f, "\"/>\n");
+		for (size_t s = 0; s < b->nsizes; s++) {
+			const struct cell *cell = cell_at(b, k, s, c);
+
+			if (cell->status == CELL_RAN && cell->ms > 0)
+				fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3.2\" fill=\"%s\" "
+					"stroke=\"white\" stroke-width=\"0.8\"/>\n",
+					SX((double)b->sizes[s]), SY(cell->ms), colour);
+		}
+	}
+#undef SX
+#undef SY
+}
+
+/*
+ * Writes the log-log plot of time against n, one panel per kind. All panels share both axes, so
+ * kinds compare at a glance; the ranges are whole decades around the data.
+ */
+static int write_svg(const struct bench *b, FILE *f)
+{
+	size_t cols = b->nkinds < 3 ? b->nkinds : 3, rows = (b->nkinds + cols - 1) / cols;
+	double lo_ms = INFINITY, hi_ms = 0;
+	int xr[2], yr[2];
+	double w = 2 * SVG_PAD + (double)cols * SVG_PW;
+	double h = SVG_TOP + (double)rows * SVG_PH + SVG_FOOT;
+
+	for (size_t k = 0; k < b->nkinds; k++)
+		for (size_t s = 0; s < b->nsizes; s++)
+			for (size_t c = 0; c <= b->nengines; c++) {
+				const struct cell *cell = cell_at(b, k, s, c);
+
+				if (cell->status == CELL_RAN && cell->ms > 0) {
+					lo_ms = cell->ms < lo_ms ? cell->ms : lo_ms;
+					hi_ms = cell->ms > hi_ms ? cell->ms : hi_ms;
+				}
+			}
+	if (hi_ms == 0)
+		lo_ms = hi_ms = 1;
+	xr[0] = (int)floor(log10((double)b->sizes[0]));
+	xr[1] = (int)ceil(log10((double)b->sizes[b->nsizes - 1]));
+	yr[0] = (int)floor(log10(lo_ms));
+	yr[1] = (int)ceil(log10(hi_ms));
+	if (xr[1] == xr[0])
+		xr[1]++;
+	if (yr[1] == yr[0])
+		yr[1]++;
+
+	fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+		"<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
+		"viewBox=\"0 0 %.0f %.0f\" "
+		"font-family=\"DejaVu Sans, Helvetica, Arial, sans-serif\">\n"
+		"<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n", w, h, w, h);
+	fprintf(f, "<text x=\"%d\" y=\"34\" font-size=\"20\" font-weight=\"bold\">"
+		"visctl bench: vis_compute time against window count (log-log)</text>\n"
+		"<text x=\"%d\" y=\"58\" font-size=\"13\" fill=\"#333333\">", SVG_PAD, SVG_PAD);
+	svg_text(f, b->cpu);
+	fprintf(f, ", %ld CPUs · %s · seed %llu · minimum over repetitions</text>\n", b->ncpu,
+		b->date, (unsigned long long)b->seed);
+	for (size_t k = 0; k < b->nkinds; k++)
+		svg_panel(b, f, k, SVG_PAD + (double)(k % cols) * SVG_PW,
+			  SVG_TOP + (double)(k / cols) * SVG_PH, xr, yr);
+
+	/* The legend: a sample line and marker per engine, then the dashed qsort reference. */
+	double lx = SVG_PAD + SVG_ML, ly = SVG_TOP + (double)rows * SVG_PH + 26;
+	for (size_t i = 0; i <= b->nengines; i++) {
+		bool is_q = i == b->nengines;
+		const char *name = is_q ? "qsort of 4n coordinates (lower bound)" :
+			vis_engine_name(b->engines[i]);
+		const char *colour = is_q ? "#444444" : engine_colours[b->engines[i]];
+
+		fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\" "
+			"stroke-width=\"2\"%s/>\n<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3.2\" "
+			"fill=\"%s\"/>\n<text x=\"%.1f\" y=\"%.1f\" font-size=\"13\">%s</text>\n",
+			lx, ly, lx + 30, ly, colour, is_q ? " stroke-dasharray=\"6 4\"" : "",
+			lx + 15, ly, colour, lx + 38, ly + 4.5, name);
+		lx += 60 + 7.5 * (double)strlen(name);
+	}
+	fprintf(f, "<text x=\"%d\" y=\"%.1f\" font-size=\"12\" fill=\"#555555\">A line that ends "
+		"early: from the size marked × at the bottom on, the engine was skipped "
+		"(predicted or measured over %g s).</text>\n"
+		"</svg>\n", SVG_PAD + SVG_ML, ly + 28, b->limit_s);
+	return ferror(f) ? -1 : 0;
+}
+
+/* Closes an output file; a failed write of buffered data (a full disk) shows up only here. */
+static int close_output(FILE *f, const char *path, bool wrote)
+{
+	if (fclose(f) != 0 && wrote) {
+		fprintf(stderr, "visctl bench: writing %s: %s\n", path, strerror(errno));
+		return -1;
+	}
+	return 0;
+}
+
+/* Parses the options into b; returns 0, 1 after --help, or 2 after printing what is wrong. */
+static int parse_options(struct bench *b, int argc, char **argv, const char **svg,
+			 const char **csv)
+{
+	static const struct option longopts[] = {
+		{ "kinds", required_argument, NULL, 'k' },
+		{ "engines", required_argument, NULL, 'e' },
+		{ "sizes", required_argument, NULL, 's' },
+		{ "max-n", required_argument, NULL, 'm' },
+		{ "reps", required_argument, NULL, 'r' },
+		{ "seed", required_argument, NULL, 'S' },
+		{ "limit", required_argument, NULL, 'l' },
+		{ "svg", required_argument, NULL, 'g' },
+		{ "csv", required_argument, NULL, 'c' },
+		{ "quick", no_argument, NULL, 'q' },
+		{ "help", no_argument, NULL, 'h' },
+		{ NULL, 0, NULL, 0 },
+	};
+	uint64_t max_n = SIZE_MAX, v;
+	bool sizes_given = false, quick = false;
+	char *end;
+	int opt;
+
+	/* visctl may have run getopt already; 0 makes glibc start afresh on this argv. */
+	optind = 0;
+	opterr = 0;
+	while ((opt = getopt_long(argc, argv, "", longopts, NULL)) != -1) {
+		switch (opt) {
+		case 'k':
+		case 'e':
+		case 's':
+			if (parse_list(b, opt, optarg) < 0)
+				return 2;
+			sizes_given |= opt == 's';
+			break;
+		case 'm':
+		case 'r':
+		case 'S':
+			if (parse_u64(optarg, &v) < 0 || (opt == 'r' && (v < 1 || v > 1000000))) {
+				fprintf(stderr, "visctl bench: bad number '%s'\n", optarg);
+				return 2;
+			}
+			if (opt == 'm')
+				max_n = v;
+			else if (opt == 'r')
+				b->reps = (unsigned)v;
+			else
+				b->seed = v;
+			break;
+		case 'l':
+			b->limit_s = strtod(optarg, &end);
+			if (*end != '\0' || !(b->limit_s > 0 && b->limit_s < 1e6)) {
+				fprintf(stderr, "visctl bench: bad limit '%s'\n", optarg);
+				return 2;
+			}
+			break;
+		case 'g':
+			*svg = optarg;
+			break;
+		case 'c':
+			*csv = optarg;
+			break;
+		case 'q':
+			quick = true;
+			break;
+		case 'h':
+			usage(stdout);
+			return 1;
+		default:
+			fprintf(stderr, "visctl bench: bad option or missing value: '%s'\n",
+				argv[optind - 1]);
+			usage(stderr);
+			return 2;
+		}
+	}
+	if (optind < argc) {
+		fprintf(stderr, "visctl bench: unexpected argument '%s'\n", argv[optind]);
+		return 2;
+	}
+	if (quick) {
+		b->target_s = 0.02;
+		if (!sizes_given && max_n > 10000)
+			max_n = 10000;
+	}
+	/* Ascending, unique sizes: the skip prediction extrapolates from the smaller ones. */
+	qsort(b->sizes, b->nsizes, sizeof(b->sizes[0]), cmp_size);
+	size_t m = 0;
+	for (size_t i = 0; i < b->nsizes; i++)
+		if (b->sizes[i] <= max_n && (m == 0 || b->sizes[m - 1] != b->sizes[i]))
+			b->sizes[m++] = b->sizes[i];
+	b->nsizes = m;
+	if (m == 0) {
+		fprintf(stderr, "visctl bench: no size left under --max-n %llu\n",
+			(unsigned long long)max_n);
+		return 2;
+	}
+	return 0;
+}
+
+/* visctl bench: see usage(). Returns 0, 1 on a runtime error or engine mismatch, 2 on bad usage. */
+int cmd_bench(int argc, char **argv)
+{
+	struct bench b = { .target_s = 0.2, .limit_s = 60, .seed = 1 };
+	const char *svg_path = NULL, *csv_path = NULL;
+	FILE *svg = NULL, *csv = NULL;
+	int ret = VISCTL_EXIT_FAILURE;
+
+	for (size_t i = 0; i < VIS_GEN_KIND_COUNT; i++)
+		b.kinds[b.nkinds++] = (enum vis_gen_kind)i;
+	for (size_t i = 0; i < sizeof(default_engines) / sizeof(default_engines[0]); i++)
+		b.engines[b.nengines++] = default_engines[i];
+	for (size_t i = 0; i < sizeof(default_sizes) / sizeof(default_sizes[0]); i++)
+		b.sizes[b.nsizes++] = default_sizes[i];
+	int r = parse_options(&b, argc, argv, &svg_path, &csv_path);
+	if (r != 0)
+		return r == 1 ? VISCTL_EXIT_OK : VISCTL_EXIT_USAGE;
+
+	/* Open the outputs now: a bad path should fail before an hour of measuring, not after. */
+	if ((svg_path != NULL && (svg = fopen(svg_path, "w")) == NULL) ||
+	    (csv_path != NULL && (csv = fopen(csv_path, "w")) == NULL)) {
+		fprintf(stderr, "visctl bench: %s: %s\n", svg != NULL || svg_path == NULL ?
+			csv_path : svg_path, strerror(errno));
+		goto out;
+	}
+	b.cells = calloc(b.nkinds * b.nsizes * (b.nengines + 1), sizeof(*b.cells));
+	if (b.cells == NULL) {
+		fprintf(stderr, "visctl bench: out of memory\n");
+		goto out;
+	}
+	describe_machine(&b);
+	printf("visctl bench: %s, %ld CPUs, %s\n", b.cpu, b.ncpu, b.date);
+#ifdef NDEBUG
+	printf("build: release; ");
+#else
+	printf("build: assertions on (figures include self-checks; use a release build); ");
+#endif
+	if (b.reps != 0)
+		printf("seed %llu; minimum of %u reps per cell; skip limit %g s\n",
+		       (unsigned long long)b.seed, b.reps, b.limit_s);
+	else
+		printf("seed %llu; minimum of reps repeated until %g s per cell; skip limit %g s\n",
+		       (unsigned long long)b.seed, b.target_s, b.limit_s);
+	printf("ms: fastest run of vis_compute\n"
+	       "/qsort: engine time / qsort time (lower is better)\n"
+	       "speed-up: region time / engine time (higher is better; > 1 beats region)\n");
+	fflush(stdout);
+
+	for (size_t k = 0; k < b.nkinds; k++) {
+		for (size_t s = 0; s < b.nsizes; s++)
+			if (bench_size(&b, k, s) < 0)
+				goto out;
+		print_table(&b, k);
+	}
+	ret = VISCTL_EXIT_OK;
+	if ((csv != NULL && write_csv(&b, csv) < 0) || (svg != NULL && write_svg(&b, svg) < 0)) {
+		fprintf(stderr, "visctl bench: writing %s failed\n",
+			csv != NULL && ferror(csv) ? csv_path : svg_path);
+		ret = VISCTL_EXIT_FAILURE;
+	}
+out:
+	if (csv != NULL && close_output(csv, csv_path, ret == VISCTL_EXIT_OK) < 0)
+		ret = VISCTL_EXIT_FAILURE;
+	if (svg != NULL && close_output(svg, svg_path, ret == VISCTL_EXIT_OK) < 0)
+		ret = VISCTL_EXIT_FAILURE;
+	free(b.cells);
+	return ret;
+}

@@ -1,0 +1,124 @@
+/*
+ * The brute force: the oracle the other engines are tested against, so it is written to be
+ * obviously correct rather than fast. The distinct edges of the clipped windows cut the plane
+ * into a grid of cells, each cell wholly inside or wholly outside every window; painting the
+ * windows bottom-to-top leaves each cell owned by the topmost window over it.
+ */
+#include <errno.h>
+#include <stdlib.h>
+
+#include "engine.h"
+
+#define NO_OWNER UINT32_MAX
+
+/* Orders int64 values for qsort and bsearch. */
+static int cmp_i64(const void *a, const void *b)
+{
+	int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+	return (x > y) - (x < y);
+}
+
+/* Sorts values[0..n) and drops duplicates; returns how many distinct values remain. */
+static size_t sort_unique(int64_t *values, size_t n)
+{
+	size_t k = 0;
+
+	qsort(values, n, sizeof *values, cmp_i64);
+	for (size_t i = 0; i < n; i++) {
+		if (k == 0 || values[k - 1] != values[i])
+			values[k++] = values[i];
+	}
+	return k;
+}
+
+/* The index of v among the k distinct sorted values (v must be one of them). */
+static size_t index_of(const int64_t *values, size_t k, int64_t v)
+{
+	const int64_t *p = bsearch(&v, values, k, sizeof *values, cmp_i64);
+	return (size_t)(p - values);
+}
+
+int vis_brute_compute(const struct vis_stack *stack, uint8_t *states)
+{
+	size_t n = stack->n, nx = 0, ny = 0, cols, rows, cells;
+	int64_t *xs = NULL, *ys = NULL;
+	uint32_t *owner = NULL;
+	size_t *owned = NULL;
+	int ret = -1;
+
+	/* Window indices are stored in uint32 cells, NO_OWNER excluded. */
+	if (n >= NO_OWNER || n > SIZE_MAX / (2 * sizeof *xs)) {
+		errno = EOVERFLOW;
+		return -1;
+	}
+	xs = malloc((2 * n + 1) * sizeof *xs);
+	ys = malloc((2 * n + 1) * sizeof *ys);
+	owned = calloc(n + 1, sizeof *owned);
+	if (xs == NULL || ys == NULL || owned == NULL) {
+		errno = ENOMEM;
+		goto out;
+	}
+	for (size_t i = 0; i < n; i++) {
+		struct vis_box b = vis_stack_clip(stack, i);
+		if (vis_box_empty(b))
+			continue;
+		xs[nx++] = b.x1;
+		xs[nx++] = b.x2;
+		ys[ny++] = b.y1;
+		ys[ny++] = b.y2;
+	}
+	nx = sort_unique(xs, nx);
+	ny = sort_unique(ys, ny);
+	cols = nx > 0 ? nx - 1 : 0;
+	rows = ny > 0 ? ny - 1 : 0;
+	if (cols != 0 && rows > SIZE_MAX / sizeof *owner / cols) {
+		errno = EOVERFLOW;
+		goto out;
+	}
+	cells = cols * rows;
+	owner = malloc((cells + 1) * sizeof *owner);
+	if (owner == NULL) {
+		errno = ENOMEM;
+		goto out;
+	}
+	for (size_t c = 0; c < cells; c++)
+		owner[c] = NO_OWNER;
+
+	for (size_t i = 0; i < n; i++) {
+		struct vis_box b = vis_stack_clip(stack, i);
+		if (vis_box_empty(b))
+			continue;
+		size_t c1 = index_of(xs, nx, b.x1), c2 = index_of(xs, nx, b.x2);
+		size_t r1 = index_of(ys, ny, b.y1), r2 = index_of(ys, ny, b.y2);
+		for (size_t r = r1; r < r2; r++) {
+			for (size_t c = c1; c < c2; c++)
+				owner[r * cols + c] = (uint32_t)i;
+		}
+	}
+	for (size_t c = 0; c < cells; c++) {
+		if (owner[c] != NO_OWNER)
+			owned[owner[c]]++;
+	}
+
+	for (size_t i = 0; i < n; i++) {
+		struct vis_box b = vis_stack_clip(stack, i);
+		if (vis_box_empty(b) || owned[i] == 0) {
+			states[i] = VIS_FULLY_OBSCURED;
+			continue;
+		}
+		size_t c1 = index_of(xs, nx, b.x1), c2 = index_of(xs, nx, b.x2);
+		size_t r1 = index_of(ys, ny, b.y1), r2 = index_of(ys, ny, b.y2);
+		/* Unobscured needs the whole window, not just its on-screen part, to be visible. */
+		if (vis_stack_on_screen(stack, i) && owned[i] == (c2 - c1) * (r2 - r1))
+			states[i] = VIS_UNOBSCURED;
+		else
+			states[i] = VIS_PARTIALLY_OBSCURED;
+	}
+	ret = 0;
+out:
+	free(xs);
+	free(ys);
+	free(owner);
+	free(owned);
+	return ret;
+}

@@ -44,6 +44,12 @@ int vis_gmv_compute(const struct vis_stack *stack, uint8_t *states);
  */
 int vis_region_compute(const struct vis_stack *stack, uint8_t *states);
 
+/*
+ * The region method that gives up once the boxes of the union it has touched (a measure of its
+ * time) pass budget: returns 1 then, with states partly written; otherwise as above.
+ */
+int vis_region_compute_within(const struct vis_stack *stack, uint8_t *states, uint64_t budget);
+
 /* Painting on the compressed grid: O(n³) time, O(n²) space. For tests only. */
 int vis_brute_compute(const struct vis_stack *stack, uint8_t *states);
 

@@ -1,2 +1,203 @@
 #!/bin/sh
-exit 0
+# The visctl command line: exit statuses, error messages, output format, and agreement of the
+# engines on generated scenes. Usage: test-cli.sh PATH-TO-VISCTL
+set -u
+
+V=${1:?usage: test-cli.sh PATH-TO-VISCTL}
+T=$(mktemp -d "${TMPDIR:-/tmp}/visctl-cli.XXXXXX") || exit 1
+trap 'rm -rf "$T"' EXIT
+trap 'exit 1' INT TERM HUP
+
+passed=0
+failed=0
+
+pass() {
+	passed=$((passed + 1))
+}
+
+fail() {
+	failed=$((failed + 1))
+	echo "FAIL: $*"
+	if [ -s "$T/err" ]; then
+		echo "  stderr:"
+		sed 's/^/    /' "$T/err" | head -n 10
+	fi
+	if [ -s "$T/out" ]; then
+		echo "  stdout:"
+		sed 's/^/    /' "$T/out" | head -n 10
+	fi
+}
+
+# scene NAME FORMAT: writes printf FORMAT (so \n, \r, \t work) to $T/NAME and prints the path.
+scene() {
+	printf "$2" >"$T/$1"
+	echo "$T/$1"
+}
+
+# run ARGS...: runs visctl with stdout in $T/out, stderr in $T/err, the status in $rc.
+run() {
+	"$V" "$@" >"$T/out" 2>"$T/err"
+	rc=$?
+}
+
+# expect_fail WHAT STATUS MESSAGE ARGS...: the command must exit STATUS, print nothing on stdout
+# and say MESSAGE (a fixed string) on stderr.
+expect_fail() {
+	what=$1 status=$2 msg=$3
+	shift 3
+	run "$@"
+	if [ "$rc" -ne "$status" ]; then
+		fail "$what: exit status $rc, expected $status"
+	elif [ -s "$T/out" ]; then
+		fail "$what: wrote to stdout"
+	elif ! grep -qF -- "$msg" "$T/err"; then
+		fail "$what: stderr lacks '$msg'"
+	else
+		pass
+	fi
+}
+
+# bad_scene WHAT CONTENT LINE REASON: compute must reject the scene with FILE:LINE: REASON.
+bad_scene() {
+	f=$(scene bad.scene "$2")
+	expect_fail "$1" 2 "$f:$3: $4" compute "$f"
+}
+
+# expect_out WHAT EXPECTED ARGS...: the command must succeed and print exactly EXPECTED (printf).
+expect_out() {
+	what=$1
+	printf "$2" >"$T/expected"
+	shift 2
+	run "$@"
+	if [ "$rc" -ne 0 ]; then
+		fail "$what: exit status $rc"
+	elif ! cmp -s "$T/out" "$T/expected"; then
+		fail "$what: unexpected output"
+		echo "  expected:"
+		sed 's/^/    /' "$T/expected" | head -n 10
+	else
+		pass
+	fi
+}
+
+# --- bad scenes -------------------------------------------------------------------------------
+bad_scene "unknown record" 'screen 10 10\nfoo 1 2\n' 2 "unknown record 'foo'"
+bad_scene "missing field" '# c\nwindow 1 0 0 5\n' 2 "window: expected 5 fields (ID X Y W H), got 4"
+bad_scene "extra field" 'window 1 0 0 5 5 5\n' 1 "window: expected 5 fields (ID X Y W H), got 6"
+bad_scene "screen field count" 'screen 10\n' 1 "screen: expected 2 fields (W H), got 1"
+bad_scene "non-number" '\n\nwindow 1 12a 0 5 5\n' 3 "window: X '12a' is not a number"
+bad_scene "plus sign" 'window 1 +1 0 5 5\n' 1 "window: X '+1' is not a number"
+bad_scene "hex" 'window 0x10 1 0 5 5\n' 1 "window: ID '0x10' is not a number"
+bad_scene "X too large" 'window 1 2147483648 0 5 5\n' 1 \
+	"window: X 2147483648 out of range -2147483648..2147483647"
+bad_scene "Y too small" 'window 1 0 -2147483649 5 5\n' 1 \
+	"window: Y -2147483649 out of range -2147483648..2147483647"
+bad_scene "ID too large" 'window 4294967296 0 0 5 5\n' 1 \
+	"window: ID 4294967296 out of range 0..4294967295"
+bad_scene "W zero" 'window 1 0 0 0 5\n' 1 "window: W 0 out of range 1..2147483647"
+bad_scene "H negative" 'window 1 0 0 5 -1\n' 1 "window: H -1 out of range 1..2147483647"
+bad_scene "screen zero" 'screen 0 10\n' 1 "screen: W 0 out of range 1..2147483647"
+bad_scene "duplicate ID" 'window 7 0 0 5 5\nwindow 8 0 0 5 5\nwindow 7 1 1 5 5\n' 3 \
+	"duplicate window ID 7 (first on line 1)"
+bad_scene "screen twice" 'screen 10 10\nscreen 10 10\n' 2 "screen given twice (first on line 1)"
+bad_scene "screen after window" 'window 1 0 0 5 5\nscreen 10 10\n' 2 "screen after a window"
+bad_scene "NUL byte" 'window 1 0 0 5 5\nwindow 2\0000 0 5 5\n' 2 "NUL byte in input"
+bad_scene "error after CRLF lines" 'window 1 0 0 5 5\r\nwindow 2 0 0 5\r\n' 2 \
+	"window: expected 5 fields (ID X Y W H), got 4"
+
+# A bad scene on stdin is named <stdin>.
+printf 'window 1 0 0 5 5\nbogus\n' >"$T/stdin.scene"
+"$V" compute - <"$T/stdin.scene" >"$T/out" 2>"$T/err"
+rc=$?
+if [ "$rc" -eq 2 ] && [ ! -s "$T/out" ] && grep -qF "<stdin>:2: unknown record 'bogus'" "$T/err"
+then pass; else fail "bad scene on stdin (status $rc)"; fi
+
+# --- unreadable files and bad usage -----------------------------------------------------------
+expect_fail "nonexistent file" 2 "$T/nope: cannot read: No such file or directory" \
+	compute "$T/nope"
+mkdir "$T/dir"
+expect_fail "directory" 2 "$T/dir: cannot read: Is a directory" compute "$T/dir"
+good=$(scene good.scene 'screen 100 100\nwindow 5 0 0 10 10\nwindow 2 5 5 10 10\nwindow 9 200 200 5 5\n')
+expect_fail "bad engine" 2 "unknown engine 'fast'" compute --engine=fast "$good"
+expect_fail "bad engine, separate" 2 "unknown engine 'fast'" compute --engine fast "$good"
+expect_fail "engine without name" 2 "--engine needs an engine name" compute "$good" --engine
+expect_fail "unknown option" 2 "unknown option '--bogus'" compute --bogus "$good"
+expect_fail "missing SCENE" 2 "missing SCENE" compute --visible
+expect_fail "two SCENEs" 2 "unexpected argument" compute "$good" "$good"
+expect_fail "no command" 2 "usage: visctl"
+expect_fail "unknown command" 2 "unknown command 'frobnicate'" frobnicate
+expect_fail "unknown global option" 2 "unknown option '--frob'" --frob
+expect_fail "gen unknown kind" 2 "unknown kind 'spiral'" gen spiral 10 1
+expect_fail "gen bad N" 2 "N '1x' is not a number" gen random 1x 1
+expect_fail "gen N too large" 2 "N '100000001' is not a number" gen random 100000001 1
+expect_fail "gen bad SEED" 2 "SEED '-1' is not a number" gen random 10 -1
+expect_fail "gen SEED overflow" 2 "SEED '18446744073709551616'" gen random 10 18446744073709551616
+expect_fail "gen missing H" 2 "expected KIND N SEED [W H]" gen random 10 1 100
+expect_fail "gen W zero" 2 "W '0' is not a number" gen random 10 1 0 100
+expect_fail "gen too few" 2 "expected KIND N SEED [W H]" gen random
+
+run help
+if [ "$rc" -eq 0 ] && grep -q "visctl compute" "$T/out"; then pass; else fail "help"; fi
+run --help
+if [ "$rc" -eq 0 ] && grep -q "visctl gen" "$T/out"; then pass; else fail "--help"; fi
+run compute --help
+if [ "$rc" -eq 0 ] && grep -q "usage: visctl compute" "$T/out"; then pass; else fail "compute --help"; fi
+
+# --- good scenes ------------------------------------------------------------------------------
+states='2 unobscured\n5 partially-obscured\n9 fully-obscured\n'
+expect_out "output in ascending ID order" "$states" compute "$good"
+expect_out "--visible" '2\n5\n' compute --visible "$good"
+expect_out "options after SCENE" '2\n5\n' compute "$good" --visible --engine brute
+expect_out "-- ends options" "$states" compute --engine=region -- "$good"
+expect_out "stdin" "$states" compute - <"$good"
+
+run compute --time "$good"
+if [ "$rc" -eq 0 ] && grep -qE '^compute_ms=[0-9]+\.[0-9]{3}$' "$T/err" &&
+	[ "$(wc -l <"$T/err")" -eq 1 ] && [ "$(cat "$T/out")" = "$(printf "$states")" ]
+then pass; else fail "--time"; fi
+
+f=$(scene crlf.scene 'screen 100 100\r\nwindow 5 0 0 10 10\r\n\r\nwindow 2 5 5 10 10\r\nwindow 9 200 200 5 5\r\n')
+expect_out "CRLF" "$states" compute "$f"
+f=$(scene comments.scene '# a scene\n  \n\tscreen\t100 100 # the screen\nwindow 5 0 0 10 10#x\n# window 3 0 0 1 1\nwindow 2 5 5 10 10\n\nwindow 9 200 200 5 5')
+expect_out "comments, blanks, tabs, no final newline" "$states" compute "$f"
+f=$(scene empty.scene '')
+expect_out "empty scene" '' compute "$f"
+f=$(scene comment-only.scene '# nothing\n\n')
+expect_out "comment-only scene" '' compute --visible "$f"
+f=$(scene noscreen.scene 'window 3 -100 -100 50 50\nwindow 1 -90 -90 10 10\n')
+expect_out "no screen, negative coordinates" '1 unobscured\n3 partially-obscured\n' compute "$f"
+
+# A full disk is a runtime error (1), not bad input.
+if [ -w /dev/full ]; then
+	"$V" compute "$good" >/dev/full 2>"$T/err"
+	rc=$?
+	if [ "$rc" -eq 1 ] && grep -q "visctl: write error:" "$T/err"; then pass
+	else fail "write error to /dev/full (status $rc)"; fi
+fi
+
+# --- generated scenes: determinism and every engine agreeing with the brute force -------------
+for kind in random uniform grid cascade tiles nested; do
+	if ! "$V" gen "$kind" 150 7 >"$T/gen1" 2>"$T/err" || ! "$V" gen "$kind" 150 7 >"$T/gen2"; then
+		fail "gen $kind failed"
+		continue
+	fi
+	if cmp -s "$T/gen1" "$T/gen2" && [ "$(grep -c '^window ' "$T/gen1")" -eq 150 ]; then pass
+	else fail "gen $kind: not deterministic or not 150 windows"; fi
+
+	if ! "$V" compute --engine=brute "$T/gen1" >"$T/brute" 2>"$T/err"; then
+		fail "compute --engine=brute on gen $kind"
+		continue
+	fi
+	for engine in auto gmv gmv-heap region; do
+		if "$V" compute --engine="$engine" "$T/gen1" >"$T/out" 2>"$T/err" &&
+			cmp -s "$T/out" "$T/brute"; then pass
+		else fail "engine $engine differs from brute on gen $kind 150 7"; fi
+	done
+done
+
+"$V" gen random 3 5 1000 800 >"$T/out" 2>"$T/err"
+if [ "$(head -n 1 "$T/out")" = "screen 1000 800" ]; then pass; else fail "gen with screen size"; fi
+expect_out "gen 0 windows" 'screen 3840 2160\n' gen random 0 1
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]

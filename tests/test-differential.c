@@ -1,0 +1,392 @@
+/*
+ * The differential test: seeded scenes of every kind, every engine against the brute force, or
+ * against the region method where the brute force would be too slow (the region method being
+ * itself checked against the brute force on the smaller scenes). A failure prints how to rerun
+ * just that case.
+ */
+#include <errno.h>
+#include <inttypes.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "engine.h"
+#include "rng.h"
+#include "scenes.h"
+
+/* How many scenes of each size every kind gets by default (scaled by --count). */
+static const struct {
+	size_t n;
+	unsigned reps;
+} schedule[] = {
+	{ 0, 2 },    { 1, 30 },   { 2, 40 },   { 3, 40 },  { 4, 40 },  { 5, 40 },  { 6, 40 },
+	{ 7, 30 },   { 8, 30 },   { 10, 30 },  { 12, 30 }, { 16, 20 }, { 20, 20 }, { 24, 20 },
+	{ 32, 20 },  { 40, 15 },  { 50, 15 },  { 64, 12 }, { 80, 10 }, { 100, 8 }, { 128, 6 },
+	{ 160, 5 },  { 200, 4 },  { 300, 3 },  { 500, 2 }, { 1000, 1 }, { 2000, 1 }, { 3000, 1 },
+};
+
+/* Past these, the brute force is not run: its grid or its painting would take too long. */
+#define BRUTE_MAX_CELLS (4u << 20)
+#define BRUTE_MAX_PAINT (16u << 20)
+
+/* Printed failure details stop here, so a broken engine does not flood the log. */
+#define MAX_REPORTS 20
+
+struct options {
+	const char *argv0;
+	bool has_seed, has_kind, has_n, verbose;
+	uint64_t seed;
+	unsigned kind;
+	size_t n;
+	bool engines[VIS_ENGINE_COUNT];
+	double count;
+};
+
+struct tally {
+	unsigned long scenes, failed;
+};
+
+static unsigned reports;
+
+/* Orders int64 values for qsort and bsearch. */
+static int cmp_i64(const void *a, const void *b)
+{
+	int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+	return (x > y) - (x < y);
+}
+
+/* Sorts and drops duplicates; returns the number of distinct values. */
+static size_t sort_unique(int64_t *v, size_t n)
+{
+	size_t k = 0;
+
+	qsort(v, n, sizeof *v, cmp_i64);
+	for (size_t i = 0; i < n; i++) {
+		if (k == 0 || v[k - 1] != v[i])
+			v[k++] = v[i];
+	}
+	return k;
+}
+
+/* The index of v among the k sorted distinct values. */
+static size_t index_of(const int64_t *vals, size_t k, int64_t v)
+{
+	const int64_t *p = bsearch(&v, vals, k, sizeof *vals, cmp_i64);
+	return (size_t)(p - vals);
+}
+
+/* Whether the brute force is cheap enough here: its grid and its painting stay bounded. */
+static bool brute_affordable(const struct vis_stack *stack)
+{
+	size_t n = stack->n, nx = 0, ny = 0;
+	int64_t *xs, *ys;
+	double paint = 0;
+	bool ok;
+
+	if (n <= 64)
+		return true;
+	xs = malloc(2 * n * sizeof *xs);
+	ys = malloc(2 * n * sizeof *ys);
+	if (xs == NULL || ys == NULL) {
+		free(xs);
+		free(ys);
+		return false;
+	}
+	for (size_t i = 0; i < n; i++) {
+		struct vis_box b = vis_stack_clip(stack, i);
+		if (vis_box_empty(b))
+			continue;
+		xs[nx++] = b.x1;
+		xs[nx++] = b.x2;
+		ys[ny++] = b.y1;
+		ys[ny++] = b.y2;
+	}
+	nx = sort_unique(xs, nx);
+	ny = sort_unique(ys, ny);
+	for (size_t i = 0; i < n; i++) {
+		struct vis_box b = vis_stack_clip(stack, i);
+		if (vis_box_empty(b))
+			continue;
+		paint += (double)(index_of(xs, nx, b.x2) - index_of(xs, nx, b.x1)) *
+			 (double)(index_of(ys, ny, b.y2) - index_of(ys, ny, b.y1));
+	}
+	ok = nx > 0 && ny > 0 && (double)(nx - 1) * (double)(ny - 1) <= BRUTE_MAX_CELLS &&
+	     paint <= BRUTE_MAX_PAINT;
+	free(xs);
+	free(ys);
+	return ok;
+}
+
+/* The seed of the rep-th scene of a kind and size: distinct and stable across runs. */
+static uint64_t scene_seed(uint64_t base, unsigned kind, size_t n, unsigned rep)
+{
+	struct vis_rng rng = { base ^ ((uint64_t)kind << 48) ^ ((uint64_t)n << 20) ^ rep };
+	return vis_rng_next(&rng) >> 16; /* short enough to type */
+}
+
+/* A state's name, or "invalid (v)" for a value no engine may write. */
+static const char *state_name(uint8_t s, char *buf, size_t len)
+{
+	if (s <= VIS_FULLY_OBSCURED)
+		return vis_state_name((enum vis_state)s);
+	snprintf(buf, len, "invalid (%u)", s);
+	return buf;
+}
+
+/* Prints how to rerun one case alone. */
+static void print_rerun(const struct options *o, unsigned kind, size_t n, uint64_t seed,
+			enum vis_engine e)
+{
+	printf("  rerun: %s --kind %s --n %zu --seed %" PRIu64 " --engine %s --verbose\n",
+	       o->argv0, scenes_kind_name(kind), n, seed, vis_engine_name(e));
+}
+
+/* Compares an engine's states with the reference's; returns whether they are equal. */
+static bool compare(const struct options *o, const struct vis_scene *scene, unsigned kind,
+		    uint64_t seed, enum vis_engine e, enum vis_engine ref, const uint8_t *want,
+		    const uint8_t *got)
+{
+	size_t shown = 0, bad = 0;
+	char b1[32], b2[32];
+
+	for (size_t i = 0; i < scene->n; i++) {
+		if (want[i] == got[i])
+			continue;
+		if (bad++ == 0 && reports++ < MAX_REPORTS)
+			printf("MISMATCH kind %s, n %zu, seed %" PRIu64 ", engine %s (reference %s), "
+			       "screen %s%" PRId32 "x%" PRId32 "\n",
+			       scenes_kind_name(kind), scene->n, seed, vis_engine_name(e),
+			       vis_engine_name(ref), scene->has_screen ? "" : "none ",
+			       scene->screen_w, scene->screen_h);
+		if (reports <= MAX_REPORTS && shown++ < 5) {
+			const struct vis_rect *r = &scene->rects[i];
+			printf("  window %zu (x %" PRId32 ", y %" PRId32 ", w %" PRId32 ", h %" PRId32
+			       "): expected %s, got %s\n",
+			       i, r->x, r->y, r->w, r->h, state_name(want[i], b1, sizeof b1),
+			       state_name(got[i], b2, sizeof b2));
+		}
+	}
+	if (bad != 0 && reports <= MAX_REPORTS) {
+		printf("  %zu of %zu windows differ\n", bad, scene->n);
+		print_rerun(o, kind, scene->n, seed, e);
+	}
+	return bad == 0;
+}
+
+/* Runs one engine, reporting an error return; states are poisoned first to catch gaps. */
+static bool run(const struct options *o, const struct vis_stack *stack, unsigned kind,
+		uint64_t seed, enum vis_engine e, uint8_t *states)
+{
+	memset(states, 0xff, stack->n);
+	if (vis_compute(e, stack, states) == 0)
+		return true;
+	if (reports++ < MAX_REPORTS) {
+		printf("ERROR kind %s, n %zu, seed %" PRIu64 ", engine %s: %s\n",
+		       scenes_kind_name(kind), stack->n, seed, vis_engine_name(e), strerror(errno));
+		print_rerun(o, kind, stack->n, seed, e);
+	}
+	return false;
+}
+
+/* Prints the scene in the scene file format, for a rerun with --verbose. */
+static void dump(const struct vis_scene *scene, const uint8_t *states)
+{
+	if (scene->has_screen)
+		printf("screen %" PRId32 " %" PRId32 "\n", scene->screen_w, scene->screen_h);
+	for (size_t i = 0; i < scene->n; i++) {
+		const struct vis_rect *r = &scene->rects[i];
+		printf("window %" PRIu32 " %" PRId32 " %" PRId32 " %" PRId32 " %" PRId32 "  # %s\n",
+		       scene->ids[i], r->x, r->y, r->w, r->h,
+		       states != NULL ? vis_state_name((enum vis_state)states[i]) : "");
+	}
+}
+
+/* Checks one scene with every selected engine; returns whether all agreed. */
+static bool check_scene(const struct options *o, unsigned kind, size_t n, uint64_t seed)
+{
+	struct vis_scene scene;
+	struct vis_stack stack;
+	uint8_t *brute = NULL, *region = NULL, *got = NULL;
+	bool ok = true, have_brute = false, have_region = false;
+
+	vis_scene_init(&scene);
+	if (scenes_make(&scene, kind, n, seed) != 0) {
+		printf("ERROR kind %s, n %zu, seed %" PRIu64 ": making the scene: %s\n",
+		       scenes_kind_name(kind), n, seed, strerror(errno));
+		vis_scene_finish(&scene);
+		return false;
+	}
+	stack = vis_scene_stack(&scene);
+	brute = malloc(stack.n + 1);
+	region = malloc(stack.n + 1);
+	got = malloc(stack.n + 1);
+	if (brute == NULL || region == NULL || got == NULL) {
+		printf("ERROR: out of memory\n");
+		ok = false;
+		goto out;
+	}
+
+	if (brute_affordable(&stack)) {
+		have_brute = run(o, &stack, kind, seed, VIS_ENGINE_BRUTE, brute);
+		ok = have_brute;
+	}
+	/* The region method is the reference where the brute force is not, and checked where it is. */
+	if (!have_brute || o->engines[VIS_ENGINE_REGION]) {
+		have_region = run(o, &stack, kind, seed, VIS_ENGINE_REGION, region);
+		ok = ok && have_region;
+		if (have_region && have_brute)
+			ok = compare(o, &scene, kind, seed, VIS_ENGINE_REGION, VIS_ENGINE_BRUTE,
+				     brute, region) && ok;
+	}
+	if (o->verbose && o->has_seed)
+		dump(&scene, have_brute ? brute : have_region ? region : NULL);
+
+	for (int e = 0; e < VIS_ENGINE_COUNT; e++) {
+		if (!o->engines[e] || e == VIS_ENGINE_BRUTE || e == VIS_ENGINE_REGION)
+			continue;
+		if (!have_brute && !have_region) {
+			ok = false;
+			continue;
+		}
+		if (!run(o, &stack, kind, seed, (enum vis_engine)e, got)) {
+			ok = false;
+			continue;
+		}
+		ok = compare(o, &scene, kind, seed, (enum vis_engine)e,
+			     have_brute ? VIS_ENGINE_BRUTE : VIS_ENGINE_REGION,
+			     have_brute ? brute : region, got) && ok;
+	}
+	if (o->verbose)
+		printf("%-4s kind %s, n %zu, seed %" PRIu64 ", reference %s\n", ok ? "ok" : "FAIL",
+		       scenes_kind_name(kind), n, seed,
+		       have_brute ? "brute" : have_region ? "region" : "none");
+out:
+	free(brute);
+	free(region);
+	free(got);
+	vis_scene_finish(&scene);
+	return ok;
+}
+
+/* Prints the options and exits: only for a bad command line. */
+static void usage(const char *argv0)
+{
+	fprintf(stderr,
+		"usage: %s [--seed S] [--kind K] [--n N] [--engine NAME]... [--count C] "
+		"[--verbose]\n"
+		"  --seed S --kind K --n N  rerun one case\n"
+		"  --count C                scale the number of scenes by C (default 1)\n",
+		argv0);
+	exit(2);
+}
+
+/* Parses the command line into o. */
+static void parse_options(int argc, char **argv, struct options *o)
+{
+	bool any_engine = false;
+
+	memset(o, 0, sizeof *o);
+	o->argv0 = argv[0];
+	o->count = 1;
+	for (int i = 1; i < argc; i++) {
+		const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+		char *end;
+		if (strcmp(a, "--verbose") == 0 || strcmp(a, "-v") == 0) {
+			o->verbose = true;
+			continue;
+		}
+		if (v == NULL)
+			usage(argv[0]);
+		i++;
+		errno = 0;
+		if (strcmp(a, "--seed") == 0) {
+			o->seed = strtoull(v, &end, 0);
+			o->has_seed = true;
+		} else if (strcmp(a, "--n") == 0) {
+			o->n = strtoull(v, &end, 0);
+			o->has_n = true;
+		} else if (strcmp(a, "--count") == 0) {
+			o->count = strtod(v, &end);
+			if (!(o->count > 0))
+				usage(argv[0]);
+		} else if (strcmp(a, "--kind") == 0) {
+			if (scenes_kind_from_name(v, &o->kind) != 0) {
+				fprintf(stderr, "unknown kind %s; kinds:", v);
+				for (unsigned k = 0; k < SCENES_KIND_COUNT; k++)
+					fprintf(stderr, " %s", scenes_kind_name(k));
+				fprintf(stderr, "\n");
+				exit(2);
+			}
+			o->has_kind = true;
+			continue;
+		} else if (strcmp(a, "--engine") == 0) {
+			enum vis_engine e;
+			if (vis_engine_from_name(v, &e) != 0) {
+				fprintf(stderr, "unknown engine %s\n", v);
+				exit(2);
+			}
+			o->engines[e] = any_engine = true;
+			continue;
+		} else {
+			usage(argv[0]);
+		}
+		if (errno != 0 || *end != '\0' || end == v)
+			usage(argv[0]);
+	}
+	if (!any_engine) {
+		for (int e = 0; e < VIS_ENGINE_COUNT; e++)
+			o->engines[e] = true;
+	}
+}
+
+int main(int argc, char **argv)
+{
+	struct options o;
+	struct tally tally[SCENES_KIND_COUNT] = { 0 }, total = { 0 };
+	struct timespec t0, t1;
+
+	setvbuf(stdout, NULL, _IOLBF, 0);
+	parse_options(argc, argv, &o);
+	clock_gettime(CLOCK_MONOTONIC, &t0);
+
+	if (o.has_seed && o.has_kind && o.has_n) {
+		bool ok = check_scene(&o, o.kind, o.n, o.seed);
+		printf("%d passed, %d failed\n", ok, !ok);
+		return ok ? 0 : 1;
+	}
+	for (unsigned k = 0; k < SCENES_KIND_COUNT; k++) {
+		if (o.has_kind && k != o.kind)
+			continue;
+		for (size_t s = 0; s < sizeof schedule / sizeof schedule[0]; s++) {
+			size_t n = o.has_n ? o.n : schedule[s].n;
+			double r = schedule[s].reps * o.count + 0.5;
+			unsigned reps = r < 1 ? 1 : (unsigned)r;
+			for (unsigned rep = 0; rep < reps; rep++) {
+				uint64_t seed = scene_seed(o.seed, k, n, rep);
+				tally[k].scenes++;
+				if (!check_scene(&o, k, n, seed))
+					tally[k].failed++;
+			}
+			if (o.has_n)
+				break;
+		}
+	}
+	clock_gettime(CLOCK_MONOTONIC, &t1);
+
+	for (unsigned k = 0; k < SCENES_KIND_COUNT; k++) {
+		if (tally[k].scenes == 0)
+			continue;
+		printf("  %-10s %6lu scenes, %lu failed\n", scenes_kind_name(k), tally[k].scenes,
+		       tally[k].failed);
+		total.scenes += tally[k].scenes;
+		total.failed += tally[k].failed;
+	}
+	if (reports > MAX_REPORTS)
+		printf("(%u failure reports, the first %d printed)\n", reports, MAX_REPORTS);
+	printf("differential: %lu scenes, %lu mismatches or errors, %.1f s\n", total.scenes,
+	       total.failed,
+	       (double)(t1.tv_sec - t0.tv_sec) + (double)(t1.tv_nsec - t0.tv_nsec) / 1e9);
+	printf("%lu passed, %lu failed\n", total.scenes - total.failed, total.failed);
+	return total.failed == 0 ? 0 : 1;
+}

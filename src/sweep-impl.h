@@ -1,9 +1,25 @@
+/*
+ * The Grove–Murali–Vitter sweep, included by the two engines that differ only in where they read
+ * top(H_v) from: gmv-heap.c (per-node heaps, sections 4–5) and gmv.c (offline top lists, section
+ * 6). The sweep is memory-latency bound and makes these reads at every canonical node, so each
+ * engine gets its own copy with the reads inlined and their state in the node record itself.
+ * Define struct source before including this, and after it:
+ *   uint32_t source_insert(struct source *, struct node *, uint32_t z)  -> the node's new top
+ *   uint32_t source_remove(struct source *, struct node *, uint32_t z)  -> the node's new top
+ *   void source_deleted(struct source *, uint32_t z)   before a window's removals begin
+ *   int source_make(struct source *, const struct vis_events *, const uint32_t *sched,
+ *                   struct node *nodes)                sets up aux; 0 or -1 with errno
+ *   void source_free(struct source *)
+ * Windows are named by z = k + 1 for kept window k, 0 standing for none (the paper's −∞).
+ */
 #include <errno.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "engine.h"
+#include "events.h"
 #include "segtree.h"
-#include "sweep.h"
 
 /*
  * A node of the sweep's segment tree. Invariants, after every event (z = 0 means none):
@@ -13,11 +29,21 @@
  * - h: an upper bound on the highest unreported window that is the top of a subtree node and
  *   visible within the subtree (0 if none). It is exact except for windows reported during the
  *   current event, whose nodes are refreshed right after it (section 6);
- * - m: the highest window stored in the subtree.
+ * - m: the highest window stored in the subtree;
+ * - aux: the top source's own per-node state.
  */
 struct node {
 	uint32_t top, l, h, m;
+	uint32_t aux[2];
 };
+
+struct source;
+static inline uint32_t source_insert(struct source *src, struct node *nd, uint32_t z);
+static inline uint32_t source_remove(struct source *src, struct node *nd, uint32_t z);
+static inline void source_deleted(struct source *src, uint32_t z);
+static int source_make(struct source *src, const struct vis_events *ev, const uint32_t *sched,
+		       struct node *nodes);
+static void source_free(struct source *src);
 
 /*
  * Unobscured windows. A window is unobscured iff it is on the screen and no higher window
@@ -46,7 +72,7 @@ struct sweep {
 	size_t ngroup;
 	uint32_t *found; /* candidates overlapped by the window being checked */
 	size_t nfound;
-	const struct vis_top_source *src;
+	struct source *src;
 	uint32_t a, b, z; /* the current event's leaf range and window */
 };
 
@@ -106,7 +132,7 @@ static void left_insert(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, u
 	if (s->a <= lo && hi <= s->b) {
 		/* Read l before the update: z is visible here iff it beats what was visible. */
 		uint32_t old_l = max32(children_l(s, v, lo, hi), nd->top);
-		nd->top = s->src->insert(s->src->ctx, v, s->z);
+		nd->top = source_insert(s->src, nd, s->z);
 		if (s->z > old_l && s->z > S)
 			report(s, s->z);
 		update(s, v, lo, hi);
@@ -148,7 +174,7 @@ static void right_delete(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, 
 	struct node *nd = &s->node[v];
 	if (s->a <= lo && hi <= s->b) {
 		bool was_visible = nd->top == s->z && s->z > S && s->z > children_l(s, v, lo, hi);
-		nd->top = s->src->remove(s->src->ctx, v, s->z);
+		nd->top = source_remove(s->src, nd, s->z);
 		update(s, v, lo, hi);
 		/* The deletion may expose S itself here, which RIGHT-REPORT never looks at. */
 		if (S && S > nd->l)
@@ -305,14 +331,20 @@ static void sweep_free(struct sweep *s)
 	free(s->found);
 }
 
-int vis_sweep_run(const struct vis_events *ev, const uint32_t *sched,
-		  const struct vis_top_source *src, const uint8_t *onscreen, uint8_t *states)
+/*
+ * Runs the sweep over the events in VIS_ORDER_VISIBILITY order and writes the state of every kept
+ * window k into states[ev->idx[k]]; onscreen[k] says whether k lies wholly on the screen.
+ * Returns 0, or -1 (ENOMEM). O(n log n) node visits, plus what the top source costs.
+ */
+static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const uint8_t *onscreen,
+		     uint8_t *states)
 {
+	struct source src;
 	size_t n = ev->n, nodes = vis_segtree_nodes(ev->nleaves);
 	uint32_t m = ev->nleaves;
 	if (n == 0)
 		return 0;
-	struct sweep s = { .src = src };
+	struct sweep s = { .src = &src };
 	s.node = calloc(nodes, sizeof(*s.node));
 	s.reported = calloc(n + 1, 1);
 	s.cstate = calloc(n + 1, 1);
@@ -329,6 +361,10 @@ int vis_sweep_run(const struct vis_events *ev, const uint32_t *sched,
 	}
 	for (size_t v = 0; v < nodes; v++)
 		s.submin[v] = UINT32_MAX;
+	if (source_make(&src, ev, sched, s.node) < 0) {
+		sweep_free(&s);
+		return -1;
+	}
 	int64_t x = 0;
 	for (size_t i = 0; i < 2 * n; i++) {
 		uint32_t k = VIS_EV_WINDOW(sched[i]);
@@ -339,8 +375,7 @@ int vis_sweep_run(const struct vis_events *ev, const uint32_t *sched,
 		x = ex;
 		set_window(&s, ev, k);
 		if (del) {
-			if (src->deleted)
-				src->deleted(src->ctx, s.z);
+			source_deleted(&src, s.z);
 			right_delete(&s, 0, 0, m, 0);
 			if (s.cstate[s.z] == CAND_ACTIVE) {
 				s.cstate[s.z] = CAND_DONE;
@@ -364,12 +399,13 @@ int vis_sweep_run(const struct vis_events *ev, const uint32_t *sched,
 				     : s.cstate[z] == CAND_DONE ? VIS_UNOBSCURED
 								 : VIS_PARTIALLY_OBSCURED;
 	}
+	source_free(&src);
 	sweep_free(&s);
 	return 0;
 }
 
-int vis_sweep_compute(const struct vis_stack *stack, const struct vis_top_source_ops *ops,
-		      uint8_t *states)
+/* The engine: events, schedule, sweep. */
+static int sweep_compute(const struct vis_stack *stack, uint8_t *states)
 {
 	for (size_t i = 0; i < stack->n; i++)
 		states[i] = VIS_FULLY_OBSCURED;
@@ -377,7 +413,6 @@ int vis_sweep_compute(const struct vis_stack *stack, const struct vis_top_source
 	if (vis_events_init(&ev, stack, 0) < 0)
 		return -1;
 	int rc = -1;
-	struct vis_top_source src = { 0 };
 	uint32_t *sched = malloc(2 * ev.n * sizeof(*sched) + 1);
 	uint8_t *onscreen = malloc(ev.n + 1);
 	if (!sched || !onscreen) {
@@ -388,10 +423,7 @@ int vis_sweep_compute(const struct vis_stack *stack, const struct vis_top_source
 		onscreen[k] = vis_stack_on_screen(stack, ev.idx[k]);
 	if (vis_events_schedule(&ev, VIS_ORDER_VISIBILITY, sched) < 0)
 		goto out;
-	if (ops->make(&src, &ev, sched) < 0)
-		goto out;
-	rc = vis_sweep_run(&ev, sched, &src, onscreen, states);
-	ops->free(&src);
+	rc = sweep_run(&ev, sched, onscreen, states);
 out:
 	free(sched);
 	free(onscreen);
