@@ -271,6 +271,7 @@ out:
 	return ret;
 }
 
+/* `visctl compute`: bad usage and bad scenes exit 2 with nothing on stdout, runtime failures 1. */
 int cmd_compute(int argc, char **argv)
 {
 	enum vis_engine engine = VIS_ENGINE_AUTO;
@@ -378,6 +379,7 @@ static int gen_bad_usage(const char *what, const char *arg, const char *range)
 #define GEN_MAX_N 100000000u
 #define GEN_CHUNK 65536
 
+/* `visctl gen`: checks every argument before generating, so bad usage never writes a partial scene. */
 int cmd_gen(int argc, char **argv)
 {
 	enum vis_gen_kind kind;

@@ -29,6 +29,7 @@ static void usage(FILE *f)
 		   "exit status: 0 ok, 1 runtime error, 2 usage or bad input\n");
 }
 
+/* Dispatches to the subcommand named by argv[1]; each subcommand parses its own options. */
 int main(int argc, char **argv)
 {
 	if (argc < 2) {

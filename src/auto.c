@@ -6,10 +6,13 @@
  * or cascading stacks; the sweep is O(n log n) on all of them. So run the region method while its
  * work stays within what the sweep would cost, and hand over to the sweep past that: never much
  * slower than the region method where it is cheap, and within a constant of the sweep everywhere.
- * REGION_BOXES_PER_STEP converts one sweep step (a window times a tree level) into union boxes the
- * region method can touch in the same time; measured with `visctl bench`, see README.md.
+ * REGION_BOXES_PER_STEP converts one sweep step (a window times a tree level) into units of region
+ * work (see vis_region_compute_within()). Measured on this project's bench scenes: a unit costs
+ * 2–4 ns and a sweep step 35–85 ns, i.e. 12–30 units. At 40 the region method keeps every kind
+ * where it beats the sweep (uniform n = 10^4 needs 26 units a step, cascade 29–37) and hands
+ * the grid (5,700 units a step at n = 1,000) and small uniform stacks (227) to the sweep early.
  */
-#define REGION_BOXES_PER_STEP 8
+#define REGION_BOXES_PER_STEP 40
 
 static uint64_t sweep_steps(size_t n)
 {

@@ -45,8 +45,9 @@ int vis_gmv_compute(const struct vis_stack *stack, uint8_t *states);
 int vis_region_compute(const struct vis_stack *stack, uint8_t *states);
 
 /*
- * The region method that gives up once the boxes of the union it has touched (a measure of its
- * time) pass budget: returns 1 then, with states partly written; otherwise as above.
+ * The region method that gives up once its work passes budget: returns 1 then, with states partly
+ * written; otherwise as above. Work, a measure of its time: per window, 1 + log2 of the union's
+ * boxes for the containment test, plus the union's boxes when the window is added to it.
  */
 int vis_region_compute_within(const struct vis_stack *stack, uint8_t *states, uint64_t budget);
 

@@ -21,11 +21,13 @@ static const char *const kind_names[VIS_GEN_KIND_COUNT] = {
 	[VIS_GEN_NESTED] = "nested",
 };
 
+/* Names a kind as `visctl gen` spells it. */
 const char *vis_gen_kind_name(enum vis_gen_kind kind)
 {
 	return (unsigned)kind < VIS_GEN_KIND_COUNT ? kind_names[kind] : "invalid";
 }
 
+/* Maps a command-line kind name back to the kind. */
 int vis_gen_kind_from_name(const char *name, enum vis_gen_kind *kind)
 {
 	for (int i = 0; i < VIS_GEN_KIND_COUNT; i++) {
@@ -51,11 +53,13 @@ static int put(struct gen *g, int64_t x, int64_t y, int64_t w, int64_t h)
 	return vis_scene_push(g->scene, (uint32_t)(g->scene->n + 1), r);
 }
 
+/* The smaller of two coordinates. */
 static int64_t min64(int64_t a, int64_t b)
 {
 	return a < b ? a : b;
 }
 
+/* The larger of two coordinates. */
 static int64_t max64(int64_t a, int64_t b)
 {
 	return a > b ? a : b;
@@ -111,7 +115,7 @@ static int gen_random(struct gen *g, size_t n)
 	return 0;
 }
 
-/* Rectangles with no structure at all: corners uniform in [0, 10^6)², sides uniform in [1, 10^5]. */
+/* Rectangles with no structure: corners uniform in [0, 10^6)², sides uniform in [1, 10^5]. */
 static int gen_uniform(struct gen *g, size_t n)
 {
 	for (size_t i = 0; i < n; i++) {
@@ -258,6 +262,7 @@ static int gen_nested(struct gen *g, size_t n)
 	return 0;
 }
 
+/* Checks the arguments, sets up the screen and the random stream, and runs the kind's generator. */
 int vis_gen(struct vis_scene *scene, enum vis_gen_kind kind, size_t n, uint64_t seed,
 	    int32_t screen_w, int32_t screen_h)
 {

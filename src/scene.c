@@ -37,11 +37,13 @@ struct parser {
 	size_t lines_cap;
 };
 
+/* Starts a scene with no arrays, so finish and push work on it without special cases. */
 void vis_scene_init(struct vis_scene *scene)
 {
 	memset(scene, 0, sizeof(*scene));
 }
 
+/* Releases the arrays; leaves the scene reusable, so finishing twice is harmless. */
 void vis_scene_finish(struct vis_scene *scene)
 {
 	free(scene->ids);
@@ -49,7 +51,7 @@ void vis_scene_finish(struct vis_scene *scene)
 	vis_scene_init(scene);
 }
 
-/* Grows both arrays to hold at least one more window, failing cleanly if the size would overflow. */
+/* Grows both arrays for at least one more window, failing cleanly if the size would overflow. */
 static int scene_grow(struct vis_scene *scene)
 {
 	size_t cap = scene->cap ? scene->cap : 16;
@@ -79,6 +81,7 @@ static int scene_grow(struct vis_scene *scene)
 	return 0;
 }
 
+/* Adds a window on top, growing by doubling so building a scene stays linear. */
 int vis_scene_push(struct vis_scene *scene, uint32_t id, struct vis_rect rect)
 {
 	if (scene->n == scene->cap && scene_grow(scene) < 0)
@@ -89,6 +92,7 @@ int vis_scene_push(struct vis_scene *scene, uint32_t id, struct vis_rect rect)
 	return 0;
 }
 
+/* Lends the engines the scene's rectangles without copying them. */
 struct vis_stack vis_scene_stack(const struct vis_scene *scene)
 {
 	struct vis_stack stack = {
@@ -365,6 +369,7 @@ static int find_duplicate(struct parser *p, size_t n)
 	return 1;
 }
 
+/* Reads a scene line by line, stopping at the first error a reader of the file would meet. */
 int vis_scene_parse(struct vis_scene *scene, const char *text, size_t len,
 		    struct vis_scene_error *err)
 {
@@ -457,6 +462,7 @@ static char *put_i32(char *p, int32_t v)
 /* The longest line: "window " plus five numbers of at most 11 characters and their separators. */
 #define LINE_MAX_LEN 64
 
+/* Writes the text form into one buffer sized for the longest possible lines, shrunk at the end. */
 int vis_scene_format(const struct vis_scene *scene, char **out, size_t *len)
 {
 	if (scene->n > (SIZE_MAX - 2 * LINE_MAX_LEN) / LINE_MAX_LEN) {

@@ -136,9 +136,11 @@ static void style_lattice(struct maker *m)
 /* A small random window in or around the frame. */
 static void style_small(struct maker *m)
 {
-	int64_t x1 = vis_rng_range(&m->rng, -3, m->fw + 2), y1 = vis_rng_range(&m->rng, -3, m->fh + 2);
-	push_box(m, x1, y1, x1 + vis_rng_range(&m->rng, 1, m->fw + 4),
-		 y1 + vis_rng_range(&m->rng, 1, m->fh + 4));
+	int64_t x1 = vis_rng_range(&m->rng, -3, m->fw + 2);
+	int64_t y1 = vis_rng_range(&m->rng, -3, m->fh + 2);
+	int64_t w = vis_rng_range(&m->rng, 1, m->fw + 4);
+	int64_t h = vis_rng_range(&m->rng, 1, m->fh + 4);
+	push_box(m, x1, y1, x1 + w, y1 + h);
 }
 
 /* A copy of an earlier window, sometimes several copies in a row. */
@@ -252,8 +254,11 @@ static void style_tiny(struct maker *m)
 		x = vis_rng_range(&m->rng, -1, m->fw);
 		y = vis_rng_range(&m->rng, -1, m->fh);
 	} else {
-		x = (vis_rng_below(&m->rng, 2) ? b.x1 : b.x2 - 1) + jitter(m);
-		y = (vis_rng_below(&m->rng, 2) ? b.y1 : b.y2 - 1) + jitter(m);
+		/* One random draw a statement: argument and operand order is unspecified in C. */
+		x = vis_rng_below(&m->rng, 2) ? b.x1 : b.x2 - 1;
+		x += jitter(m);
+		y = vis_rng_below(&m->rng, 2) ? b.y1 : b.y2 - 1;
+		y += jitter(m);
 	}
 	push_box(m, x, y, x + 1, y + 1);
 }
@@ -354,10 +359,14 @@ static void style_snap(struct maker *m)
 		return;
 	}
 	int64_t xs[] = { a.x1, a.x2, b.x1, b.x2 }, ys[] = { a.y1, a.y2, b.y1, b.y2 };
-	int64_t x1 = xs[vis_rng_below(&m->rng, 4)] + jitter(m);
-	int64_t x2 = xs[vis_rng_below(&m->rng, 4)] + jitter(m);
-	int64_t y1 = ys[vis_rng_below(&m->rng, 4)] + jitter(m);
-	int64_t y2 = ys[vis_rng_below(&m->rng, 4)] + jitter(m);
+	int64_t x1 = xs[vis_rng_below(&m->rng, 4)];
+	x1 += jitter(m);
+	int64_t x2 = xs[vis_rng_below(&m->rng, 4)];
+	x2 += jitter(m);
+	int64_t y1 = ys[vis_rng_below(&m->rng, 4)];
+	y1 += jitter(m);
+	int64_t y2 = ys[vis_rng_below(&m->rng, 4)];
+	y2 += jitter(m);
 	push_box(m, x1 < x2 ? x1 : x2, y1 < y2 ? y1 : y2, x1 < x2 ? x2 : x1, y1 < y2 ? y2 : y1);
 }
 

@@ -20,15 +20,30 @@ static const struct {
 	size_t n;
 	unsigned reps;
 } schedule[] = {
-	{ 0, 2 },    { 1, 30 },   { 2, 40 },   { 3, 40 },  { 4, 40 },  { 5, 40 },  { 6, 40 },
-	{ 7, 30 },   { 8, 30 },   { 10, 30 },  { 12, 30 }, { 16, 20 }, { 20, 20 }, { 24, 20 },
-	{ 32, 20 },  { 40, 15 },  { 50, 15 },  { 64, 12 }, { 80, 10 }, { 100, 8 }, { 128, 6 },
+	{ 0, 2 },    { 1, 40 },   { 2, 80 },   { 3, 80 },  { 4, 80 },  { 5, 80 },  { 6, 60 },
+	{ 7, 60 },   { 8, 60 },   { 10, 50 },  { 12, 50 }, { 16, 40 }, { 20, 30 }, { 24, 30 },
+	{ 32, 25 },  { 40, 20 },  { 50, 15 },  { 64, 12 }, { 80, 10 }, { 100, 8 }, { 128, 6 },
 	{ 160, 5 },  { 200, 4 },  { 300, 3 },  { 500, 2 }, { 1000, 1 }, { 2000, 1 }, { 3000, 1 },
 };
 
 /* Past these, the brute force is not run: its grid or its painting would take too long. */
-#define BRUTE_MAX_CELLS (4u << 20)
-#define BRUTE_MAX_PAINT (16u << 20)
+#define BRUTE_MAX_CELLS (16u << 20)
+#define BRUTE_MAX_PAINT (32u << 20)
+
+/*
+ * The region method's work budget in union boxes (see vis_region_compute_within()): about a
+ * second, reached only by the grid beyond n ≈ 1000, where the brute force is the reference.
+ */
+#define REGION_MAX_WORK ((uint64_t)150 << 20)
+
+/* What a scene was checked against. */
+enum reference {
+	REFERENCE_BRUTE,
+	REFERENCE_REGION,
+	REFERENCE_SWEEP, /* neither was affordable: the engines against each other */
+	REFERENCE_NONE,
+	REFERENCE_COUNT,
+};
 
 /* Printed failure details stop here, so a broken engine does not flood the log. */
 #define MAX_REPORTS 20
@@ -44,7 +59,7 @@ struct options {
 };
 
 struct tally {
-	unsigned long scenes, failed;
+	unsigned long scenes, failed, against[REFERENCE_COUNT];
 };
 
 static unsigned reports;
@@ -154,15 +169,15 @@ static bool compare(const struct options *o, const struct vis_scene *scene, unsi
 		if (want[i] == got[i])
 			continue;
 		if (bad++ == 0 && reports++ < MAX_REPORTS)
-			printf("MISMATCH kind %s, n %zu, seed %" PRIu64 ", engine %s (reference %s), "
-			       "screen %s%" PRId32 "x%" PRId32 "\n",
+			printf("MISMATCH kind %s, n %zu, seed %" PRIu64
+			       ", engine %s (reference %s), screen %s%" PRId32 "x%" PRId32 "\n",
 			       scenes_kind_name(kind), scene->n, seed, vis_engine_name(e),
 			       vis_engine_name(ref), scene->has_screen ? "" : "none ",
 			       scene->screen_w, scene->screen_h);
 		if (reports <= MAX_REPORTS && shown++ < 5) {
 			const struct vis_rect *r = &scene->rects[i];
-			printf("  window %zu (x %" PRId32 ", y %" PRId32 ", w %" PRId32 ", h %" PRId32
-			       "): expected %s, got %s\n",
+			printf("  window %zu (x %" PRId32 ", y %" PRId32 ", w %" PRId32
+			       ", h %" PRId32 "): expected %s, got %s\n",
 			       i, r->x, r->y, r->w, r->h, state_name(want[i], b1, sizeof b1),
 			       state_name(got[i], b2, sizeof b2));
 		}
@@ -174,19 +189,28 @@ static bool compare(const struct options *o, const struct vis_scene *scene, unsi
 	return bad == 0;
 }
 
-/* Runs one engine, reporting an error return; states are poisoned first to catch gaps. */
-static bool run(const struct options *o, const struct vis_stack *stack, unsigned kind,
-		uint64_t seed, enum vis_engine e, uint8_t *states)
+/*
+ * Runs one engine, reporting an error return; states are poisoned first to catch gaps. The
+ * region method runs under a work budget: returns 1 when it gave up, else 0, or -1 on error.
+ */
+static int run(const struct options *o, const struct vis_stack *stack, unsigned kind,
+	       uint64_t seed, enum vis_engine e, uint8_t *states)
 {
+	int rc;
+
 	memset(states, 0xff, stack->n);
-	if (vis_compute(e, stack, states) == 0)
-		return true;
+	if (e == VIS_ENGINE_REGION)
+		rc = vis_region_compute_within(stack, states, REGION_MAX_WORK);
+	else
+		rc = vis_compute(e, stack, states);
+	if (rc >= 0)
+		return rc;
 	if (reports++ < MAX_REPORTS) {
 		printf("ERROR kind %s, n %zu, seed %" PRIu64 ", engine %s: %s\n",
 		       scenes_kind_name(kind), stack->n, seed, vis_engine_name(e), strerror(errno));
 		print_rerun(o, kind, stack->n, seed, e);
 	}
-	return false;
+	return -1;
 }
 
 /* Prints the scene in the scene file format, for a rerun with --verbose. */
@@ -202,13 +226,19 @@ static void dump(const struct vis_scene *scene, const uint8_t *states)
 	}
 }
 
-/* Checks one scene with every selected engine; returns whether all agreed. */
-static bool check_scene(const struct options *o, unsigned kind, size_t n, uint64_t seed)
+/*
+ * Checks one scene with every selected engine; returns whether all agreed. The reference is the
+ * brute force where affordable, else the region method within its budget, else (the grid at
+ * large n) the first sweep engine, the others being compared with it.
+ */
+static bool check_scene(const struct options *o, unsigned kind, size_t n, uint64_t seed,
+			enum reference *used)
 {
 	struct vis_scene scene;
 	struct vis_stack stack;
-	uint8_t *brute = NULL, *region = NULL, *got = NULL;
-	bool ok = true, have_brute = false, have_region = false;
+	uint8_t *want = NULL, *got = NULL;
+	bool ok = true, have_ref = false;
+	enum vis_engine ref = VIS_ENGINE_BRUTE;
 
 	vis_scene_init(&scene);
 	if (scenes_make(&scene, kind, n, seed) != 0) {
@@ -218,52 +248,49 @@ static bool check_scene(const struct options *o, unsigned kind, size_t n, uint64
 		return false;
 	}
 	stack = vis_scene_stack(&scene);
-	brute = malloc(stack.n + 1);
-	region = malloc(stack.n + 1);
+	want = malloc(stack.n + 1);
 	got = malloc(stack.n + 1);
-	if (brute == NULL || region == NULL || got == NULL) {
+	if (want == NULL || got == NULL) {
 		printf("ERROR: out of memory\n");
 		ok = false;
 		goto out;
 	}
 
 	if (brute_affordable(&stack)) {
-		have_brute = run(o, &stack, kind, seed, VIS_ENGINE_BRUTE, brute);
-		ok = have_brute;
+		have_ref = run(o, &stack, kind, seed, VIS_ENGINE_BRUTE, want) == 0;
+		ok = have_ref;
 	}
-	/* The region method is the reference where the brute force is not, and checked where it is. */
-	if (!have_brute || o->engines[VIS_ENGINE_REGION]) {
-		have_region = run(o, &stack, kind, seed, VIS_ENGINE_REGION, region);
-		ok = ok && have_region;
-		if (have_region && have_brute)
-			ok = compare(o, &scene, kind, seed, VIS_ENGINE_REGION, VIS_ENGINE_BRUTE,
-				     brute, region) && ok;
+	/* The engines in order: the region method first, as it may have to be the reference. */
+	static const enum vis_engine order[] = { VIS_ENGINE_REGION, VIS_ENGINE_GMV,
+						 VIS_ENGINE_GMV_HEAP, VIS_ENGINE_AUTO };
+	for (size_t k = 0; k < sizeof order / sizeof order[0]; k++) {
+		enum vis_engine e = order[k];
+		int rc;
+
+		if (!o->engines[e] && !(e == VIS_ENGINE_REGION && !have_ref))
+			continue;
+		rc = run(o, &stack, kind, seed, e, have_ref ? got : want);
+		if (rc < 0) {
+			ok = false;
+		} else if (rc > 0) {
+			if (o->verbose)
+				printf("     region method over budget: not checked\n");
+		} else if (!have_ref) {
+			have_ref = true;
+			ref = e;
+		} else {
+			ok = compare(o, &scene, kind, seed, e, ref, want, got) && ok;
+		}
 	}
 	if (o->verbose && o->has_seed)
-		dump(&scene, have_brute ? brute : have_region ? region : NULL);
-
-	for (int e = 0; e < VIS_ENGINE_COUNT; e++) {
-		if (!o->engines[e] || e == VIS_ENGINE_BRUTE || e == VIS_ENGINE_REGION)
-			continue;
-		if (!have_brute && !have_region) {
-			ok = false;
-			continue;
-		}
-		if (!run(o, &stack, kind, seed, (enum vis_engine)e, got)) {
-			ok = false;
-			continue;
-		}
-		ok = compare(o, &scene, kind, seed, (enum vis_engine)e,
-			     have_brute ? VIS_ENGINE_BRUTE : VIS_ENGINE_REGION,
-			     have_brute ? brute : region, got) && ok;
-	}
+		dump(&scene, have_ref ? want : NULL);
 	if (o->verbose)
 		printf("%-4s kind %s, n %zu, seed %" PRIu64 ", reference %s\n", ok ? "ok" : "FAIL",
-		       scenes_kind_name(kind), n, seed,
-		       have_brute ? "brute" : have_region ? "region" : "none");
+		       scenes_kind_name(kind), n, seed, have_ref ? vis_engine_name(ref) : "none");
+	*used = !have_ref ? REFERENCE_NONE : ref == VIS_ENGINE_BRUTE ? REFERENCE_BRUTE
+		: ref == VIS_ENGINE_REGION ? REFERENCE_REGION : REFERENCE_SWEEP;
 out:
-	free(brute);
-	free(region);
+	free(want);
 	free(got);
 	vis_scene_finish(&scene);
 	return ok;
@@ -351,7 +378,8 @@ int main(int argc, char **argv)
 	clock_gettime(CLOCK_MONOTONIC, &t0);
 
 	if (o.has_seed && o.has_kind && o.has_n) {
-		bool ok = check_scene(&o, o.kind, o.n, o.seed);
+		enum reference used;
+		bool ok = check_scene(&o, o.kind, o.n, o.seed, &used);
 		printf("%d passed, %d failed\n", ok, !ok);
 		return ok ? 0 : 1;
 	}
@@ -364,9 +392,11 @@ int main(int argc, char **argv)
 			unsigned reps = r < 1 ? 1 : (unsigned)r;
 			for (unsigned rep = 0; rep < reps; rep++) {
 				uint64_t seed = scene_seed(o.seed, k, n, rep);
+				enum reference used = REFERENCE_NONE;
 				tally[k].scenes++;
-				if (!check_scene(&o, k, n, seed))
+				if (!check_scene(&o, k, n, seed, &used))
 					tally[k].failed++;
+				tally[k].against[used]++;
 			}
 			if (o.has_n)
 				break;
@@ -377,8 +407,11 @@ int main(int argc, char **argv)
 	for (unsigned k = 0; k < SCENES_KIND_COUNT; k++) {
 		if (tally[k].scenes == 0)
 			continue;
-		printf("  %-10s %6lu scenes, %lu failed\n", scenes_kind_name(k), tally[k].scenes,
-		       tally[k].failed);
+		printf("  %-10s %6lu scenes, %lu failed (reference: brute %lu, region %lu, "
+		       "sweep %lu, none %lu)\n",
+		       scenes_kind_name(k), tally[k].scenes, tally[k].failed,
+		       tally[k].against[REFERENCE_BRUTE], tally[k].against[REFERENCE_REGION],
+		       tally[k].against[REFERENCE_SWEEP], tally[k].against[REFERENCE_NONE]);
 		total.scenes += tally[k].scenes;
 		total.failed += tally[k].failed;
 	}

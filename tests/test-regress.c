@@ -29,12 +29,14 @@ struct regress_case {
 
 static const struct regress_case cases[] = {
 	/* The three event orders at equal x that the notes prove wrong. */
-	{ "deletions-before-insertions", 0, 0, "FUU", { { 0, 0, 10, 1 }, { 0, 0, 5, 1 }, { 5, 0, 5, 1 } } },
+	{ "deletions-before-insertions", 0, 0, "FUU",
+	  { { 0, 0, 10, 1 }, { 0, 0, 5, 1 }, { 5, 0, 5, 1 } } },
 	{ "equal-right-edges", 0, 0, "FU", { { 1, 0, 4, 1 }, { 0, 0, 5, 1 } } },
 	{ "insertions-increasing-z", 0, 0, "FU", { { 0, 0, 5, 1 }, { 0, 0, 6, 1 } } },
 	{ "deletions-before-insertions-screen", 10, 1, "FUU",
 	  { { 0, 0, 10, 1 }, { 0, 0, 5, 1 }, { 5, 0, 5, 1 } } },
-	{ "equal-edges-three-deep", 0, 0, "FFU", { { 2, 0, 3, 1 }, { 1, 0, 4, 1 }, { 0, 0, 5, 1 } } },
+	{ "equal-edges-three-deep", 0, 0, "FFU",
+	  { { 2, 0, 3, 1 }, { 1, 0, 4, 1 }, { 0, 0, 5, 1 } } },
 
 	/* Zero area after clipping: dropped, and must not be reported nor hide anything. */
 	{ "zero-area-right-of-screen", 10, 1, "UF", { { 0, 0, 10, 1 }, { 10, 0, 5, 1 } } },
@@ -76,8 +78,10 @@ static const struct regress_case cases[] = {
 	  { { 0, 0, 10, 10 }, { 0, 0, 4, 10 }, { 4, 0, 6, 3 }, { 4, 3, 6, 7 } } },
 	{ "cover-overhanging", 0, 0, "FPUU",
 	  { { 2, 2, 6, 6 }, { 0, 0, 5, 10 }, { 5, 0, 5, 5 }, { 3, 5, 7, 7 } } },
-	{ "cover-split-x-gap", 0, 0, "PUU", { { 0, 0, 10, 10 }, { 0, 0, 4, 10 }, { 5, 0, 5, 10 } } },
-	{ "cover-split-y-gap", 0, 0, "PUU", { { 0, 0, 10, 10 }, { 0, 0, 10, 4 }, { 0, 5, 10, 5 } } },
+	{ "cover-split-x-gap", 0, 0, "PUU",
+	  { { 0, 0, 10, 10 }, { 0, 0, 4, 10 }, { 5, 0, 5, 10 } } },
+	{ "cover-split-y-gap", 0, 0, "PUU",
+	  { { 0, 0, 10, 10 }, { 0, 0, 10, 4 }, { 0, 5, 10, 5 } } },
 	{ "cover-2x2-pixel-free", 0, 0, "PUUUUU",
 	  { { 0, 0, 10, 10 }, { 0, 0, 4, 3 }, { 4, 0, 6, 3 }, { 0, 3, 4, 7 }, { 5, 3, 5, 7 },
 	    { 4, 4, 1, 6 } } },
@@ -116,11 +120,13 @@ static const struct regress_case cases[] = {
 	{ "limits-halves-touching", 0, 0, "UU", { { MIN, 0, MAX, 1 }, { -1, 0, MAX, 1 } } },
 	{ "limits-right-end", 0, 0, "PU", { { MAX - 1, 0, 2, 1 }, { MAX, 0, MAX, 1 } } },
 	{ "limits-past-int32-covered", 0, 0, "FU", { { G30, 0, G30 + 5, 1 }, { G30, 0, MAX, 1 } } },
-	{ "limits-past-int32-not-covered", 0, 0, "PU", { { G30, 0, MAX, 1 }, { G30, 0, G30 + 5, 1 } } },
+	{ "limits-past-int32-not-covered", 0, 0, "PU",
+	  { { G30, 0, MAX, 1 }, { G30, 0, G30 + 5, 1 } } },
 	{ "limits-whole-plane", 0, 0, "FU", { { MIN, MIN, MAX, MAX }, { MIN, MIN, MAX, MAX } } },
 	{ "limits-one-pixel-free", 0, 0, "PU", { { 0, 0, MAX, 1 }, { 1, 0, MAX, 1 } } },
 	{ "limits-corners", 0, 0, "UUUU",
-	  { { MIN, MIN, 1, 1 }, { MAX, MAX, 1, 1 }, { MIN, MAX, MAX, MAX }, { MAX, MIN, MAX, MAX } } },
+	  { { MIN, MIN, 1, 1 }, { MAX, MAX, 1, 1 }, { MIN, MAX, MAX, MAX },
+	    { MAX, MIN, MAX, MAX } } },
 	{ "limits-wide-over-narrow", 0, 0, "FUU",
 	  { { MAX - 2, MIN, 3, 1 }, { MIN, MIN, 1, 1 }, { 2, MIN, MAX, 1 } } },
 	{ "limits-screen-wide", MAX, 1, "PP", { { 0, 0, MAX - 1, 1 }, { 1, 0, MAX, 1 } } },
@@ -170,7 +176,7 @@ static bool make_variant(const struct regress_case *c, size_t n, enum variant v,
 		if (v == VARIANT_TRANSPOSED) {
 			out[i] = (struct vis_rect){ r.y, r.x, r.h, r.w };
 		} else if (v == VARIANT_MIRRORED) {
-			/* Pixel p goes to W - 1 - p (or -1 - p): [x, x + w) becomes [W - x - w, W - x). */
+			/* Pixel p goes to W - 1 - p: [x, x + w) becomes [W - x - w, W - x). */
 			int64_t x = (screen ? (int64_t)c->screen_w : 0) - r.x - r.w;
 			if (x < INT32_MIN || x > INT32_MAX)
 				return false;
@@ -215,8 +221,8 @@ static bool check(const struct regress_case *c, const struct vis_stack *stack, e
 		if (got[i] == letter_state(c->want[i]))
 			continue;
 		const struct vis_rect *r = &stack->rects[i];
-		printf("     window %zu (%d, %d, %d, %d): expected %s, got %s\n", i, r->x, r->y, r->w,
-		       r->h, vis_state_name(letter_state(c->want[i])),
+		printf("     window %zu (%d, %d, %d, %d): expected %s, got %s\n", i, r->x, r->y,
+		       r->w, r->h, vis_state_name(letter_state(c->want[i])),
 		       got[i] <= VIS_FULLY_OBSCURED ? vis_state_name((enum vis_state)got[i])
 						    : "invalid");
 	}

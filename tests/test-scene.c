@@ -55,6 +55,7 @@ static void parse_bad_len(const char *text, size_t len, size_t line, const char 
 	checks_run++;
 }
 
+/* parse_bad_len for NUL-terminated text. */
 static void parse_bad(const char *text, size_t line, const char *reason)
 {
 	parse_bad_len(text, strlen(text), line, reason);
@@ -219,7 +220,8 @@ static void test_round_trip(void)
 	a.has_screen = true;
 	a.screen_w = INT32_MAX;
 	a.screen_h = 1;
-	CHECK(vis_scene_push(&a, UINT32_MAX, (struct vis_rect){ INT32_MIN, INT32_MAX, 1, INT32_MAX }) == 0);
+	CHECK(vis_scene_push(&a, UINT32_MAX,
+			     (struct vis_rect){ INT32_MIN, INT32_MAX, 1, INT32_MAX }) == 0);
 	CHECK(vis_scene_push(&a, 0, (struct vis_rect){ -1, 0, INT32_MAX, 3 }) == 0);
 	text = format(&a, &len);
 	CHECK(strcmp(text, "screen 2147483647 1\n"
@@ -258,6 +260,7 @@ static bool overlap(struct vis_rect a, struct vis_rect b)
 	return !vis_box_empty(vis_box_intersect(vis_rect_box(a), vis_rect_box(b)));
 }
 
+/* Desktop-like scenes: the promised shares of maximized, partly and wholly off-screen windows. */
 static void test_gen_random(void)
 {
 	struct vis_scene s;
@@ -293,6 +296,7 @@ static void test_gen_random(void)
 	vis_scene_finish(&s);
 }
 
+/* Uniform rectangles stay in their ranges and have a screen only when one is asked for. */
 static void test_gen_uniform(void)
 {
 	struct vis_scene s;
@@ -339,6 +343,7 @@ static void test_gen_grid(void)
 	}
 }
 
+/* Cascades: one window size, on-screen, mostly diagonal steps from the window below. */
 static void test_gen_cascade(void)
 {
 	struct vis_scene s;
@@ -498,6 +503,7 @@ static void test_parse_large(void)
 	vis_scene_finish(&a);
 }
 
+/* Runs every check; any failure exits 1 with the file and line. */
 int main(void)
 {
 	test_parse_good();
