@@ -28,9 +28,12 @@ static inline uint32_t source_insert(struct source *src, struct node *nd, uint32
 static inline uint32_t source_remove(struct source *src, struct node *nd, uint32_t z)
 {
 	uint32_t *a = src->a + nd->aux[HEAP_OFF];
-	(void)z;
-	while (nd->aux[HEAP_LEN] && src->dead[a[0]])
+	/* Tops are live, z the only new corpse: dead[] is read only once z has surfaced. */
+	if (a[0] != z)
+		return a[0];
+	do
 		vis_heap_pop(a, &nd->aux[HEAP_LEN]);
+	while (nd->aux[HEAP_LEN] && src->dead[a[0]]);
 	return nd->aux[HEAP_LEN] ? a[0] : 0;
 }
 

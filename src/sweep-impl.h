@@ -22,19 +22,29 @@
 #include "segtree.h"
 
 /*
- * A node of the sweep's segment tree. Invariants, after every event (z = 0 means none):
- * - top: the highest window stored at the node;
+ * What a node's ancestors need to know of its subtree. Invariants, after every event (z = 0 means
+ * none):
  * - l: the lowest window visible at some leaf of the subtree, counting only windows stored in the
  *   subtree: max(min(l of the children), top), top at a leaf; 0 if some leaf has nothing;
  * - h: an upper bound on the highest unreported window that is the top of a subtree node and
  *   visible within the subtree (0 if none). It is exact except for windows reported during the
  *   current event, whose nodes are refreshed right after it (section 6);
- * - m: the highest window stored in the subtree;
- * - aux: the top source's own per-node state.
+ * - m: the highest window stored in the subtree.
+ */
+struct summary {
+	uint32_t l, h, m;
+};
+
+/*
+ * A node of the sweep's segment tree: top, the highest window stored at it; aux, the top source's
+ * state for it; kid, its children's summaries (zero at a leaf). Keeping the children's summaries
+ * in the parent's record means visiting a node reads one record, not three: the sweep is bound
+ * by those cache misses. A node's own summary lives in its parent (the root's in the sweep).
  */
 struct node {
-	uint32_t top, l, h, m;
+	uint32_t top;
 	uint32_t aux[2];
+	struct summary kid[2];
 };
 
 struct source;
@@ -63,6 +73,7 @@ enum cand_state {
 
 struct sweep {
 	struct node *node;
+	struct summary root;
 	uint8_t *reported; /* by z */
 	uint8_t *cstate;   /* by z: enum cand_state */
 	uint32_t *cand, *submin;
@@ -86,35 +97,24 @@ static inline uint32_t min32(uint32_t a, uint32_t b)
 	return a < b ? a : b;
 }
 
-/* The lowest visible window below node v, within its subtree (0 at a leaf: nothing is below). */
-static inline uint32_t children_l(const struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi)
+/* The lowest visible window below a node, within its subtree (0 at a leaf: nothing is below). */
+static inline uint32_t children_l(const struct node *nd)
 {
-	if (hi - lo == 1)
-		return 0;
-	uint32_t mid = vis_segtree_mid(lo, hi);
-	return min32(s->node[vis_segtree_left(v)].l, s->node[vis_segtree_right(v, lo, mid)].l);
+	return min32(nd->kid[0].l, nd->kid[1].l);
 }
 
-/* Recomputes l and h of node v from its top and its children's. */
-static inline void update(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi)
+/* Recomputes a node's summary, *out, from its top and its children's. */
+static inline void update(const struct sweep *s, const struct node *nd, struct summary *out)
 {
-	struct node *nd = &s->node[v];
-	uint32_t t = nd->top, cl = 0, ch = 0, cm = 0;
-	if (hi - lo > 1) {
-		uint32_t mid = vis_segtree_mid(lo, hi);
-		const struct node *u = &s->node[vis_segtree_left(v)];
-		const struct node *w = &s->node[vis_segtree_right(v, lo, mid)];
-		cl = min32(u->l, w->l);
-		ch = max32(u->h, w->h);
-		cm = max32(u->m, w->m);
-	}
-	nd->m = max32(cm, t);
-	nd->l = max32(cl, t);
+	uint32_t t = nd->top, cl = children_l(nd);
+	uint32_t ch = max32(nd->kid[0].h, nd->kid[1].h);
+	out->m = max32(max32(nd->kid[0].m, nd->kid[1].m), t);
+	out->l = max32(cl, t);
 	if (ch < t)
 		ch = 0; /* t spans the whole subtree: everything under it is hidden */
 	if (t > cl && !s->reported[t])
 		ch = max32(ch, t);
-	nd->h = ch;
+	out->h = ch;
 }
 
 static inline void report(struct sweep *s, uint32_t z)
@@ -125,98 +125,88 @@ static inline void report(struct sweep *s, uint32_t z)
 	}
 }
 
-/*
- * Asks for v's children early: update() reads both, and one of them is often off the path (and far
- * away in memory), so its cache miss overlaps the work at v instead of following it.
- */
-static inline void prefetch_children(const struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi)
-{
-	if (hi - lo > 1) {
-		__builtin_prefetch(&s->node[vis_segtree_left(v)]);
-		__builtin_prefetch(&s->node[vis_segtree_right(v, lo, vis_segtree_mid(lo, hi))]);
-	}
-}
-
 /* LEFT-INSERT: S is the highest top among v's ancestors. */
-static void left_insert(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S)
+static void left_insert(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S,
+			struct summary *out)
 {
 	struct node *nd = &s->node[v];
-	prefetch_children(s, v, lo, hi);
 	if (s->a <= lo && hi <= s->b) {
 		/* Read l before the update: z is visible here iff it beats what was visible. */
-		uint32_t old_l = max32(children_l(s, v, lo, hi), nd->top);
+		uint32_t old_l = max32(children_l(nd), nd->top);
 		nd->top = source_insert(s->src, nd, s->z);
 		if (s->z > old_l && s->z > S)
 			report(s, s->z);
-		update(s, v, lo, hi);
+		update(s, nd, out);
 		return;
 	}
 	uint32_t mid = vis_segtree_mid(lo, hi);
 	S = max32(S, nd->top);
 	if (s->a < mid)
-		left_insert(s, vis_segtree_left(v), lo, mid, S);
+		left_insert(s, vis_segtree_left(v), lo, mid, S, &nd->kid[0]);
 	if (s->b > mid)
-		left_insert(s, vis_segtree_right(v, lo, mid), mid, hi, S);
-	update(s, v, lo, hi);
+		left_insert(s, vis_segtree_right(v, lo, mid), mid, hi, S, &nd->kid[1]);
+	update(s, nd, out);
 }
 
 /* RIGHT-REPORT: reports the unreported windows above S now visible in v's subtree. */
-static void right_report(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S)
+static void right_report(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S,
+			 struct summary *out)
 {
 	struct node *nd = &s->node[v];
-	if (nd->h <= S)
+	if (out->h <= S)
 		return;
 	uint32_t t = nd->top;
 	if (t > S) {
 		/* Visible within the subtree: tested against the children, not against l_v. */
-		if (!s->reported[t] && t > children_l(s, v, lo, hi))
+		if (!s->reported[t] && t > children_l(nd))
 			report(s, t);
 		S = t;
 	}
 	if (hi - lo > 1) {
 		uint32_t mid = vis_segtree_mid(lo, hi);
-		right_report(s, vis_segtree_left(v), lo, mid, S);
-		right_report(s, vis_segtree_right(v, lo, mid), mid, hi, S);
+		right_report(s, vis_segtree_left(v), lo, mid, S, &nd->kid[0]);
+		right_report(s, vis_segtree_right(v, lo, mid), mid, hi, S, &nd->kid[1]);
 	}
-	update(s, v, lo, hi);
+	update(s, nd, out);
 }
 
 /* RIGHT-DELETE: S is the highest top among v's ancestors. */
-static void right_delete(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S)
+static void right_delete(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S,
+			 struct summary *out)
 {
 	struct node *nd = &s->node[v];
-	prefetch_children(s, v, lo, hi);
 	if (s->a <= lo && hi <= s->b) {
-		bool was_visible = nd->top == s->z && s->z > S && s->z > children_l(s, v, lo, hi);
+		bool was_visible = nd->top == s->z && s->z > S && s->z > children_l(nd);
 		nd->top = source_remove(s->src, nd, s->z);
-		update(s, v, lo, hi);
+		update(s, nd, out);
 		/* The deletion may expose S itself here, which RIGHT-REPORT never looks at. */
-		if (S && S > nd->l)
+		if (S && S > out->l)
 			report(s, S);
 		if (was_visible)
-			right_report(s, v, lo, hi, S);
+			right_report(s, v, lo, hi, S, out);
 		return;
 	}
 	uint32_t mid = vis_segtree_mid(lo, hi);
 	S = max32(S, nd->top);
 	if (s->a < mid)
-		right_delete(s, vis_segtree_left(v), lo, mid, S);
+		right_delete(s, vis_segtree_left(v), lo, mid, S, &nd->kid[0]);
 	if (s->b > mid)
-		right_delete(s, vis_segtree_right(v, lo, mid), mid, hi, S);
-	update(s, v, lo, hi);
+		right_delete(s, vis_segtree_right(v, lo, mid), mid, hi, S, &nd->kid[1]);
+	update(s, nd, out);
 }
 
 /* Recomputes h on the canonical nodes of [a, b) and their ancestors. */
-static void refresh(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi)
+static void refresh(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, struct summary *out)
 {
+	struct node *nd = &s->node[v];
 	if (!(s->a <= lo && hi <= s->b)) {
 		uint32_t mid = vis_segtree_mid(lo, hi);
 		if (s->a < mid)
-			refresh(s, vis_segtree_left(v), lo, mid);
+			refresh(s, vis_segtree_left(v), lo, mid, &nd->kid[0]);
 		if (s->b > mid)
-			refresh(s, vis_segtree_right(v, lo, mid), mid, hi);
+			refresh(s, vis_segtree_right(v, lo, mid), mid, hi, &nd->kid[1]);
 	}
-	update(s, v, lo, hi);
+	update(s, nd, out);
 }
 
 /* Whether window z is the top at every leaf of [a, b): S-free since any ancestor above fails. */
@@ -224,13 +214,7 @@ static bool on_top(const struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi)
 {
 	const struct node *nd = &s->node[v];
 	if (s->a <= lo && hi <= s->b) {
-		if (nd->top != s->z)
-			return false;
-		if (hi - lo == 1)
-			return true;
-		uint32_t mid = vis_segtree_mid(lo, hi);
-		return max32(s->node[vis_segtree_left(v)].m,
-			     s->node[vis_segtree_right(v, lo, mid)].m) < s->z;
+		return nd->top == s->z && max32(nd->kid[0].m, nd->kid[1].m) < s->z;
 	}
 	if (nd->top > s->z)
 		return false;
@@ -390,19 +374,19 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 		set_window(&s, ev, k);
 		if (del) {
 			source_deleted(&src, s.z);
-			right_delete(&s, 0, 0, m, 0);
+			right_delete(&s, 0, 0, m, 0, &s.root);
 			if (s.cstate[s.z] == CAND_ACTIVE) {
 				s.cstate[s.z] = CAND_DONE;
 				cand_store(&s, 0, 0, m, 0);
 			}
 		} else {
-			left_insert(&s, 0, 0, m, 0);
+			left_insert(&s, 0, 0, m, 0, &s.root);
 			s.group[s.ngroup++] = k;
 		}
 		/* Section 6: a newly reported window no longer counts in h anywhere. */
 		for (size_t j = 0; j < s.nnewly; j++) {
 			set_window(&s, ev, s.newly[j] - 1);
-			refresh(&s, 0, 0, m);
+			refresh(&s, 0, 0, m, &s.root);
 		}
 		s.nnewly = 0;
 	}
