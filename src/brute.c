@@ -7,36 +7,10 @@
 #include <errno.h>
 #include <stdlib.h>
 
+#include "coords.h"
 #include "engine.h"
 
 #define NO_OWNER UINT32_MAX
-
-/* Orders int64 values for qsort and bsearch. */
-static int cmp_i64(const void *a, const void *b)
-{
-	int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
-	return (x > y) - (x < y);
-}
-
-/* Sorts values[0..n) and drops duplicates; returns how many distinct values remain. */
-static size_t sort_unique(int64_t *values, size_t n)
-{
-	size_t k = 0;
-
-	qsort(values, n, sizeof *values, cmp_i64);
-	for (size_t i = 0; i < n; i++) {
-		if (k == 0 || values[k - 1] != values[i])
-			values[k++] = values[i];
-	}
-	return k;
-}
-
-/* The index of v among the k distinct sorted values (v must be one of them). */
-static size_t index_of(const int64_t *values, size_t k, int64_t v)
-{
-	const int64_t *p = bsearch(&v, values, k, sizeof *values, cmp_i64);
-	return (size_t)(p - values);
-}
 
 int vis_brute_compute(const struct vis_stack *stack, uint8_t *states)
 {
@@ -67,8 +41,8 @@ int vis_brute_compute(const struct vis_stack *stack, uint8_t *states)
 		ys[ny++] = b.y1;
 		ys[ny++] = b.y2;
 	}
-	nx = sort_unique(xs, nx);
-	ny = sort_unique(ys, ny);
+	nx = vis_coords_unique(xs, nx);
+	ny = vis_coords_unique(ys, ny);
 	cols = nx > 0 ? nx - 1 : 0;
 	rows = ny > 0 ? ny - 1 : 0;
 	if (cols != 0 && rows > SIZE_MAX / sizeof *owner / cols) {
@@ -88,8 +62,8 @@ int vis_brute_compute(const struct vis_stack *stack, uint8_t *states)
 		struct vis_box b = vis_stack_clip(stack, i);
 		if (vis_box_empty(b))
 			continue;
-		size_t c1 = index_of(xs, nx, b.x1), c2 = index_of(xs, nx, b.x2);
-		size_t r1 = index_of(ys, ny, b.y1), r2 = index_of(ys, ny, b.y2);
+		size_t c1 = vis_coords_rank(xs, nx, b.x1), c2 = vis_coords_rank(xs, nx, b.x2);
+		size_t r1 = vis_coords_rank(ys, ny, b.y1), r2 = vis_coords_rank(ys, ny, b.y2);
 		for (size_t r = r1; r < r2; r++) {
 			for (size_t c = c1; c < c2; c++)
 				owner[r * cols + c] = (uint32_t)i;
@@ -106,8 +80,8 @@ int vis_brute_compute(const struct vis_stack *stack, uint8_t *states)
 			states[i] = VIS_FULLY_OBSCURED;
 			continue;
 		}
-		size_t c1 = index_of(xs, nx, b.x1), c2 = index_of(xs, nx, b.x2);
-		size_t r1 = index_of(ys, ny, b.y1), r2 = index_of(ys, ny, b.y2);
+		size_t c1 = vis_coords_rank(xs, nx, b.x1), c2 = vis_coords_rank(xs, nx, b.x2);
+		size_t r1 = vis_coords_rank(ys, ny, b.y1), r2 = vis_coords_rank(ys, ny, b.y2);
 		/* Unobscured needs the whole window, not just its on-screen part, to be visible. */
 		if (vis_stack_on_screen(stack, i) && owned[i] == (c2 - c1) * (r2 - r1))
 			states[i] = VIS_UNOBSCURED;

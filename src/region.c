@@ -8,6 +8,7 @@
 #include <pixman.h>
 #include <stdlib.h>
 
+#include "coords.h"
 #include "engine.h"
 
 /*
@@ -15,33 +16,6 @@
  * so edges must stay well inside the int32 range. Scenes whose edges do not are run on ranks.
  */
 #define COORD_LIMIT ((int64_t)1 << 30)
-
-/* Orders int64 values for qsort and bsearch. */
-static int cmp_i64(const void *a, const void *b)
-{
-	int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
-	return (x > y) - (x < y);
-}
-
-/* Sorts values[0..n) and drops duplicates; returns how many distinct values remain. */
-static size_t sort_unique(int64_t *values, size_t n)
-{
-	size_t k = 0;
-
-	qsort(values, n, sizeof *values, cmp_i64);
-	for (size_t i = 0; i < n; i++) {
-		if (k == 0 || values[k - 1] != values[i])
-			values[k++] = values[i];
-	}
-	return k;
-}
-
-/* The rank of v among the k distinct sorted values (v must be one of them). */
-static int32_t rank_of(const int64_t *values, size_t k, int64_t v)
-{
-	const int64_t *p = bsearch(&v, values, k, sizeof *values, cmp_i64);
-	return (int32_t)(p - values);
-}
 
 /* Whether a clipped box has an edge pixman cannot be trusted with. */
 static bool box_too_far(struct vis_box b)
@@ -84,8 +58,8 @@ static int compress(const struct vis_stack *stack, pixman_box32_t *boxes)
 		ys[ny++] = b.y1;
 		ys[ny++] = b.y2;
 	}
-	nx = sort_unique(xs, nx);
-	ny = sort_unique(ys, ny);
+	nx = vis_coords_unique(xs, nx);
+	ny = vis_coords_unique(ys, ny);
 	for (size_t i = 0; i < n; i++) {
 		struct vis_box b = vis_stack_clip(stack, i);
 		pixman_box32_t *r = &boxes[i];
@@ -93,10 +67,10 @@ static int compress(const struct vis_stack *stack, pixman_box32_t *boxes)
 			r->x1 = r->y1 = r->x2 = r->y2 = 0;
 			continue;
 		}
-		r->x1 = rank_of(xs, nx, b.x1);
-		r->x2 = rank_of(xs, nx, b.x2);
-		r->y1 = rank_of(ys, ny, b.y1);
-		r->y2 = rank_of(ys, ny, b.y2);
+		r->x1 = (int32_t)vis_coords_rank(xs, nx, b.x1);
+		r->x2 = (int32_t)vis_coords_rank(xs, nx, b.x2);
+		r->y1 = (int32_t)vis_coords_rank(ys, ny, b.y1);
+		r->y2 = (int32_t)vis_coords_rank(ys, ny, b.y2);
 	}
 	free(xs);
 	free(ys);

@@ -11,6 +11,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "coords.h"
 #include "engine.h"
 #include "rng.h"
 #include "scenes.h"
@@ -64,33 +65,6 @@ struct tally {
 
 static unsigned reports;
 
-/* Orders int64 values for qsort and bsearch. */
-static int cmp_i64(const void *a, const void *b)
-{
-	int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
-	return (x > y) - (x < y);
-}
-
-/* Sorts and drops duplicates; returns the number of distinct values. */
-static size_t sort_unique(int64_t *v, size_t n)
-{
-	size_t k = 0;
-
-	qsort(v, n, sizeof *v, cmp_i64);
-	for (size_t i = 0; i < n; i++) {
-		if (k == 0 || v[k - 1] != v[i])
-			v[k++] = v[i];
-	}
-	return k;
-}
-
-/* The index of v among the k sorted distinct values. */
-static size_t index_of(const int64_t *vals, size_t k, int64_t v)
-{
-	const int64_t *p = bsearch(&v, vals, k, sizeof *vals, cmp_i64);
-	return (size_t)(p - vals);
-}
-
 /* Whether the brute force is cheap enough here: its grid and its painting stay bounded. */
 static bool brute_affordable(const struct vis_stack *stack)
 {
@@ -117,14 +91,14 @@ static bool brute_affordable(const struct vis_stack *stack)
 		ys[ny++] = b.y1;
 		ys[ny++] = b.y2;
 	}
-	nx = sort_unique(xs, nx);
-	ny = sort_unique(ys, ny);
+	nx = vis_coords_unique(xs, nx);
+	ny = vis_coords_unique(ys, ny);
 	for (size_t i = 0; i < n; i++) {
 		struct vis_box b = vis_stack_clip(stack, i);
 		if (vis_box_empty(b))
 			continue;
-		paint += (double)(index_of(xs, nx, b.x2) - index_of(xs, nx, b.x1)) *
-			 (double)(index_of(ys, ny, b.y2) - index_of(ys, ny, b.y1));
+		paint += (double)(vis_coords_rank(xs, nx, b.x2) - vis_coords_rank(xs, nx, b.x1)) *
+			 (double)(vis_coords_rank(ys, ny, b.y2) - vis_coords_rank(ys, ny, b.y1));
 	}
 	ok = nx > 0 && ny > 0 && (double)(nx - 1) * (double)(ny - 1) <= BRUTE_MAX_CELLS &&
 	     paint <= BRUTE_MAX_PAINT;
