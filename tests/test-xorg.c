@@ -1,0 +1,186 @@
+/*
+ * The engines against a real X server: for generated scenes on the X screen, every engine's
+ * states must equal the last VisibilityNotify state X.Org sent each window. Each scene's windows
+ * are created bottom to top as unmanaged children of the root (a new window is stacked on top),
+ * mapped, and read back after a round trip. Run by test-xorg.sh under Xvfb; X limits coordinates
+ * to int16 and sizes to uint16, which the scenes respect.
+ * Usage: test-xorg [--count N] [--seed S] (with DISPLAY set).
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <xcb/xcb.h>
+
+#include "engine.h"
+#include "gen.h"
+#include "rng.h"
+#include "scene.h"
+
+struct x {
+	xcb_connection_t *c;
+	xcb_window_t root;
+	int32_t w, h;
+};
+
+/*
+ * A small nasty scene on the W×H screen: duplicates, halves of earlier windows (so some are
+ * covered exactly by abutting ones), full-screen windows, windows off the screen or touching it.
+ */
+static void nasty(struct vis_scene *s, uint64_t seed, int32_t W, int32_t H)
+{
+	struct vis_rng rng = { seed };
+	size_t n = 1 + vis_rng_below(&rng, 40);
+	s->has_screen = true;
+	s->screen_w = W;
+	s->screen_h = H;
+	for (size_t i = 0; i < n; i++) {
+		struct vis_rect r;
+		uint64_t roll = vis_rng_below(&rng, 100);
+		if (i > 0 && roll < 15) {
+			r = s->rects[vis_rng_below(&rng, i)];
+		} else if (i > 0 && roll < 35) {
+			struct vis_rect o = s->rects[vis_rng_below(&rng, i)];
+			bool first = vis_rng_below(&rng, 2);
+			if (o.w > 1 && vis_rng_below(&rng, 2)) {
+				int32_t cut = (int32_t)vis_rng_range(&rng, 1, o.w - 1);
+				r = first ? (struct vis_rect){ o.x, o.y, cut, o.h }
+					  : (struct vis_rect){ o.x + cut, o.y, o.w - cut, o.h };
+			} else if (o.h > 1) {
+				int32_t cut = (int32_t)vis_rng_range(&rng, 1, o.h - 1);
+				r = first ? (struct vis_rect){ o.x, o.y, o.w, cut }
+					  : (struct vis_rect){ o.x, o.y + cut, o.w, o.h - cut };
+			} else {
+				r = (struct vis_rect){ o.x + o.w, o.y, (int32_t)vis_rng_range(&rng, 1, 9), o.h };
+			}
+		} else if (roll < 45) {
+			r = (struct vis_rect){ 0, 0, W, H };
+		} else {
+			r.x = (int32_t)vis_rng_range(&rng, -8, W + 4);
+			r.y = (int32_t)vis_rng_range(&rng, -8, H + 4);
+			r.w = (int32_t)vis_rng_range(&rng, 1, W * 2 / 3);
+			r.h = (int32_t)vis_rng_range(&rng, 1, H * 2 / 3);
+		}
+		vis_scene_push(s, (uint32_t)(n - i) * 7, r); /* IDs not in stack order */
+	}
+}
+
+/* X's states for the scene, by stack index; -1 where no VisibilityNotify came. */
+static int x_states(struct x *x, const struct vis_scene *s, int *state)
+{
+	xcb_window_t *wid = calloc(s->n + 1, sizeof(*wid));
+	if (!wid)
+		return -1;
+	for (size_t i = 0; i < s->n; i++) {
+		struct vis_rect r = s->rects[i];
+		uint32_t values[] = { 1, XCB_EVENT_MASK_VISIBILITY_CHANGE };
+		wid[i] = xcb_generate_id(x->c);
+		state[i] = -1;
+		xcb_create_window(x->c, XCB_COPY_FROM_PARENT, wid[i], x->root, (int16_t)r.x,
+				  (int16_t)r.y, (uint16_t)r.w, (uint16_t)r.h, 0,
+				  XCB_WINDOW_CLASS_INPUT_OUTPUT, XCB_COPY_FROM_PARENT,
+				  XCB_CW_OVERRIDE_REDIRECT | XCB_CW_EVENT_MASK, values);
+	}
+	for (size_t i = 0; i < s->n; i++)
+		xcb_map_window(x->c, wid[i]);
+	free(xcb_get_input_focus_reply(x->c, xcb_get_input_focus(x->c), NULL));
+	xcb_generic_event_t *ev;
+	while ((ev = xcb_poll_for_event(x->c))) {
+		if ((ev->response_type & 0x7f) == XCB_VISIBILITY_NOTIFY) {
+			xcb_visibility_notify_event_t *v = (void *)ev;
+			for (size_t i = 0; i < s->n; i++)
+				if (wid[i] == v->window)
+					state[i] = v->state;
+		}
+		free(ev);
+	}
+	for (size_t i = 0; i < s->n; i++)
+		xcb_destroy_window(x->c, wid[i]);
+	free(xcb_get_input_focus_reply(x->c, xcb_get_input_focus(x->c), NULL));
+	while ((ev = xcb_poll_for_event(x->c)))
+		free(ev);
+	free(wid);
+	return xcb_connection_has_error(x->c) ? -1 : 0;
+}
+
+/* Compares every engine with X on one scene; prints and counts mismatches. */
+static int check(struct x *x, const struct vis_scene *s, const char *what, uint64_t seed)
+{
+	int *want = malloc((s->n + 1) * sizeof(*want));
+	uint8_t *got = malloc(s->n + 1);
+	struct vis_stack st = vis_scene_stack(s);
+	int bad = 0;
+	if (!want || !got || x_states(x, s, want) < 0) {
+		fprintf(stderr, "test-xorg: %s seed %llu: X error\n", what, (unsigned long long)seed);
+		bad = 1;
+		goto out;
+	}
+	for (int e = 0; e < VIS_ENGINE_COUNT && !bad; e++) {
+		if (vis_compute((enum vis_engine)e, &st, got) < 0) {
+			bad = 1;
+			break;
+		}
+		for (size_t i = 0; i < s->n; i++) {
+			if (got[i] != want[i]) {
+				struct vis_rect r = s->rects[i];
+				fprintf(stderr,
+					"test-xorg: %s seed %llu (n=%zu): engine %s window %u "
+					"(%d,%d,%d,%d): X says %d, engine %d\n",
+					what, (unsigned long long)seed, s->n,
+					vis_engine_name((enum vis_engine)e), s->ids[i], r.x, r.y,
+					r.w, r.h, want[i], got[i]);
+				bad = 1;
+				break;
+			}
+		}
+	}
+out:
+	free(want);
+	free(got);
+	return bad;
+}
+
+int main(int argc, char **argv)
+{
+	unsigned long count = 300, seed0 = 1;
+	for (int i = 1; i + 1 < argc; i += 2) {
+		if (strcmp(argv[i], "--count") == 0)
+			count = strtoul(argv[i + 1], NULL, 10);
+		else if (strcmp(argv[i], "--seed") == 0)
+			seed0 = strtoul(argv[i + 1], NULL, 10);
+	}
+	struct x x;
+	x.c = xcb_connect(NULL, NULL);
+	if (xcb_connection_has_error(x.c)) {
+		fprintf(stderr, "test-xorg: cannot connect to the X server\n");
+		return 1;
+	}
+	xcb_screen_t *screen = xcb_setup_roots_iterator(xcb_get_setup(x.c)).data;
+	x.root = screen->root;
+	x.w = screen->width_in_pixels;
+	x.h = screen->height_in_pixels;
+	unsigned long scenes = 0, failed = 0;
+	for (unsigned long k = 0; k < count; k++) {
+		struct vis_scene s;
+		vis_scene_init(&s);
+		nasty(&s, seed0 + k, x.w, x.h);
+		failed += check(&x, &s, "nasty", seed0 + k);
+		scenes++;
+		vis_scene_finish(&s);
+	}
+	for (int kind = 0; kind < VIS_GEN_KIND_COUNT; kind++) {
+		if (kind == VIS_GEN_GRID || kind == VIS_GEN_UNIFORM)
+			continue; /* its own screen; coordinates beyond X's int16 */
+		for (unsigned long k = 0; k < count / 30 + 1; k++) {
+			struct vis_scene s;
+			vis_scene_init(&s);
+			vis_gen(&s, (enum vis_gen_kind)kind, 5 + k * 7 % 90, seed0 + k, x.w, x.h);
+			failed += check(&x, &s, vis_gen_kind_name((enum vis_gen_kind)kind), seed0 + k);
+			scenes++;
+			vis_scene_finish(&s);
+		}
+	}
+	xcb_disconnect(x.c);
+	printf("xorg: %lu scenes on a %dx%d X screen, %lu disagreeing\n", scenes, x.w, x.h, failed);
+	printf("%lu passed, %lu failed\n", scenes - failed, failed);
+	return failed != 0;
+}
