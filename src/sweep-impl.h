@@ -71,6 +71,19 @@ enum cand_state {
 	CAND_OVERLAPPED,
 };
 
+/*
+ * An event as the sweep reads it, in schedule order, so that one sequential pass gives the window,
+ * its leaf range and whether it is the last event at its x without touching the per-window arrays.
+ */
+struct step {
+	uint32_t zf; /* z | STEP_DELETE | STEP_LAST_AT_X */
+	uint32_t lo, hi;
+};
+
+#define STEP_DELETE (1u << 31)
+#define STEP_LAST_AT_X (1u << 30)
+#define STEP_Z(zf) ((zf) & ((1u << 30) - 1))
+
 struct sweep {
 	struct node *node;
 	struct summary root;
@@ -79,7 +92,7 @@ struct sweep {
 	uint32_t *cand, *submin;
 	uint32_t *newly; /* windows reported during the current event */
 	size_t nnewly;
-	uint32_t *group; /* windows inserted at the current x */
+	struct step *group; /* windows inserted at the current x */
 	size_t ngroup;
 	uint32_t *found; /* candidates overlapped by the window being checked */
 	size_t nfound;
@@ -117,6 +130,15 @@ static inline void update(const struct sweep *s, const struct node *nd, struct s
 	out->h = ch;
 }
 
+/* update(), saying whether the summary changed: if not, the ancestors' summaries stand. */
+static inline bool update_changed(const struct sweep *s, const struct node *nd,
+				  struct summary *out)
+{
+	struct summary old = *out;
+	update(s, nd, out);
+	return old.l != out->l || old.h != out->h || old.m != out->m;
+}
+
 static inline void report(struct sweep *s, uint32_t z)
 {
 	if (!s->reported[z]) {
@@ -125,27 +147,32 @@ static inline void report(struct sweep *s, uint32_t z)
 	}
 }
 
-/* LEFT-INSERT: S is the highest top among v's ancestors. */
-static void left_insert(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S,
+/*
+ * LEFT-INSERT: S is the highest top among v's ancestors. Returns whether v's summary changed;
+ * most insertions land under a higher top and change nothing, which spares the ancestors.
+ */
+static bool left_insert(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S,
 			struct summary *out)
 {
 	struct node *nd = &s->node[v];
 	if (s->a <= lo && hi <= s->b) {
 		/* Read l before the update: z is visible here iff it beats what was visible. */
-		uint32_t old_l = max32(children_l(nd), nd->top);
+		uint32_t old_top = nd->top, old_l = max32(children_l(nd), old_top);
 		nd->top = source_insert(s->src, nd, s->z);
+		if (nd->top == old_top)
+			return false;
 		if (s->z > old_l && s->z > S)
 			report(s, s->z);
-		update(s, nd, out);
-		return;
+		return update_changed(s, nd, out);
 	}
 	uint32_t mid = vis_segtree_mid(lo, hi);
+	bool changed = false;
 	S = max32(S, nd->top);
 	if (s->a < mid)
-		left_insert(s, vis_segtree_left(v), lo, mid, S, &nd->kid[0]);
+		changed |= left_insert(s, vis_segtree_left(v), lo, mid, S, &nd->kid[0]);
 	if (s->b > mid)
-		left_insert(s, vis_segtree_right(v, lo, mid), mid, hi, S, &nd->kid[1]);
-	update(s, nd, out);
+		changed |= left_insert(s, vis_segtree_right(v, lo, mid), mid, hi, S, &nd->kid[1]);
+	return changed && update_changed(s, nd, out);
 }
 
 /* RIGHT-REPORT: reports the unreported windows above S now visible in v's subtree. */
@@ -170,29 +197,38 @@ static void right_report(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, 
 	update(s, nd, out);
 }
 
-/* RIGHT-DELETE: S is the highest top among v's ancestors. */
-static void right_delete(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S,
+/*
+ * RIGHT-DELETE: S is the highest top among v's ancestors. Returns whether v's summary changed:
+ * removing a window that was not the top changes nothing, exposes nothing.
+ */
+static bool right_delete(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S,
 			 struct summary *out)
 {
 	struct node *nd = &s->node[v];
 	if (s->a <= lo && hi <= s->b) {
-		bool was_visible = nd->top == s->z && s->z > S && s->z > children_l(nd);
+		uint32_t old_top = nd->top;
+		bool was_visible = old_top == s->z && s->z > S && s->z > children_l(nd);
 		nd->top = source_remove(s->src, nd, s->z);
-		update(s, nd, out);
+		if (nd->top == old_top)
+			return false;
+		bool changed = update_changed(s, nd, out);
 		/* The deletion may expose S itself here, which RIGHT-REPORT never looks at. */
 		if (S && S > out->l)
 			report(s, S);
-		if (was_visible)
+		if (was_visible) {
 			right_report(s, v, lo, hi, S, out);
-		return;
+			changed = true;
+		}
+		return changed;
 	}
 	uint32_t mid = vis_segtree_mid(lo, hi);
+	bool changed = false;
 	S = max32(S, nd->top);
 	if (s->a < mid)
-		right_delete(s, vis_segtree_left(v), lo, mid, S, &nd->kid[0]);
+		changed |= right_delete(s, vis_segtree_left(v), lo, mid, S, &nd->kid[0]);
 	if (s->b > mid)
-		right_delete(s, vis_segtree_right(v, lo, mid), mid, hi, S, &nd->kid[1]);
-	update(s, nd, out);
+		changed |= right_delete(s, vis_segtree_right(v, lo, mid), mid, hi, S, &nd->kid[1]);
+	return changed && update_changed(s, nd, out);
 }
 
 /* Recomputes h on the canonical nodes of [a, b) and their ancestors. */
@@ -290,6 +326,14 @@ static inline void set_window(struct sweep *s, const struct vis_events *ev, uint
 	s->b = ev->hi[k];
 }
 
+/* Sets the current window and its leaf range from a step. */
+static inline void set_step(struct sweep *s, const struct step *st)
+{
+	s->z = STEP_Z(st->zf);
+	s->a = st->lo;
+	s->b = st->hi;
+}
+
 /*
  * After all events at one x: the windows that started there overlap the candidates they meet,
  * and those on the screen and on top everywhere become candidates.
@@ -298,7 +342,7 @@ static void end_group(struct sweep *s, const struct vis_events *ev, const uint8_
 {
 	uint32_t m = ev->nleaves;
 	for (size_t g = 0; g < s->ngroup; g++) {
-		set_window(s, ev, s->group[g]);
+		set_step(s, &s->group[g]);
 		s->nfound = 0;
 		find_overlapped(s, 0, 0, m);
 		for (size_t f = 0; f < s->nfound; f++) {
@@ -307,9 +351,8 @@ static void end_group(struct sweep *s, const struct vis_events *ev, const uint8_
 		}
 	}
 	for (size_t g = 0; g < s->ngroup; g++) {
-		uint32_t k = s->group[g];
-		set_window(s, ev, k);
-		if (onscreen[k] && on_top(s, 0, 0, m)) {
+		set_step(s, &s->group[g]);
+		if (onscreen[s->z - 1] && on_top(s, 0, 0, m)) {
 			s->cstate[s->z] = CAND_ACTIVE;
 			cand_store(s, 0, 0, m, s->z);
 		}
@@ -327,6 +370,29 @@ static void sweep_free(struct sweep *s)
 	free(s->newly);
 	free(s->group);
 	free(s->found);
+}
+
+/* The schedule as steps; NULL (ENOMEM) on failure. */
+static struct step *make_steps(const struct vis_events *ev, const uint32_t *sched)
+{
+	size_t count = 2 * ev->n;
+	struct step *steps = malloc(count * sizeof(*steps) + 1);
+	if (!steps) {
+		errno = ENOMEM;
+		return NULL;
+	}
+	int64_t next_x = 0;
+	for (size_t i = count; i-- > 0;) {
+		uint32_t k = VIS_EV_WINDOW(sched[i]);
+		bool del = VIS_EV_IS_DELETE(sched[i]);
+		int64_t x = del ? ev->x2[k] : ev->x1[k];
+		steps[i].zf = (k + 1) | (del ? STEP_DELETE : 0) |
+			      (i + 1 == count || x != next_x ? STEP_LAST_AT_X : 0);
+		steps[i].lo = ev->lo[k];
+		steps[i].hi = ev->hi[k];
+		next_x = x;
+	}
+	return steps;
 }
 
 /*
@@ -359,20 +425,16 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 	}
 	for (size_t v = 0; v < nodes; v++)
 		s.submin[v] = UINT32_MAX;
-	if (source_make(&src, ev, sched, s.node) < 0) {
+	struct step *steps = make_steps(ev, sched);
+	if (!steps || source_make(&src, ev, sched, s.node) < 0) {
+		free(steps);
 		sweep_free(&s);
 		return -1;
 	}
-	int64_t x = 0;
 	for (size_t i = 0; i < 2 * n; i++) {
-		uint32_t k = VIS_EV_WINDOW(sched[i]);
-		bool del = VIS_EV_IS_DELETE(sched[i]);
-		int64_t ex = del ? ev->x2[k] : ev->x1[k];
-		if (i > 0 && ex != x)
-			end_group(&s, ev, onscreen);
-		x = ex;
-		set_window(&s, ev, k);
-		if (del) {
+		const struct step *st = &steps[i];
+		set_step(&s, st);
+		if (st->zf & STEP_DELETE) {
 			source_deleted(&src, s.z);
 			right_delete(&s, 0, 0, m, 0, &s.root);
 			if (s.cstate[s.z] == CAND_ACTIVE) {
@@ -381,7 +443,7 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 			}
 		} else {
 			left_insert(&s, 0, 0, m, 0, &s.root);
-			s.group[s.ngroup++] = k;
+			s.group[s.ngroup++] = *st;
 		}
 		/* Section 6: a newly reported window no longer counts in h anywhere. */
 		for (size_t j = 0; j < s.nnewly; j++) {
@@ -389,8 +451,10 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 			refresh(&s, 0, 0, m, &s.root);
 		}
 		s.nnewly = 0;
+		if (st->zf & STEP_LAST_AT_X)
+			end_group(&s, ev, onscreen);
 	}
-	end_group(&s, ev, onscreen);
+	free(steps);
 	for (size_t k = 0; k < n; k++) {
 		uint32_t z = (uint32_t)k + 1;
 		states[ev->idx[k]] = !s.reported[z]		 ? VIS_FULLY_OBSCURED
