@@ -27,10 +27,13 @@ static inline uint32_t source_insert(struct source *src, struct node *nd, uint32
 
 static inline uint32_t source_remove(struct source *src, struct node *nd, uint32_t z)
 {
+	/*
+	 * Tops are live and z the only new corpse, so unless z is the top nothing changes, and
+	 * the node's cached top says so without touching the heap.
+	 */
+	if (nd->top != z)
+		return nd->top;
 	uint32_t *a = src->a + nd->aux[HEAP_OFF];
-	/* Tops are live, z the only new corpse: dead[] is read only once z has surfaced. */
-	if (a[0] != z)
-		return a[0];
 	do
 		vis_heap_pop(a, &nd->aux[HEAP_LEN]);
 	while (nd->aux[HEAP_LEN] && src->dead[a[0]]);
