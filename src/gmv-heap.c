@@ -18,26 +18,26 @@ struct source {
 
 enum { HEAP_OFF, HEAP_LEN };
 
-static inline uint32_t source_insert(struct source *src, struct node *nd, uint32_t z)
+static inline uint32_t source_insert(struct source *src, struct head *hd, uint32_t z)
 {
-	uint32_t *a = src->a + nd->aux[HEAP_OFF];
-	vis_heap_push(a, &nd->aux[HEAP_LEN], z);
+	uint32_t *a = src->a + hd->aux[HEAP_OFF];
+	vis_heap_push(a, &hd->aux[HEAP_LEN], z);
 	return a[0];
 }
 
-static inline uint32_t source_remove(struct source *src, struct node *nd, uint32_t z)
+static inline uint32_t source_remove(struct source *src, struct head *hd, uint32_t z)
 {
 	/*
 	 * Tops are live and z the only new corpse, so unless z is the top nothing changes, and
 	 * the node's cached top says so without touching the heap.
 	 */
-	if (nd->top != z)
-		return nd->top;
-	uint32_t *a = src->a + nd->aux[HEAP_OFF];
+	if (hd->top != z)
+		return hd->top;
+	uint32_t *a = src->a + hd->aux[HEAP_OFF];
 	do
-		vis_heap_pop(a, &nd->aux[HEAP_LEN]);
-	while (nd->aux[HEAP_LEN] && src->dead[a[0]]);
-	return nd->aux[HEAP_LEN] ? a[0] : 0;
+		vis_heap_pop(a, &hd->aux[HEAP_LEN]);
+	while (hd->aux[HEAP_LEN] && src->dead[a[0]]);
+	return hd->aux[HEAP_LEN] ? a[0] : 0;
 }
 
 static inline void source_deleted(struct source *src, uint32_t z)
@@ -52,18 +52,17 @@ static void source_free(struct source *src)
 }
 
 static int source_make(struct source *src, const struct vis_events *ev, const uint32_t *sched,
-		       struct node *nodes)
+		       struct sweep *s)
 {
 	(void)sched;
-	size_t nodecount = vis_segtree_nodes(ev->nleaves);
-	uint32_t canon[VIS_SEGTREE_MAX_CANONICAL];
+	uint32_t slots[VIS_SEGTREE_MAX_CANONICAL];
 	size_t total = 0;
 	src->a = NULL;
 	src->dead = calloc(ev->n + 1, 1);
 	for (size_t k = 0; k < ev->n; k++) {
-		size_t c = vis_segtree_canonical(ev->nleaves, ev->lo[k], ev->hi[k], canon);
+		size_t c = vis_segtree_canonical_slots(ev->nleaves, ev->lo[k], ev->hi[k], slots);
 		for (size_t j = 0; j < c; j++)
-			nodes[canon[j]].aux[HEAP_OFF]++;
+			head_of_slot(s, slots[j])->aux[HEAP_OFF]++;
 		total += c;
 	}
 	if (total > UINT32_MAX) {
@@ -71,10 +70,16 @@ static int source_make(struct source *src, const struct vis_events *ev, const ui
 		errno = EOVERFLOW;
 		return -1;
 	}
+	/* Slices in any order: internal nodes, then leaves. */
 	uint32_t sum = 0;
-	for (size_t v = 0; v < nodecount; v++) {
-		uint32_t c = nodes[v].aux[HEAP_OFF];
-		nodes[v].aux[HEAP_OFF] = sum;
+	for (uint32_t i = 0; i + 1 < ev->nleaves; i++) {
+		uint32_t c = s->node[i].hd.aux[HEAP_OFF];
+		s->node[i].hd.aux[HEAP_OFF] = sum;
+		sum += c;
+	}
+	for (uint32_t i = 0; i < ev->nleaves; i++) {
+		uint32_t c = s->leaf[i].aux[HEAP_OFF];
+		s->leaf[i].aux[HEAP_OFF] = sum;
 		sum += c;
 	}
 	src->a = malloc(total * sizeof(*src->a) + 1);

@@ -16,16 +16,16 @@ struct source {
 #include "sweep-impl.h"
 
 
-static inline uint32_t source_insert(struct source *src, struct node *nd, uint32_t z)
+static inline uint32_t source_insert(struct source *src, struct head *hd, uint32_t z)
 {
 	(void)z;
-	return src->tops[nd->aux[0]++];
+	return src->tops[hd->aux[0]++];
 }
 
-static inline uint32_t source_remove(struct source *src, struct node *nd, uint32_t z)
+static inline uint32_t source_remove(struct source *src, struct head *hd, uint32_t z)
 {
 	(void)z;
-	return src->tops[nd->aux[0]++];
+	return src->tops[hd->aux[0]++];
 }
 
 static inline void source_deleted(struct source *src, uint32_t z)
@@ -54,9 +54,9 @@ static inline uint32_t next_free(uint32_t *next, uint32_t s)
 }
 
 static int source_make(struct source *src, const struct vis_events *ev, const uint32_t *sched,
-		       struct node *nodes)
+		       struct sweep *s)
 {
-	size_t n = ev->n, nodecount = vis_segtree_nodes(ev->nleaves);
+	size_t n = ev->n;
 	uint32_t m = ev->nleaves;
 	uint32_t canon[VIS_SEGTREE_MAX_CANONICAL];
 	uint32_t *wstart = malloc((n + 1) * sizeof(*wstart)); /* window → its canonical run */
@@ -68,7 +68,7 @@ static int source_make(struct source *src, const struct vis_events *ev, const ui
 	/* Canonical nodes per window, and two slots per (window, node). */
 	size_t total = 0;
 	for (size_t k = 0; k < n; k++)
-		total += vis_segtree_canonical(m, ev->lo[k], ev->hi[k], canon);
+		total += vis_segtree_canonical_slots(m, ev->lo[k], ev->hi[k], canon);
 	if (2 * total >= UINT32_MAX) {
 		free(wstart);
 		errno = EOVERFLOW;
@@ -84,16 +84,22 @@ static int source_make(struct source *src, const struct vis_events *ev, const ui
 	size_t at = 0;
 	for (size_t k = 0; k < n; k++) {
 		wstart[k] = (uint32_t)at;
-		size_t c = vis_segtree_canonical(m, ev->lo[k], ev->hi[k], wnode + at);
+		size_t c = vis_segtree_canonical_slots(m, ev->lo[k], ev->hi[k], wnode + at);
 		for (size_t j = 0; j < c; j++)
-			nodes[wnode[at + j]].aux[0] += 2;
+			head_of_slot(s, wnode[at + j])->aux[0] += 2;
 		at += c;
 	}
 	wstart[n] = (uint32_t)at;
+	/* Runs in any order: internal nodes, then leaves. */
 	uint32_t sum = 0;
-	for (size_t v = 0; v < nodecount; v++) {
-		uint32_t c = nodes[v].aux[0];
-		nodes[v].aux[0] = nodes[v].aux[1] = sum;
+	for (uint32_t i = 0; i + 1 < m; i++) {
+		uint32_t c = s->node[i].hd.aux[0];
+		s->node[i].hd.aux[0] = s->node[i].hd.aux[1] = sum;
+		sum += c;
+	}
+	for (uint32_t i = 0; i < m; i++) {
+		uint32_t c = s->leaf[i].aux[0];
+		s->leaf[i].aux[0] = s->leaf[i].aux[1] = sum;
 		sum += c;
 	}
 
@@ -102,7 +108,7 @@ static int source_make(struct source *src, const struct vis_events *ev, const ui
 		uint32_t k = VIS_EV_WINDOW(sched[i]);
 		uint32_t *slot = VIS_EV_IS_DELETE(sched[i]) ? del : ins;
 		for (uint32_t j = wstart[k]; j < wstart[k + 1]; j++)
-			slot[j] = nodes[wnode[j]].aux[1]++;
+			slot[j] = head_of_slot(s, wnode[j])->aux[1]++;
 	}
 
 	/* Fill: the highest window alive at a slot is the top there. */

@@ -29,8 +29,11 @@ static inline void vis_heap_pop(uint32_t *a, uint32_t *len)
 		uint32_t c = 2 * i + 1;
 		if (c >= n)
 			break;
-		if (c + 1 < n && a[c + 1] > a[c])
-			c++;
+		/*
+		 * Which child is larger is a coin toss the branch predictor loses; as arithmetic
+		 * it costs nothing. a[n] may be read: it is the old last element, still there.
+		 */
+		c += (c + 1 < n) & (a[c + 1] > a[c]);
 		if (a[c] <= x)
 			break;
 		a[i] = a[c];

@@ -1,6 +1,9 @@
+#include <stdbool.h>
+
 #include "segtree.h"
 
-size_t vis_segtree_canonical(uint32_t m, uint32_t a, uint32_t b, uint32_t *out)
+/* The canonical decomposition, naming nodes by pre-order index or by storage slot. */
+static size_t canonical(uint32_t m, uint32_t a, uint32_t b, uint32_t *out, bool slots)
 {
 	/* An explicit stack instead of recursion: the right halves still to visit. */
 	struct frame {
@@ -10,7 +13,7 @@ size_t vis_segtree_canonical(uint32_t m, uint32_t a, uint32_t b, uint32_t *out)
 	uint32_t v = 0, lo = 0, hi = m;
 	for (;;) {
 		if (a <= lo && hi <= b) {
-			out[count++] = v;
+			out[count++] = slots ? vis_segtree_slot(v, lo, hi) : v;
 		} else {
 			uint32_t mid = vis_segtree_mid(lo, hi);
 			if (b > mid && a < mid)
@@ -31,4 +34,14 @@ size_t vis_segtree_canonical(uint32_t m, uint32_t a, uint32_t b, uint32_t *out)
 		lo = stack[depth].lo;
 		hi = stack[depth].hi;
 	}
+}
+
+size_t vis_segtree_canonical(uint32_t m, uint32_t a, uint32_t b, uint32_t *out)
+{
+	return canonical(m, a, b, out, false);
+}
+
+size_t vis_segtree_canonical_slots(uint32_t m, uint32_t a, uint32_t b, uint32_t *out)
+{
+	return canonical(m, a, b, out, true);
 }

@@ -13,7 +13,20 @@
  * (v + 2 (mid − lo)) covering [mid, hi). There are 2m − 1 nodes; the height is ⌈log2 m⌉.
  * A range [a, b) is stored at its canonical nodes: the maximal nodes whose interval lies inside it,
  * at most two a level.
+ *
+ * Storage can keep leaves apart, since a leaf has nothing below it to summarize: node v covering
+ * [lo, hi) is then internal node v − lo when hi − lo ≥ 2 (there are m − 1, still in pre-order),
+ * or leaf lo (the leaves before v in pre-order are exactly those left of lo). A slot names either:
+ * the internal index, or VIS_SEGTREE_LEAF | lo.
  */
+
+#define VIS_SEGTREE_LEAF 0x80000000u
+
+/* The storage slot of node v covering [lo, hi). O(1). */
+static inline uint32_t vis_segtree_slot(uint32_t v, uint32_t lo, uint32_t hi)
+{
+	return hi - lo == 1 ? VIS_SEGTREE_LEAF | lo : v - lo;
+}
 
 #define VIS_SEGTREE_MAX_CANONICAL 64
 
@@ -43,5 +56,8 @@ static inline size_t vis_segtree_nodes(uint32_t m)
  * number (at most 2 ⌈log2 m⌉ ≤ VIS_SEGTREE_MAX_CANONICAL). O(log m).
  */
 size_t vis_segtree_canonical(uint32_t m, uint32_t a, uint32_t b, uint32_t *out);
+
+/* As vis_segtree_canonical(), writing the nodes' storage slots. O(log m). */
+size_t vis_segtree_canonical_slots(uint32_t m, uint32_t a, uint32_t b, uint32_t *out);
 
 #endif

@@ -35,24 +35,30 @@ struct summary {
 	uint32_t l, h, m;
 };
 
-/*
- * A node of the sweep's segment tree: top, the highest window stored at it; aux, the top source's
- * state for it; kid, its children's summaries (zero at a leaf). Keeping the children's summaries
- * in the parent's record means visiting a node reads one record, not three: the sweep is bound
- * by those cache misses. A node's own summary lives in its parent (the root's in the sweep).
- */
-struct node {
+/* What every node has: top, the highest window stored at it; aux, the top source's state. */
+struct head {
 	uint32_t top;
 	uint32_t aux[2];
+};
+
+/*
+ * An internal node also keeps its children's summaries, so that visiting a node reads one record,
+ * not three: the sweep is bound by those cache misses. A node's own summary lives in its parent
+ * (the root's in the sweep). Leaves, with no children, are stored apart and smaller (see
+ * segtree.h): half the nodes, a third of the memory, and more of the tree in the cache.
+ */
+struct node {
+	struct head hd;
 	struct summary kid[2];
 };
 
+struct sweep;
 struct source;
-static inline uint32_t source_insert(struct source *src, struct node *nd, uint32_t z);
-static inline uint32_t source_remove(struct source *src, struct node *nd, uint32_t z);
+static inline uint32_t source_insert(struct source *src, struct head *hd, uint32_t z);
+static inline uint32_t source_remove(struct source *src, struct head *hd, uint32_t z);
 static inline void source_deleted(struct source *src, uint32_t z);
 static int source_make(struct source *src, const struct vis_events *ev, const uint32_t *sched,
-		       struct node *nodes);
+		       struct sweep *s);
 static void source_free(struct source *src);
 
 /*
@@ -85,7 +91,8 @@ struct step {
 #define STEP_Z(zf) ((zf) & ((1u << 30) - 1))
 
 struct sweep {
-	struct node *node;
+	struct node *node; /* internal nodes */
+	struct head *leaf;
 	struct summary root;
 	uint8_t *reported; /* by z */
 	uint8_t *cstate;   /* by z: enum cand_state */
@@ -110,18 +117,41 @@ static inline uint32_t min32(uint32_t a, uint32_t b)
 	return a < b ? a : b;
 }
 
-/* The lowest visible window below a node, within its subtree (0 at a leaf: nothing is below). */
-static inline uint32_t children_l(const struct node *nd)
+/* A leaf's children's summaries: nothing below. Never written. */
+static struct summary no_kids[2];
+
+/* The storage of node v covering [lo, hi): its head, and in *kid its children's summaries. */
+static inline struct head *head_at(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi,
+				   struct summary **kid)
 {
-	return min32(nd->kid[0].l, nd->kid[1].l);
+	if (hi - lo == 1) {
+		*kid = no_kids;
+		return &s->leaf[lo];
+	}
+	struct node *nd = &s->node[v - lo];
+	*kid = nd->kid;
+	return &nd->hd;
 }
 
-/* Recomputes a node's summary, *out, from its top and its children's. */
-static inline void update(const struct sweep *s, const struct node *nd, struct summary *out)
+/* The head in a storage slot (segtree.h). */
+static inline struct head *head_of_slot(struct sweep *s, uint32_t slot)
 {
-	uint32_t t = nd->top, cl = children_l(nd);
-	uint32_t ch = max32(nd->kid[0].h, nd->kid[1].h);
-	out->m = max32(max32(nd->kid[0].m, nd->kid[1].m), t);
+	return slot & VIS_SEGTREE_LEAF ? &s->leaf[slot & ~VIS_SEGTREE_LEAF] : &s->node[slot].hd;
+}
+
+/* The lowest visible window below a node, within its subtree (0 at a leaf: nothing is below). */
+static inline uint32_t children_l(const struct summary *kid)
+{
+	return min32(kid[0].l, kid[1].l);
+}
+
+/* Recomputes a node's summary, *out, from its top t and its children's. */
+static inline void update(const struct sweep *s, uint32_t t, const struct summary *kid,
+			  struct summary *out)
+{
+	uint32_t cl = children_l(kid);
+	uint32_t ch = max32(kid[0].h, kid[1].h);
+	out->m = max32(max32(kid[0].m, kid[1].m), t);
 	out->l = max32(cl, t);
 	if (ch < t)
 		ch = 0; /* t spans the whole subtree: everything under it is hidden */
@@ -131,11 +161,11 @@ static inline void update(const struct sweep *s, const struct node *nd, struct s
 }
 
 /* update(), saying whether the summary changed: if not, the ancestors' summaries stand. */
-static inline bool update_changed(const struct sweep *s, const struct node *nd,
+static inline bool update_changed(const struct sweep *s, uint32_t t, const struct summary *kid,
 				  struct summary *out)
 {
 	struct summary old = *out;
-	update(s, nd, out);
+	update(s, t, kid, out);
 	return old.l != out->l || old.h != out->h || old.m != out->m;
 }
 
@@ -154,47 +184,49 @@ static inline void report(struct sweep *s, uint32_t z)
 static bool left_insert(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S,
 			struct summary *out)
 {
-	struct node *nd = &s->node[v];
+	struct summary *kid;
+	struct head *hd = head_at(s, v, lo, hi, &kid);
 	if (s->a <= lo && hi <= s->b) {
 		/* Read l before the update: z is visible here iff it beats what was visible. */
-		uint32_t old_top = nd->top, old_l = max32(children_l(nd), old_top);
-		nd->top = source_insert(s->src, nd, s->z);
-		if (nd->top == old_top)
+		uint32_t old_top = hd->top, old_l = max32(children_l(kid), old_top);
+		hd->top = source_insert(s->src, hd, s->z);
+		if (hd->top == old_top)
 			return false;
 		if (s->z > old_l && s->z > S)
 			report(s, s->z);
-		return update_changed(s, nd, out);
+		return update_changed(s, hd->top, kid, out);
 	}
 	uint32_t mid = vis_segtree_mid(lo, hi);
 	bool changed = false;
-	S = max32(S, nd->top);
+	S = max32(S, hd->top);
 	if (s->a < mid)
-		changed |= left_insert(s, vis_segtree_left(v), lo, mid, S, &nd->kid[0]);
+		changed |= left_insert(s, vis_segtree_left(v), lo, mid, S, &kid[0]);
 	if (s->b > mid)
-		changed |= left_insert(s, vis_segtree_right(v, lo, mid), mid, hi, S, &nd->kid[1]);
-	return changed && update_changed(s, nd, out);
+		changed |= left_insert(s, vis_segtree_right(v, lo, mid), mid, hi, S, &kid[1]);
+	return changed && update_changed(s, hd->top, kid, out);
 }
 
 /* RIGHT-REPORT: reports the unreported windows above S now visible in v's subtree. */
 static void right_report(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S,
 			 struct summary *out)
 {
-	struct node *nd = &s->node[v];
 	if (out->h <= S)
 		return;
-	uint32_t t = nd->top;
+	struct summary *kid;
+	struct head *hd = head_at(s, v, lo, hi, &kid);
+	uint32_t t = hd->top;
 	if (t > S) {
 		/* Visible within the subtree: tested against the children, not against l_v. */
-		if (!s->reported[t] && t > children_l(nd))
+		if (!s->reported[t] && t > children_l(kid))
 			report(s, t);
 		S = t;
 	}
 	if (hi - lo > 1) {
 		uint32_t mid = vis_segtree_mid(lo, hi);
-		right_report(s, vis_segtree_left(v), lo, mid, S, &nd->kid[0]);
-		right_report(s, vis_segtree_right(v, lo, mid), mid, hi, S, &nd->kid[1]);
+		right_report(s, vis_segtree_left(v), lo, mid, S, &kid[0]);
+		right_report(s, vis_segtree_right(v, lo, mid), mid, hi, S, &kid[1]);
 	}
-	update(s, nd, out);
+	update(s, hd->top, kid, out);
 }
 
 /*
@@ -204,14 +236,15 @@ static void right_report(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, 
 static bool right_delete(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S,
 			 struct summary *out)
 {
-	struct node *nd = &s->node[v];
+	struct summary *kid;
+	struct head *hd = head_at(s, v, lo, hi, &kid);
 	if (s->a <= lo && hi <= s->b) {
-		uint32_t old_top = nd->top;
-		bool was_visible = old_top == s->z && s->z > S && s->z > children_l(nd);
-		nd->top = source_remove(s->src, nd, s->z);
-		if (nd->top == old_top)
+		uint32_t old_top = hd->top;
+		bool was_visible = old_top == s->z && s->z > S && s->z > children_l(kid);
+		hd->top = source_remove(s->src, hd, s->z);
+		if (hd->top == old_top)
 			return false;
-		bool changed = update_changed(s, nd, out);
+		bool changed = update_changed(s, hd->top, kid, out);
 		/* The deletion may expose S itself here, which RIGHT-REPORT never looks at. */
 		if (S && S > out->l)
 			report(s, S);
@@ -223,36 +256,37 @@ static bool right_delete(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, 
 	}
 	uint32_t mid = vis_segtree_mid(lo, hi);
 	bool changed = false;
-	S = max32(S, nd->top);
+	S = max32(S, hd->top);
 	if (s->a < mid)
-		changed |= right_delete(s, vis_segtree_left(v), lo, mid, S, &nd->kid[0]);
+		changed |= right_delete(s, vis_segtree_left(v), lo, mid, S, &kid[0]);
 	if (s->b > mid)
-		changed |= right_delete(s, vis_segtree_right(v, lo, mid), mid, hi, S, &nd->kid[1]);
-	return changed && update_changed(s, nd, out);
+		changed |= right_delete(s, vis_segtree_right(v, lo, mid), mid, hi, S, &kid[1]);
+	return changed && update_changed(s, hd->top, kid, out);
 }
 
 /* Recomputes h on the canonical nodes of [a, b) and their ancestors. */
 static void refresh(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, struct summary *out)
 {
-	struct node *nd = &s->node[v];
+	struct summary *kid;
+	struct head *hd = head_at(s, v, lo, hi, &kid);
 	if (!(s->a <= lo && hi <= s->b)) {
 		uint32_t mid = vis_segtree_mid(lo, hi);
 		if (s->a < mid)
-			refresh(s, vis_segtree_left(v), lo, mid, &nd->kid[0]);
+			refresh(s, vis_segtree_left(v), lo, mid, &kid[0]);
 		if (s->b > mid)
-			refresh(s, vis_segtree_right(v, lo, mid), mid, hi, &nd->kid[1]);
+			refresh(s, vis_segtree_right(v, lo, mid), mid, hi, &kid[1]);
 	}
-	update(s, nd, out);
+	update(s, hd->top, kid, out);
 }
 
 /* Whether window z is the top at every leaf of [a, b): S-free since any ancestor above fails. */
-static bool on_top(const struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi)
+static bool on_top(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi)
 {
-	const struct node *nd = &s->node[v];
-	if (s->a <= lo && hi <= s->b) {
-		return nd->top == s->z && max32(nd->kid[0].m, nd->kid[1].m) < s->z;
-	}
-	if (nd->top > s->z)
+	struct summary *kid;
+	const struct head *hd = head_at(s, v, lo, hi, &kid);
+	if (s->a <= lo && hi <= s->b)
+		return hd->top == s->z && max32(kid[0].m, kid[1].m) < s->z;
+	if (hd->top > s->z)
 		return false;
 	uint32_t mid = vis_segtree_mid(lo, hi);
 	if (s->a < mid && !on_top(s, vis_segtree_left(v), lo, mid))
@@ -363,6 +397,7 @@ static void end_group(struct sweep *s, const struct vis_events *ev, const uint8_
 static void sweep_free(struct sweep *s)
 {
 	free(s->node);
+	free(s->leaf);
 	free(s->reported);
 	free(s->cstate);
 	free(s->cand);
@@ -409,7 +444,8 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 	if (n == 0)
 		return 0;
 	struct sweep s = { .src = &src };
-	s.node = calloc(nodes, sizeof(*s.node));
+	s.node = calloc(m, sizeof(*s.node)); /* m − 1 internal nodes */
+	s.leaf = calloc(m, sizeof(*s.leaf));
 	s.reported = calloc(n + 1, 1);
 	s.cstate = calloc(n + 1, 1);
 	s.cand = calloc(nodes, sizeof(*s.cand));
@@ -417,7 +453,7 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 	s.newly = malloc(n * sizeof(*s.newly));
 	s.group = malloc(n * sizeof(*s.group));
 	s.found = malloc(n * sizeof(*s.found));
-	if (!s.node || !s.reported || !s.cstate || !s.cand || !s.submin || !s.newly || !s.group ||
+	if (!s.node || !s.leaf || !s.reported || !s.cstate || !s.cand || !s.submin || !s.newly || !s.group ||
 	    !s.found) {
 		sweep_free(&s);
 		errno = ENOMEM;
@@ -426,7 +462,7 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 	for (size_t v = 0; v < nodes; v++)
 		s.submin[v] = UINT32_MAX;
 	struct step *steps = make_steps(ev, sched);
-	if (!steps || source_make(&src, ev, sched, s.node) < 0) {
+	if (!steps || source_make(&src, ev, sched, &s) < 0) {
 		free(steps);
 		sweep_free(&s);
 		return -1;

@@ -48,10 +48,30 @@ static void test_layout_and_canonical(void)
 		walk(0, 0, m, nlo, nhi, nodes);
 		for (size_t v = 0; v < nodes; v++)
 			CHECK(nhi[v] > nlo[v]); /* every index used exactly once */
+		/* Internal nodes' slots are 0 … m − 2, each once. */
+		uint8_t *seen = calloc(m, 1);
+		for (size_t v = 0; v < nodes; v++) {
+			uint32_t slot = vis_segtree_slot((uint32_t)v, nlo[v], nhi[v]);
+			if (slot & VIS_SEGTREE_LEAF) {
+				CHECK((slot & ~VIS_SEGTREE_LEAF) == nlo[v]);
+				continue;
+			}
+			CHECK(slot + 1 < m && !seen[slot]);
+			if (slot + 1 < m)
+				seen[slot] = 1;
+		}
+		free(seen);
 		for (uint32_t a = 0; a < m; a++) {
 			for (uint32_t b = a + 1; b <= m; b++) {
 				uint32_t out[VIS_SEGTREE_MAX_CANONICAL];
 				size_t c = vis_segtree_canonical(m, a, b, out);
+				uint32_t slots[VIS_SEGTREE_MAX_CANONICAL];
+				CHECK(vis_segtree_canonical_slots(m, a, b, slots) == c);
+				for (size_t j = 0; j < c; j++) {
+					uint32_t v = out[j], len = nhi[v] - nlo[v];
+					CHECK(slots[j] == (len == 1 ? (VIS_SEGTREE_LEAF | nlo[v]) : v - nlo[v]));
+					CHECK(len == 1 || v - nlo[v] < m - 1);
+				}
 				CHECK(c >= 1 && c <= 2 * log2_ceil(m) + (m == 1));
 				/* Left to right, abutting, covering exactly [a, b). */
 				uint32_t at = a;
