@@ -14,37 +14,26 @@
 
 int vis_brute_compute(const struct vis_stack *stack, uint8_t *states)
 {
-	size_t n = stack->n, nx = 0, ny = 0, cols, rows, cells;
-	int64_t *xs = NULL, *ys = NULL;
+	size_t n = stack->n, cols, rows, cells;
+	struct vis_coords co = { 0 };
 	uint32_t *owner = NULL;
 	size_t *owned = NULL;
 	int ret = -1;
 
 	/* Window indices are stored in uint32 cells, NO_OWNER excluded. */
-	if (n >= NO_OWNER || n > SIZE_MAX / (2 * sizeof *xs)) {
+	if (n >= NO_OWNER) {
 		errno = EOVERFLOW;
 		return -1;
 	}
-	xs = malloc((2 * n + 1) * sizeof *xs);
-	ys = malloc((2 * n + 1) * sizeof *ys);
+	if (vis_coords_init(&co, stack) < 0)
+		return -1;
 	owned = calloc(n + 1, sizeof *owned);
-	if (xs == NULL || ys == NULL || owned == NULL) {
+	if (owned == NULL) {
 		errno = ENOMEM;
 		goto out;
 	}
-	for (size_t i = 0; i < n; i++) {
-		struct vis_box b = vis_stack_clip(stack, i);
-		if (vis_box_empty(b))
-			continue;
-		xs[nx++] = b.x1;
-		xs[nx++] = b.x2;
-		ys[ny++] = b.y1;
-		ys[ny++] = b.y2;
-	}
-	nx = vis_coords_unique(xs, nx);
-	ny = vis_coords_unique(ys, ny);
-	cols = nx > 0 ? nx - 1 : 0;
-	rows = ny > 0 ? ny - 1 : 0;
+	cols = co.nx > 0 ? co.nx - 1 : 0;
+	rows = co.ny > 0 ? co.ny - 1 : 0;
 	if (cols != 0 && rows > SIZE_MAX / sizeof *owner / cols) {
 		errno = EOVERFLOW;
 		goto out;
@@ -62,8 +51,8 @@ int vis_brute_compute(const struct vis_stack *stack, uint8_t *states)
 		struct vis_box b = vis_stack_clip(stack, i);
 		if (vis_box_empty(b))
 			continue;
-		size_t c1 = vis_coords_rank(xs, nx, b.x1), c2 = vis_coords_rank(xs, nx, b.x2);
-		size_t r1 = vis_coords_rank(ys, ny, b.y1), r2 = vis_coords_rank(ys, ny, b.y2);
+		size_t c1 = vis_coords_rank_x(&co, b.x1), c2 = vis_coords_rank_x(&co, b.x2);
+		size_t r1 = vis_coords_rank_y(&co, b.y1), r2 = vis_coords_rank_y(&co, b.y2);
 		for (size_t r = r1; r < r2; r++) {
 			for (size_t c = c1; c < c2; c++)
 				owner[r * cols + c] = (uint32_t)i;
@@ -80,8 +69,8 @@ int vis_brute_compute(const struct vis_stack *stack, uint8_t *states)
 			states[i] = VIS_FULLY_OBSCURED;
 			continue;
 		}
-		size_t c1 = vis_coords_rank(xs, nx, b.x1), c2 = vis_coords_rank(xs, nx, b.x2);
-		size_t r1 = vis_coords_rank(ys, ny, b.y1), r2 = vis_coords_rank(ys, ny, b.y2);
+		size_t c1 = vis_coords_rank_x(&co, b.x1), c2 = vis_coords_rank_x(&co, b.x2);
+		size_t r1 = vis_coords_rank_y(&co, b.y1), r2 = vis_coords_rank_y(&co, b.y2);
 		/* Unobscured needs the whole window, not just its on-screen part, to be visible. */
 		if (vis_stack_on_screen(stack, i) && owned[i] == (c2 - c1) * (r2 - r1))
 			states[i] = VIS_UNOBSCURED;
@@ -90,8 +79,7 @@ int vis_brute_compute(const struct vis_stack *stack, uint8_t *states)
 	}
 	ret = 0;
 out:
-	free(xs);
-	free(ys);
+	vis_coords_finish(&co);
 	free(owner);
 	free(owned);
 	return ret;

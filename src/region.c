@@ -32,48 +32,28 @@ static bool box_too_far(struct vis_box b)
  */
 static int compress(const struct vis_stack *stack, pixman_box32_t *boxes)
 {
-	size_t n = stack->n;
-	int64_t *xs, *ys;
-	size_t nx = 0, ny = 0;
+	struct vis_coords co;
 
 	/* Ranks go up to 2n - 1 and must stay within pixman's comfortable range. */
-	if (n > (size_t)(COORD_LIMIT / 2) || n > SIZE_MAX / (2 * sizeof(int64_t))) {
+	if (stack->n > (size_t)(COORD_LIMIT / 2)) {
 		errno = EOVERFLOW;
 		return -1;
 	}
-	xs = malloc(2 * n * sizeof *xs);
-	ys = malloc(2 * n * sizeof *ys);
-	if (xs == NULL || ys == NULL) {
-		free(xs);
-		free(ys);
-		errno = ENOMEM;
+	if (vis_coords_init(&co, stack) < 0)
 		return -1;
-	}
-	for (size_t i = 0; i < n; i++) {
-		struct vis_box b = vis_stack_clip(stack, i);
-		if (vis_box_empty(b))
-			continue;
-		xs[nx++] = b.x1;
-		xs[nx++] = b.x2;
-		ys[ny++] = b.y1;
-		ys[ny++] = b.y2;
-	}
-	nx = vis_coords_unique(xs, nx);
-	ny = vis_coords_unique(ys, ny);
-	for (size_t i = 0; i < n; i++) {
+	for (size_t i = 0; i < stack->n; i++) {
 		struct vis_box b = vis_stack_clip(stack, i);
 		pixman_box32_t *r = &boxes[i];
 		if (vis_box_empty(b)) {
 			r->x1 = r->y1 = r->x2 = r->y2 = 0;
 			continue;
 		}
-		r->x1 = (int32_t)vis_coords_rank(xs, nx, b.x1);
-		r->x2 = (int32_t)vis_coords_rank(xs, nx, b.x2);
-		r->y1 = (int32_t)vis_coords_rank(ys, ny, b.y1);
-		r->y2 = (int32_t)vis_coords_rank(ys, ny, b.y2);
+		r->x1 = (int32_t)vis_coords_rank_x(&co, b.x1);
+		r->x2 = (int32_t)vis_coords_rank_x(&co, b.x2);
+		r->y1 = (int32_t)vis_coords_rank_y(&co, b.y1);
+		r->y2 = (int32_t)vis_coords_rank_y(&co, b.y2);
 	}
-	free(xs);
-	free(ys);
+	vis_coords_finish(&co);
 	return 0;
 }
 

@@ -68,42 +68,24 @@ static unsigned reports;
 /* Whether the brute force is cheap enough here: its grid and its painting stay bounded. */
 static bool brute_affordable(const struct vis_stack *stack)
 {
-	size_t n = stack->n, nx = 0, ny = 0;
-	int64_t *xs, *ys;
+	struct vis_coords co;
 	double paint = 0;
 	bool ok;
 
-	if (n <= 64)
+	if (stack->n <= 64)
 		return true;
-	xs = malloc(2 * n * sizeof *xs);
-	ys = malloc(2 * n * sizeof *ys);
-	if (xs == NULL || ys == NULL) {
-		free(xs);
-		free(ys);
+	if (vis_coords_init(&co, stack) < 0)
 		return false;
-	}
-	for (size_t i = 0; i < n; i++) {
+	for (size_t i = 0; i < stack->n; i++) {
 		struct vis_box b = vis_stack_clip(stack, i);
 		if (vis_box_empty(b))
 			continue;
-		xs[nx++] = b.x1;
-		xs[nx++] = b.x2;
-		ys[ny++] = b.y1;
-		ys[ny++] = b.y2;
+		paint += (double)(vis_coords_rank_x(&co, b.x2) - vis_coords_rank_x(&co, b.x1)) *
+			 (double)(vis_coords_rank_y(&co, b.y2) - vis_coords_rank_y(&co, b.y1));
 	}
-	nx = vis_coords_unique(xs, nx);
-	ny = vis_coords_unique(ys, ny);
-	for (size_t i = 0; i < n; i++) {
-		struct vis_box b = vis_stack_clip(stack, i);
-		if (vis_box_empty(b))
-			continue;
-		paint += (double)(vis_coords_rank(xs, nx, b.x2) - vis_coords_rank(xs, nx, b.x1)) *
-			 (double)(vis_coords_rank(ys, ny, b.y2) - vis_coords_rank(ys, ny, b.y1));
-	}
-	ok = nx > 0 && ny > 0 && (double)(nx - 1) * (double)(ny - 1) <= BRUTE_MAX_CELLS &&
-	     paint <= BRUTE_MAX_PAINT;
-	free(xs);
-	free(ys);
+	ok = co.nx > 0 && co.ny > 0 &&
+	     (double)(co.nx - 1) * (double)(co.ny - 1) <= BRUTE_MAX_CELLS && paint <= BRUTE_MAX_PAINT;
+	vis_coords_finish(&co);
 	return ok;
 }
 
