@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "engine.h"
+#include "radix.h"
 #include "gen.h"
 #include "scene.h"
 #include "visctl.h"
@@ -137,15 +138,12 @@ fail:
 	return -1;
 }
 
-/*
- * The stack positions in ascending ID order. IDs are unique, so a two-pass radix sort on 16-bit
- * digits suffices; scenes that are already in order (as generated ones are) skip it.
- */
+/* The stack positions in ascending ID order; scenes already in order (generated ones) skip the sort. */
 static uint32_t *order_by_id(const struct vis_scene *scene)
 {
 	size_t n = scene->n;
 	uint32_t *order = malloc((n ? n : 1) * sizeof(*order));
-	uint32_t *tmp = NULL;
+	uint64_t *key = NULL;
 	bool sorted = true;
 
 	if (order == NULL)
@@ -157,30 +155,18 @@ static uint32_t *order_by_id(const struct vis_scene *scene)
 	}
 	if (sorted)
 		return order;
-	size_t *count = malloc(65536 * sizeof(*count));
-	if (count == NULL || (tmp = malloc(n * sizeof(*tmp))) == NULL) {
-		free(count);
+	key = malloc(n * sizeof(*key));
+	if (key == NULL) {
 		free(order);
 		return NULL;
 	}
-	for (unsigned shift = 0; shift < 32; shift += 16) {
-		memset(count, 0, 65536 * sizeof(*count));
-		for (size_t i = 0; i < n; i++)
-			count[(scene->ids[order[i]] >> shift) & 0xffff]++;
-		size_t sum = 0;
-		for (size_t b = 0; b < 65536; b++) {
-			size_t c = count[b];
-			count[b] = sum;
-			sum += c;
-		}
-		for (size_t i = 0; i < n; i++)
-			tmp[count[(scene->ids[order[i]] >> shift) & 0xffff]++] = order[i];
-		uint32_t *t = order;
-		order = tmp;
-		tmp = t;
+	for (size_t i = 0; i < n; i++)
+		key[i] = scene->ids[i];
+	if (vis_radix_sort(key, order, n) < 0) {
+		free(order);
+		order = NULL;
 	}
-	free(count);
-	free(tmp);
+	free(key);
 	return order;
 }
 

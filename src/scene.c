@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "radix.h"
 #include "scene.h"
 
 /* The most fields a record can have; one more is kept so "got N" can count the excess. */
@@ -285,49 +286,6 @@ static int parse_line(struct parser *p, const char *s, size_t len)
 	return fail(p, "unknown record '%s'", quote(rec, q, sizeof(q)));
 }
 
-/* An entry of the duplicate search: a window's ID and its position in the stack. */
-struct id_pos {
-	uint32_t id;
-	size_t pos;
-};
-
-/*
- * Sorts by ID, keeping equal IDs in stack order: a stable LSD radix sort on 11-bit digits, which
- * is linear and several times faster than qsort at a million windows.
- */
-static int sort_id_pos(struct id_pos *a, size_t n)
-{
-	if (n > SIZE_MAX / sizeof(*a)) {
-		errno = ENOMEM;
-		return -1;
-	}
-	struct id_pos *tmp = malloc(n * sizeof(*tmp));
-	if (tmp == NULL)
-		return -1;
-	static const unsigned shifts[] = { 0, 11, 22 };
-	for (size_t d = 0; d < 3; d++) {
-		size_t count[2048] = { 0 };
-		unsigned sh = shifts[d];
-		for (size_t i = 0; i < n; i++)
-			count[(a[i].id >> sh) & 2047]++;
-		size_t sum = 0;
-		for (size_t b = 0; b < 2048; b++) {
-			size_t c = count[b];
-			count[b] = sum;
-			sum += c;
-		}
-		for (size_t i = 0; i < n; i++)
-			tmp[count[(a[i].id >> sh) & 2047]++] = a[i];
-		struct id_pos *t = a;
-		a = tmp;
-		tmp = t;
-	}
-	/* After an odd number of passes the sorted data is in the scratch buffer; copy it home. */
-	memcpy(tmp, a, n * sizeof(*a));
-	free(a);
-	return 0;
-}
-
 /*
  * Reports the first duplicate ID in reading order among the first n windows: the one whose second
  * definition comes earliest. Returns 0 when there is none, 1 after filling err, or -1 (ENOMEM).
@@ -336,36 +294,44 @@ static int find_duplicate(struct parser *p, size_t n)
 {
 	if (n < 2)
 		return 0;
-	if (n > SIZE_MAX / sizeof(struct id_pos)) {
+	if (n > UINT32_MAX) { /* positions are 32-bit */
 		errno = ENOMEM;
 		return -1;
 	}
-	struct id_pos *a = malloc(n * sizeof(*a));
-	if (a == NULL)
+	uint64_t *id = malloc(n * sizeof(*id));
+	uint32_t *pos = malloc(n * sizeof(*pos));
+	if (id == NULL || pos == NULL) {
+		free(id);
+		free(pos);
+		errno = ENOMEM;
 		return -1;
-	for (size_t i = 0; i < n; i++)
-		a[i] = (struct id_pos){ p->scene->ids[i], i };
-	if (sort_id_pos(a, n) < 0) {
-		free(a);
+	}
+	for (size_t i = 0; i < n; i++) {
+		id[i] = p->scene->ids[i];
+		pos[i] = (uint32_t)i;
+	}
+	/* Stable: equal IDs stay in stack order. */
+	if (vis_radix_sort(id, pos, n) < 0) {
+		free(id);
+		free(pos);
 		return -1;
 	}
 
 	size_t best = SIZE_MAX, first = 0;
 	for (size_t i = 1; i < n; i++) {
 		/* Within a run of equal IDs, only the second entry can be the earliest redefinition. */
-		if (a[i].id == a[i - 1].id && (i < 2 || a[i - 2].id != a[i].id) && a[i].pos < best) {
-			best = a[i].pos;
-			first = a[i - 1].pos;
+		if (id[i] == id[i - 1] && (i < 2 || id[i - 2] != id[i]) && pos[i] < best) {
+			best = pos[i];
+			first = pos[i - 1];
 		}
 	}
-	if (best == SIZE_MAX) {
-		free(a);
+	free(id);
+	free(pos);
+	if (best == SIZE_MAX)
 		return 0;
-	}
 	p->line = p->lines[best];
 	fail(p, "duplicate window ID %" PRIu32 " (first on line %zu)", p->scene->ids[best],
 	     p->lines[first]);
-	free(a);
 	return 1;
 }
 
