@@ -32,22 +32,20 @@ build() {
 
 demo() {
 	build build-release --buildtype=release
-	local scene
 	scene=$(mktemp --suffix=.scene)
-	trap 'rm -f "$scene"' EXIT
+	trap 'rm -f "$scene" "$scene.out"' EXIT
 	build-release/client/visctl gen random 10000 1 >"$scene"
-	echo "== visctl compute --time on a generated desktop of 10,000 windows (3840x2160):"
+	echo "== a generated desktop: 10,000 windows on a 3840x2160 screen ($scene)"
 	build-release/client/visctl compute --time "$scene" >"$scene.out"
-	head -n 8 "$scene.out"
-	echo "   ... ($(wc -l <"$scene.out") windows)"
-	echo "== states:"
+	echo "== how many windows are in each state:"
 	awk '{ n[$2]++ } END { for (s in n) printf "   %-20s %d\n", s, n[s] }' "$scene.out" | sort
+	echo "== the windows that can be seen (ID STATE):"
+	grep -v fully-obscured "$scene.out" | sed 's/^/   /'
 	echo "== the same scene with every engine:"
 	for e in auto gmv gmv-heap region; do
 		printf '   %-9s ' "$e"
 		build-release/client/visctl compute --engine="$e" --time "$scene" 2>&1 >/dev/null
 	done
-	rm -f "$scene.out"
 }
 
 run_tests() {
