@@ -3,10 +3,17 @@
 
 /*
  * The heaps live in one block, each node's slice sized by the windows it will ever hold; the
- * node's aux holds its slice's offset and length. A deleted window is removed from every node it
- * is stored at in one RIGHT-DELETE, so one "dead" flag per window makes lazy deletion exact: each
- * node pops dead windows off its top, and tops are always live.
+ * node's aux holds its slice's offset, length, and how much of it is in heap order. A deleted
+ * window is removed from every node it is stored at in one RIGHT-DELETE, so one "dead" flag per
+ * window makes lazy deletion exact: each node pops dead windows off its top, and tops are live.
+ *
+ * The node's top is cached in its record, so the heap is needed only when the top is deleted.
+ * Insertion therefore just appends (one store, where a push would read a parent: a cache miss,
+ * the costliest step of the sweep); the appended tail is pushed into heap order when the top is
+ * deleted, each element once, in a burst that keeps the heap's top levels in the cache.
  */
+#define SOURCE_AUX 3
+
 struct source {
 	uint32_t *a;
 	uint8_t *dead; /* by z */
@@ -16,28 +23,30 @@ struct source {
 
 #include "heap.h"
 
-enum { HEAP_OFF, HEAP_LEN };
+enum { HEAP_OFF, HEAP_LEN, HEAP_ORDERED };
 
 static inline uint32_t source_insert(struct source *src, struct head *hd, uint32_t z)
 {
-	uint32_t *a = src->a + hd->aux[HEAP_OFF];
-	vis_heap_push(a, &hd->aux[HEAP_LEN], z);
-	return a[0];
+	src->a[hd->aux[HEAP_OFF] + hd->aux[HEAP_LEN]++] = z;
+	return z > hd->top ? z : hd->top;
 }
 
 static inline uint32_t source_remove(struct source *src, struct head *hd, uint32_t z)
 {
-	/*
-	 * Tops are live and z the only new corpse, so unless z is the top nothing changes, and
-	 * the node's cached top says so without touching the heap.
-	 */
+	/* z is the only new corpse: unless it is the top, nothing changes. */
 	if (hd->top != z)
 		return hd->top;
 	uint32_t *a = src->a + hd->aux[HEAP_OFF];
+	uint32_t len = hd->aux[HEAP_LEN];
+	for (uint32_t i = hd->aux[HEAP_ORDERED]; i < len;) {
+		uint32_t x = a[i];
+		vis_heap_push(a, &i, x);
+	}
 	do
-		vis_heap_pop(a, &hd->aux[HEAP_LEN]);
-	while (hd->aux[HEAP_LEN] && src->dead[a[0]]);
-	return hd->aux[HEAP_LEN] ? a[0] : 0;
+		vis_heap_pop(a, &len);
+	while (len && src->dead[a[0]]);
+	hd->aux[HEAP_LEN] = hd->aux[HEAP_ORDERED] = len;
+	return len ? a[0] : 0;
 }
 
 static inline void source_deleted(struct source *src, uint32_t z)

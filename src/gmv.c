@@ -9,6 +9,8 @@
  * that reaches it, solves the offline extract-max problem; a union-find over "next unfilled slot"
  * fills every slot once (near-linear, Bern's trick). The node's aux holds its next slot.
  */
+#define SOURCE_AUX 2
+
 struct source {
 	uint32_t *tops; /* per slot: the node's top after that operation */
 };

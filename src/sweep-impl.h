@@ -3,7 +3,8 @@
  * top(H_v) from: gmv-heap.c (per-node heaps, sections 4–5) and gmv.c (offline top lists, section
  * 6). The sweep is memory-latency bound and makes these reads at every canonical node, so each
  * engine gets its own copy with the reads inlined and their state in the node record itself.
- * Define struct source before including this, and after it:
+ * Define SOURCE_AUX (the words of per-node state the source needs) and struct source before
+ * including this, and after it:
  *   uint32_t source_insert(struct source *, struct node *, uint32_t z)  -> the node's new top
  *   uint32_t source_remove(struct source *, struct node *, uint32_t z)  -> the node's new top
  *   void source_deleted(struct source *, uint32_t z)   before a window's removals begin
@@ -38,7 +39,7 @@ struct summary {
 /* What every node has: top, the highest window stored at it; aux, the top source's state. */
 struct head {
 	uint32_t top;
-	uint32_t aux[2];
+	uint32_t aux[SOURCE_AUX];
 };
 
 /*
