@@ -12,6 +12,7 @@
  * the costliest step of the sweep); the appended tail is pushed into heap order when the top is
  * deleted, each element once, in a burst that keeps the heap's top levels in the cache.
  */
+#define SOURCE_LAZY_DELETE 1
 #define SOURCE_AUX 3
 
 struct source {

@@ -9,6 +9,7 @@
  * that reaches it, solves the offline extract-max problem; a union-find over "next unfilled slot"
  * fills every slot once (near-linear, Bern's trick). The node's aux holds its next slot.
  */
+#define SOURCE_LAZY_DELETE 0
 #define SOURCE_AUX 2
 
 struct source {

@@ -3,7 +3,8 @@
  * top(H_v) from: gmv-heap.c (per-node heaps, sections 4–5) and gmv.c (offline top lists, section
  * 6). The sweep is memory-latency bound and makes these reads at every canonical node, so each
  * engine gets its own copy with the reads inlined and their state in the node record itself.
- * Define SOURCE_AUX (the words of per-node state the source needs) and struct source before
+ * Define SOURCE_AUX (the words of per-node state the source needs), SOURCE_LAZY_DELETE (1 if the
+ * source needs no call for a deletion at a node the window does not top) and struct source before
  * including this, and after it:
  *   uint32_t source_insert(struct source *, struct node *, uint32_t z)  -> the node's new top
  *   uint32_t source_remove(struct source *, struct node *, uint32_t z)  -> the node's new top
@@ -96,6 +97,7 @@ struct sweep {
 	struct head *leaf;
 	struct summary root;
 	uint8_t *reported; /* by z */
+	uint8_t *ntop; /* by z: the nodes it tops, at most its canonical ones (ntop[0]: junk) */
 	uint8_t *cstate;   /* by z: enum cand_state */
 	uint32_t *cand, *submin;
 	uint32_t *newly; /* windows reported during the current event */
@@ -170,6 +172,17 @@ static inline bool update_changed(const struct sweep *s, uint32_t t, const struc
 	return old.l != out->l || old.h != out->h || old.m != out->m;
 }
 
+/* Sets a node's top, counting the nodes each window tops; returns whether it changed. */
+static inline bool set_top(struct sweep *s, struct head *hd, uint32_t top)
+{
+	if (top == hd->top)
+		return false;
+	s->ntop[hd->top]--;
+	s->ntop[top]++;
+	hd->top = top;
+	return true;
+}
+
 static inline void report(struct sweep *s, uint32_t z)
 {
 	if (!s->reported[z]) {
@@ -190,8 +203,7 @@ static bool left_insert(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, u
 	if (s->a <= lo && hi <= s->b) {
 		/* Read l before the update: z is visible here iff it beats what was visible. */
 		uint32_t old_top = hd->top, old_l = max32(children_l(kid), old_top);
-		hd->top = source_insert(s->src, hd, s->z);
-		if (hd->top == old_top)
+		if (!set_top(s, hd, source_insert(s->src, hd, s->z)))
 			return false;
 		if (s->z > old_l && s->z > S)
 			report(s, s->z);
@@ -242,8 +254,7 @@ static bool right_delete(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, 
 	if (s->a <= lo && hi <= s->b) {
 		uint32_t old_top = hd->top;
 		bool was_visible = old_top == s->z && s->z > S && s->z > children_l(kid);
-		hd->top = source_remove(s->src, hd, s->z);
-		if (hd->top == old_top)
+		if (!set_top(s, hd, source_remove(s->src, hd, s->z)))
 			return false;
 		bool changed = update_changed(s, hd->top, kid, out);
 		/* The deletion may expose S itself here, which RIGHT-REPORT never looks at. */
@@ -400,6 +411,7 @@ static void sweep_free(struct sweep *s)
 	free(s->node);
 	free(s->leaf);
 	free(s->reported);
+	free(s->ntop);
 	free(s->cstate);
 	free(s->cand);
 	free(s->submin);
@@ -448,14 +460,15 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 	s.node = calloc(m, sizeof(*s.node)); /* m − 1 internal nodes */
 	s.leaf = calloc(m, sizeof(*s.leaf));
 	s.reported = calloc(n + 1, 1);
+	s.ntop = calloc(n + 1, sizeof(*s.ntop));
 	s.cstate = calloc(n + 1, 1);
 	s.cand = calloc(nodes, sizeof(*s.cand));
 	s.submin = malloc(nodes * sizeof(*s.submin));
 	s.newly = malloc(n * sizeof(*s.newly));
 	s.group = malloc(n * sizeof(*s.group));
 	s.found = malloc(n * sizeof(*s.found));
-	if (!s.node || !s.leaf || !s.reported || !s.cstate || !s.cand || !s.submin || !s.newly || !s.group ||
-	    !s.found) {
+	if (!s.node || !s.leaf || !s.reported || !s.ntop || !s.cstate || !s.cand || !s.submin ||
+	    !s.newly || !s.group || !s.found) {
 		sweep_free(&s);
 		errno = ENOMEM;
 		return -1;
@@ -473,7 +486,13 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 		set_step(&s, st);
 		if (st->zf & STEP_DELETE) {
 			source_deleted(&src, s.z);
-			right_delete(&s, 0, 0, m, 0, &s.root);
+			/*
+			 * A window that tops no node is hidden wherever it is stored: deleting it
+			 * changes no summary and exposes nothing. A source that deletes lazily
+			 * need not even visit its nodes (on desktop-like stacks, most windows).
+			 */
+			if (!SOURCE_LAZY_DELETE || s.ntop[s.z] > 0)
+				right_delete(&s, 0, 0, m, 0, &s.root);
 			if (s.cstate[s.z] == CAND_ACTIVE) {
 				s.cstate[s.z] = CAND_DONE;
 				cand_store(&s, 0, 0, m, 0);
