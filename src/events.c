@@ -57,14 +57,14 @@ static int rank_y(struct vis_events *ev, const int64_t *y1, const int64_t *y2)
 	return 0;
 }
 
-int vis_events_init(struct vis_events *ev, const struct vis_stack *stack, size_t first)
+int vis_events_init(struct vis_events *ev, const struct vis_stack *stack)
 {
 	memset(ev, 0, sizeof(*ev));
 	if (stack->n > (1u << 30)) {
 		errno = EOVERFLOW;
 		return -1;
 	}
-	size_t cap = stack->n > first ? stack->n - first : 0;
+	size_t cap = stack->n;
 	int64_t *y1 = malloc(cap * sizeof(*y1) + 1);
 	int64_t *y2 = malloc(cap * sizeof(*y2) + 1);
 	ev->idx = malloc(cap * sizeof(*ev->idx) + 1);
@@ -75,7 +75,7 @@ int vis_events_init(struct vis_events *ev, const struct vis_stack *stack, size_t
 	if (!y1 || !y2 || !ev->idx || !ev->lo || !ev->hi || !ev->x1 || !ev->x2)
 		goto nomem;
 	size_t n = 0;
-	for (size_t i = first; i < stack->n; i++) {
+	for (size_t i = 0; i < stack->n; i++) {
 		struct vis_box b = vis_stack_clip(stack, i);
 		if (vis_box_empty(b))
 			continue;

@@ -39,11 +39,10 @@ enum vis_order {
 #define VIS_EV_IS_DELETE(e) ((e) & 1u)
 
 /*
- * Prepares the kept windows of the stack, or of the windows first … n − 1 only when first > 0
- * (the others are left out entirely). Returns 0, or -1 (ENOMEM; EOVERFLOW past 2^30 windows).
+ * Prepares the kept windows of the stack. Returns 0, or -1 (ENOMEM; EOVERFLOW past 2^30 windows).
  * O(n) time and space beyond a radix sort of the 2n y edges (O(n) passes of 11 bits each).
  */
-int vis_events_init(struct vis_events *ev, const struct vis_stack *stack, size_t first);
+int vis_events_init(struct vis_events *ev, const struct vis_stack *stack);
 
 /* Frees the arrays. O(1). */
 void vis_events_finish(struct vis_events *ev);

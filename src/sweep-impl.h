@@ -528,7 +528,7 @@ static int sweep_compute(const struct vis_stack *stack, uint8_t *states)
 	for (size_t i = 0; i < stack->n; i++)
 		states[i] = VIS_FULLY_OBSCURED;
 	struct vis_events ev;
-	if (vis_events_init(&ev, stack, 0) < 0)
+	if (vis_events_init(&ev, stack) < 0)
 		return -1;
 	int rc = -1;
 	uint32_t *sched = malloc(2 * ev.n * sizeof(*sched) + 1);

@@ -108,7 +108,7 @@ static void test_events(void)
 	};
 	struct vis_stack st = { r, 6, true, 10, 10 };
 	struct vis_events ev;
-	CHECK(vis_events_init(&ev, &st, 0) == 0);
+	CHECK(vis_events_init(&ev, &st) == 0);
 	CHECK(ev.n == 4); /* the two zero-area windows are dropped */
 	CHECK(ev.idx[0] == 0 && ev.idx[1] == 2 && ev.idx[2] == 4 && ev.idx[3] == 5);
 	CHECK(ev.nleaves == 2); /* y edges 0, 1, 4 */
@@ -129,17 +129,12 @@ static void test_events(void)
 				  { INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX },
 				  { -1, -1, 2, 2 } };
 	struct vis_stack bs = { big, 3, false, 0, 0 };
-	CHECK(vis_events_init(&ev, &bs, 0) == 0);
+	CHECK(vis_events_init(&ev, &bs) == 0);
 	CHECK(ev.n == 3 && ev.nleaves == 4); /* y edges INT32_MIN, -1, 1, INT32_MAX, 2^32 - 2 */
 	CHECK(ev.lo[0] == 0 && ev.hi[0] == 1 && ev.lo[2] == 1 && ev.hi[2] == 2);
 	CHECK(ev.lo[1] == 3 && ev.hi[1] == 4);
 	CHECK(vis_events_schedule(&ev, VIS_ORDER_VISIBILITY, sched) == 0);
 	CHECK(sched[0] == 0 && sched[5] == (1 << 1 | 1));
-	vis_events_finish(&ev);
-
-	/* Starting above the bottom leaves the lower windows out. */
-	CHECK(vis_events_init(&ev, &st, 4) == 0);
-	CHECK(ev.n == 2 && ev.idx[0] == 4 && ev.idx[1] == 5);
 	vis_events_finish(&ev);
 }
 
