@@ -7,8 +7,9 @@
  * work stays within what the sweep would cost, and hand over to the sweep past that: never much
  * slower than the region method where it is cheap, and within a constant of the sweep everywhere.
  * REGION_BOXES_PER_STEP converts one sweep step (a window times a tree level) into units of region
- * work (see vis_region_compute_within()). Measured on this project's bench scenes: a unit costs
- * 2–4 ns and a sweep step 35–85 ns, i.e. 12–30 units. At 40 the region method keeps every kind
+ * work (see vis_region_compute_within()). Measured on this project's bench scenes when it was
+ * set: a unit costs 2–4 ns and a sweep step 35–85 ns, i.e. 12–30 units (the sweep has got faster
+ * since, which makes the budget a little generous). At 40 the region method keeps every kind
  * where it beats the sweep (uniform n = 10^4 needs 26 units a step, cascade 29–37) and hands
  * the grid (5,700 units a step at n = 1,000) and small uniform stacks (227) to the sweep early.
  */

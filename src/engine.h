@@ -29,12 +29,15 @@ int vis_engine_from_name(const char *name, enum vis_engine *engine);
  */
 int vis_compute(enum vis_engine engine, const struct vis_stack *stack, uint8_t *states);
 
-/* O(n log² n) time, O(n log n) space: the sweep with per-node heaps, plus the classifier. */
+/*
+ * O(n log² n) time, O(n log n) space: the sweep with per-node heaps; the three states cost
+ * O(n log n) more inside it.
+ */
 int vis_gmv_heap_compute(const struct vis_stack *stack, uint8_t *states);
 
 /*
- * O(n log n · α(n)) time, O(n log n) space: the sweep reading offline top lists, plus the
- * classifier.
+ * O(n log n · α(n)) time, O(n log n) space: the sweep reading offline top lists; the three states
+ * cost O(n log n) more inside it.
  */
 int vis_gmv_compute(const struct vis_stack *stack, uint8_t *states);
 
@@ -55,8 +58,8 @@ int vis_region_compute_within(const struct vis_stack *stack, uint8_t *states, ui
 int vis_brute_compute(const struct vis_stack *stack, uint8_t *states);
 
 /*
- * The region method under a work budget of O(n log n) region boxes; past the budget, the sweep.
- * O(n log n · α(n)) time in the worst case; the region method's time when that is cheaper.
+ * The region method under a work budget of O(n log n) units; past the budget, the gmv-heap sweep.
+ * O(n log² n) time in the worst case; the region method's time when that is cheaper.
  */
 int vis_auto_compute(const struct vis_stack *stack, uint8_t *states);
 

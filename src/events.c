@@ -101,7 +101,7 @@ fail:
 	return -1;
 }
 
-int vis_events_schedule(const struct vis_events *ev, enum vis_order order, uint32_t *sched)
+int vis_events_schedule(const struct vis_events *ev, uint32_t *sched)
 {
 	size_t n = ev->n, m = 2 * n;
 	if (n == 0)
@@ -116,24 +116,13 @@ int vis_events_schedule(const struct vis_events *ev, enum vis_order order, uint3
 		xmin = ev->x1[k] < xmin ? ev->x1[k] : xmin;
 	/* The radix sort is stable: lay the events out in their tie order first. */
 	size_t at = 0;
-	if (order == VIS_ORDER_VISIBILITY) {
-		for (size_t k = n; k-- > 0;) {
-			key[at] = (uint64_t)(ev->x1[k] - xmin);
-			sched[at++] = (uint32_t)(k << 1);
-		}
-		for (size_t k = 0; k < n; k++) {
-			key[at] = (uint64_t)(ev->x2[k] - xmin);
-			sched[at++] = (uint32_t)(k << 1 | 1);
-		}
-	} else {
-		for (size_t k = 0; k < n; k++) {
-			key[at] = (uint64_t)(ev->x2[k] - xmin);
-			sched[at++] = (uint32_t)(k << 1 | 1);
-		}
-		for (size_t k = 0; k < n; k++) {
-			key[at] = (uint64_t)(ev->x1[k] - xmin);
-			sched[at++] = (uint32_t)(k << 1);
-		}
+	for (size_t k = n; k-- > 0;) {
+		key[at] = (uint64_t)(ev->x1[k] - xmin);
+		sched[at++] = (uint32_t)(k << 1);
+	}
+	for (size_t k = 0; k < n; k++) {
+		key[at] = (uint64_t)(ev->x2[k] - xmin);
+		sched[at++] = (uint32_t)(k << 1 | 1);
 	}
 	int rc = vis_radix_sort(key, sched, m);
 	free(key);

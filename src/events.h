@@ -23,17 +23,6 @@ struct vis_events {
 	int64_t *x1, *x2;
 };
 
-/*
- * Event order at equal x.
- * VIS_ORDER_VISIBILITY: all insertions in decreasing z, then all deletions in increasing z — the
- * only order in which no intermediate state inside one x produces a report (ALGORITHM-NOTES.md).
- * VIS_ORDER_OVERLAP: all deletions, then all insertions, so windows that only touch never meet.
- */
-enum vis_order {
-	VIS_ORDER_VISIBILITY,
-	VIS_ORDER_OVERLAP,
-};
-
 /* An event: kept window k << 1, | 1 for its deletion (right edge), | 0 for its insertion. */
 #define VIS_EV_WINDOW(e) ((e) >> 1)
 #define VIS_EV_IS_DELETE(e) ((e) & 1u)
@@ -48,9 +37,12 @@ int vis_events_init(struct vis_events *ev, const struct vis_stack *stack);
 void vis_events_finish(struct vis_events *ev);
 
 /*
- * Writes the 2n events in sweep order into sched (room for 2n). Returns 0, or -1 (ENOMEM).
+ * Writes the 2n events in sweep order into sched (room for 2n): by x, and at equal x all
+ * insertions in decreasing z, then all deletions in increasing z — the only order in which no
+ * intermediate state inside one x produces a report (ALGORITHM-NOTES.md). Returns 0, or -1
+ * (ENOMEM).
  * O(n) radix passes over the x edges.
  */
-int vis_events_schedule(const struct vis_events *ev, enum vis_order order, uint32_t *sched);
+int vis_events_schedule(const struct vis_events *ev, uint32_t *sched);
 
 #endif

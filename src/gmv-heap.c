@@ -3,9 +3,10 @@
 
 /*
  * The heaps live in one block, each node's slice sized by the windows it will ever hold; the
- * node's aux holds its slice's offset, length, and how much of it is in heap order. A deleted
- * window is removed from every node it is stored at in one RIGHT-DELETE, so one "dead" flag per
- * window makes lazy deletion exact: each node pops dead windows off its top, and tops are live.
+ * node's aux holds its slice's offset, length, and how much of it is in heap order. Deletion is
+ * lazy: a "dead" flag per window, set once, and each node pops dead windows off its top when its
+ * top is deleted. Since a deleted window was the top of no node except those RIGHT-DELETE
+ * visits, every top stays live.
  *
  * The node's top is cached in its record, so the heap is needed only when the top is deleted.
  * Insertion therefore just appends (one store, where a push would read a parent: a cache miss,

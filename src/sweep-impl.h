@@ -6,11 +6,11 @@
  * Define SOURCE_AUX (the words of per-node state the source needs), SOURCE_LAZY_DELETE (1 if the
  * source needs no call for a deletion at a node the window does not top) and struct source before
  * including this, and after it:
- *   uint32_t source_insert(struct source *, struct node *, uint32_t z)  -> the node's new top
- *   uint32_t source_remove(struct source *, struct node *, uint32_t z)  -> the node's new top
+ *   uint32_t source_insert(struct source *, struct head *, uint32_t z)  -> the node's new top
+ *   uint32_t source_remove(struct source *, struct head *, uint32_t z)  -> the node's new top
  *   void source_deleted(struct source *, uint32_t z)   before a window's removals begin
  *   int source_make(struct source *, const struct vis_events *, const uint32_t *sched,
- *                   struct node *nodes)                sets up aux; 0 or -1 with errno
+ *                   struct sweep *)                    sets up every head's aux; 0 or -1
  *   void source_free(struct source *)
  * Windows are named by z = k + 1 for kept window k, 0 standing for none (the paper's −∞).
  */
@@ -172,13 +172,18 @@ static inline bool update_changed(const struct sweep *s, uint32_t t, const struc
 	return old.l != out->l || old.h != out->h || old.m != out->m;
 }
 
-/* Sets a node's top, counting the nodes each window tops; returns whether it changed. */
+/*
+ * Sets a node's top, counting the nodes each window tops where a lazily deleting source can use
+ * the count; returns whether it changed.
+ */
 static inline bool set_top(struct sweep *s, struct head *hd, uint32_t top)
 {
 	if (top == hd->top)
 		return false;
-	s->ntop[hd->top]--;
-	s->ntop[top]++;
+	if (SOURCE_LAZY_DELETE) {
+		s->ntop[hd->top]--;
+		s->ntop[top]++;
+	}
 	hd->top = top;
 	return true;
 }
@@ -444,7 +449,7 @@ static struct step *make_steps(const struct vis_events *ev, const uint32_t *sche
 }
 
 /*
- * Runs the sweep over the events in VIS_ORDER_VISIBILITY order and writes the state of every kept
+ * Runs the sweep over the scheduled events and writes the state of every kept
  * window k into states[ev->idx[k]]; onscreen[k] says whether k lies wholly on the screen.
  * Returns 0, or -1 (ENOMEM). O(n log n) node visits, plus what the top source costs.
  */
@@ -539,7 +544,7 @@ static int sweep_compute(const struct vis_stack *stack, uint8_t *states)
 	}
 	for (size_t k = 0; k < ev.n; k++)
 		onscreen[k] = vis_stack_on_screen(stack, ev.idx[k]);
-	if (vis_events_schedule(&ev, VIS_ORDER_VISIBILITY, sched) < 0)
+	if (vis_events_schedule(&ev, sched) < 0)
 		goto out;
 	rc = sweep_run(&ev, sched, onscreen, states);
 out:
