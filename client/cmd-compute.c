@@ -31,6 +31,20 @@ struct out {
 	char buf[OUT_SIZE];
 };
 
+/* A buffered writer to stdout; NULL (after saying so on stderr) when memory is short. */
+static struct out *out_create(const char *who)
+{
+	struct out *o = malloc(sizeof(*o));
+	if (o == NULL) {
+		fprintf(stderr, "%s: %s\n", who, strerror(ENOMEM));
+		return NULL;
+	}
+	o->fd = STDOUT_FILENO;
+	o->len = 0;
+	o->error = 0;
+	return o;
+}
+
 /* Writes out the buffered bytes, retrying short writes and EINTR. */
 static void out_flush(struct out *o)
 {
@@ -228,14 +242,9 @@ static int compute_run(const struct vis_scene *scene, enum vis_engine engine, bo
 		suffix_len[s] = (size_t)snprintf(suffix[s], sizeof(suffix[s]), " %s\n",
 						 vis_state_name((enum vis_state)s));
 
-	struct out *o = malloc(sizeof(*o));
-	if (o == NULL) {
-		fprintf(stderr, "visctl compute: %s\n", strerror(ENOMEM));
+	struct out *o = out_create("visctl compute");
+	if (o == NULL)
 		goto out;
-	}
-	o->fd = STDOUT_FILENO;
-	o->len = 0;
-	o->error = 0;
 	for (size_t i = 0; i < scene->n && o->error == 0; i++) {
 		uint32_t k = order[i];
 		uint8_t s = states[k] <= VIS_FULLY_OBSCURED ? states[k] : VIS_FULLY_OBSCURED;
@@ -406,15 +415,10 @@ int cmd_gen(int argc, char **argv)
 	 * Format in chunks through views of the scene, so a huge scene never needs its whole text
 	 * in memory; only the first chunk carries the screen line.
 	 */
-	struct out *o = malloc(sizeof(*o));
+	struct out *o = out_create("visctl gen");
 	int ret = VISCTL_EXIT_FAILURE;
-	if (o == NULL) {
-		fprintf(stderr, "visctl gen: %s\n", strerror(ENOMEM));
+	if (o == NULL)
 		goto out;
-	}
-	o->fd = STDOUT_FILENO;
-	o->len = 0;
-	o->error = 0;
 	size_t i = 0;
 	do {
 		struct vis_scene part = scene;
