@@ -1,0 +1,91 @@
+/*
+ * The values visd's wire protocol shares with its clients: states, roles, notice kinds, error
+ * codes. The messages themselves are defined once, in proto/messages.h; proto/PROTOCOL.md
+ * describes both.
+ */
+#ifndef VIS_PROTOCOL_H
+#define VIS_PROTOCOL_H
+
+#define VIS_PROTOCOL_MAGIC 0x44534956u /* "VISD" in little-endian bytes */
+#define VIS_PROTOCOL_VERSION 1u
+
+/* Every message, either way, is at most this many bytes, header included. */
+#define VIS_PROTOCOL_MAX_MESSAGE (16u << 20)
+
+/* A window's visibility, numbered as X11's VisibilityNotify states. */
+enum vis_visibility {
+	VIS_VISIBILITY_UNOBSCURED = 0,
+	VIS_VISIBILITY_PARTIALLY_OBSCURED = 1,
+	VIS_VISIBILITY_FULLY_OBSCURED = 2, /* the occlusion notice: stop rendering */
+	VIS_VISIBILITY_NONE = 3,           /* not viewable: unmapped, or an ancestor is */
+};
+
+/* What a connection may see and change, asked for in the handshake. */
+enum vis_role {
+	VIS_ROLE_CLIENT = 0,   /* its own windows only */
+	VIS_ROLE_OBSERVER = 1, /* sees every window, changes none */
+	VIS_ROLE_MANAGER = 2,  /* sees and changes every window; one connection at a time */
+};
+
+/* Flags of the create request. */
+enum vis_create_flags {
+	VIS_CREATE_MAP = 1u << 0,    /* map at once */
+	VIS_CREATE_RETAIN = 1u << 1, /* outlive the creating connection (X's RetainPermanent) */
+};
+
+/* Which notices a subscription asks for. */
+enum vis_notice_mask {
+	VIS_NOTICE_VISIBILITY = 1u << 0,
+	VIS_NOTICE_EXPOSURE = 1u << 1,
+	VIS_NOTICE_STACK = 1u << 2,
+};
+#define VIS_NOTICE_ALL (VIS_NOTICE_VISIBILITY | VIS_NOTICE_EXPOSURE | VIS_NOTICE_STACK)
+
+/* A subscription's window argument that means every window the connection may see. */
+#define VIS_WINDOW_ALL 0u
+/* The parent argument naming the screen (the root). */
+#define VIS_WINDOW_ROOT 0u
+
+/* The exposure rectangles a notice carries before it collapses to their bounding box (X's RECTLIMIT). */
+#define VIS_EXPOSURE_RECT_LIMIT 25u
+/* Set in an exposure notice's flags when the rectangles were collapsed to their bounding box. */
+#define VIS_EXPOSURE_COLLAPSED 1u
+
+/* Modes of the restack request. */
+enum vis_restack_mode {
+	VIS_RESTACK_ABOVE = 0,
+	VIS_RESTACK_BELOW = 1,
+};
+
+/* What a stack notice reports. */
+enum vis_stack_change {
+	VIS_STACK_CREATE = 0,
+	VIS_STACK_DESTROY = 1,
+	VIS_STACK_MAP = 2,
+	VIS_STACK_UNMAP = 3,
+	VIS_STACK_CONFIGURE = 4, /* moved or resized */
+	VIS_STACK_RESTACK = 5,   /* raised, lowered or stacked against a sibling */
+	VIS_STACK_REPARENT = 6,
+};
+
+/* Flags of a window in the tree reply. */
+enum vis_window_flags {
+	VIS_WINDOW_MAPPED = 1u << 0,
+	VIS_WINDOW_VIEWABLE = 1u << 1,
+	VIS_WINDOW_RETAINED = 1u << 2,
+};
+
+/* Error codes. Errors marked fatal close the connection once the error is sent. */
+enum vis_error_code {
+	VIS_ERROR_MALFORMED = 1, /* fatal: a message that cannot be parsed */
+	VIS_ERROR_OPCODE = 2,    /* fatal: an unknown opcode, or one only the daemon sends */
+	VIS_ERROR_HANDSHAKE = 3, /* fatal: a wrong magic or version, or a request before hello */
+	VIS_ERROR_WINDOW = 4,    /* no such window, or not one the connection may see */
+	VIS_ERROR_ACCESS = 5,    /* the connection may see the window but not change it */
+	VIS_ERROR_VALUE = 6,     /* an argument out of range */
+	VIS_ERROR_MATCH = 7,     /* arguments that do not fit together (not siblings, a cycle) */
+	VIS_ERROR_LIMIT = 8,     /* a configured limit was reached */
+	VIS_ERROR_STATE = 9,     /* not now: a nested batch, a commit without a batch, a taken role */
+};
+
+#endif

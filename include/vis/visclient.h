@@ -1,0 +1,241 @@
+/*
+ * libvisclient: talk to visd, the window-visibility daemon.
+ *
+ * A connection is one struct vis_client. The library never exits, aborts or prints, and never
+ * blocks except inside the calls documented as synchronous. Errors are of two kinds:
+ * - connection errors are sticky: once the connection fails (the daemon went away, sent bytes
+ *   that do not parse, or memory ran out), every later call fails at once with the same error;
+ *   vis_client_error() and vis_client_error_message() say what it was;
+ * - protocol errors answer one request; the last one is kept (vis_client_last_error()) and given
+ *   to the error handler, if one is set.
+ *
+ * Requests are numbered from 1 (hello) on, one per request sent, like X's sequence numbers;
+ * functions that send a request return its number (0 on failure). Every window argument is a
+ * window ID the daemon assigned. Coordinates are relative to the parent (the screen for top-level
+ * windows); a window covers x, y inclusive to x + width, y + height exclusive.
+ *
+ * Integration with an event loop: poll vis_client_fd() for reading (and for writing while
+ * vis_client_flush() returns 1), then call vis_client_dispatch(), which never blocks.
+ */
+#ifndef VIS_VISCLIENT_H
+#define VIS_VISCLIENT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "vis/protocol.h"
+
+#if defined(__GNUC__)
+#define VIS_EXPORT __attribute__((visibility("default")))
+#else
+#define VIS_EXPORT
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+struct vis_client;
+
+struct vis_rect32 {
+	int32_t x, y;
+	uint32_t width, height;
+};
+
+/* One window of the tree, as get-tree returns it (pre-order: bottom to top). */
+struct vis_window_info {
+	uint32_t window, parent; /* parent 0: the screen */
+	int32_t x, y;
+	uint32_t width, height;
+	uint32_t flags; /* enum vis_window_flags */
+	uint32_t state; /* enum vis_visibility; VIS_VISIBILITY_NONE when not viewable */
+};
+
+struct vis_window_state {
+	uint32_t window;
+	uint32_t state; /* enum vis_visibility */
+};
+
+enum vis_notice_kind {
+	VIS_NOTICE_KIND_VISIBILITY,
+	VIS_NOTICE_KIND_EXPOSURE,
+	VIS_NOTICE_KIND_STACK,
+};
+
+/* A notice. Pointers stay valid until the handler returns. */
+struct vis_notice {
+	enum vis_notice_kind kind;
+	uint64_t serial; /* gapless per connection, from 1 */
+	uint32_t window;
+	union {
+		struct {
+			uint32_t state, previous; /* previous VIS_VISIBILITY_NONE: newly viewable */
+		} visibility;
+		struct {
+			uint32_t flags; /* VIS_EXPOSURE_COLLAPSED */
+			uint32_t n_rects;
+			const struct vis_rect32 *rects; /* window coordinates */
+		} exposure;
+		struct {
+			uint32_t change; /* enum vis_stack_change */
+			uint32_t parent;
+			int32_t x, y;
+			uint32_t width, height;
+			uint32_t sibling; /* the sibling just below, 0 if none */
+			uint32_t flags;   /* enum vis_window_flags */
+		} stack;
+	};
+};
+
+/* A protocol error: which request failed and why. */
+struct vis_error {
+	uint32_t seq;
+	uint32_t opcode;
+	uint32_t code; /* enum vis_error_code */
+	char message[256];
+};
+
+typedef void (*vis_notice_handler)(void *data, const struct vis_notice *notice);
+typedef void (*vis_error_handler)(void *data, const struct vis_error *error);
+
+/*
+ * The socket path a client uses when given none: $VISD_SOCKET, else $XDG_RUNTIME_DIR/visd-0.
+ * Writes it to buf and returns 0, or returns -1 when neither variable is set (or the path does not
+ * fit).
+ */
+VIS_EXPORT int vis_client_default_socket(char *buf, size_t len);
+
+/*
+ * Connects to the daemon at path (NULL: the default socket) and performs the handshake, asking for
+ * role (enum vis_role). Synchronous. Returns a connection, or NULL only when memory runs out;
+ * check vis_client_error() before use.
+ */
+VIS_EXPORT struct vis_client *vis_client_connect(const char *path, uint32_t role);
+
+/* Closes the connection and frees it. NULL is a no-op. */
+VIS_EXPORT void vis_client_destroy(struct vis_client *c);
+
+/* 0, or the sticky connection error (an errno value; EPROTO for a daemon that broke protocol). */
+VIS_EXPORT int vis_client_error(const struct vis_client *c);
+/* What the sticky error was, in words ("" when none). */
+VIS_EXPORT const char *vis_client_error_message(const struct vis_client *c);
+/* The last protocol error received; returns 0 if there was none, 1 if *err was filled. */
+VIS_EXPORT int vis_client_last_error(const struct vis_client *c, struct vis_error *err);
+
+/* The handshake's answers. */
+VIS_EXPORT uint32_t vis_client_role(const struct vis_client *c);
+VIS_EXPORT uint32_t vis_client_id(const struct vis_client *c);
+VIS_EXPORT void vis_client_screen(const struct vis_client *c, uint32_t *width, uint32_t *height);
+
+VIS_EXPORT void vis_client_set_notice_handler(struct vis_client *c, vis_notice_handler handler,
+					      void *data);
+VIS_EXPORT void vis_client_set_error_handler(struct vis_client *c, vis_error_handler handler,
+					     void *data);
+
+/* The connection's file descriptor, for poll and event loops. */
+VIS_EXPORT int vis_client_fd(const struct vis_client *c);
+
+/*
+ * Reads what the daemon sent without blocking, then runs the handlers and callbacks for every
+ * complete message. Returns the number of messages handled, or -1 on a connection error.
+ */
+VIS_EXPORT int vis_client_dispatch(struct vis_client *c);
+
+/*
+ * Writes queued requests without blocking. Returns 0 when everything is written, 1 when some
+ * remains (wait for the fd to be writable), -1 on a connection error.
+ */
+VIS_EXPORT int vis_client_flush(struct vis_client *c);
+
+/*
+ * Blocks until the daemon has answered every request sent so far (a sync round trip), running
+ * handlers on the way. Returns 0, or -1 on a connection error. Protocol errors of earlier
+ * requests do not fail it: compare vis_client_last_error()'s seq with the requests sent.
+ */
+VIS_EXPORT int vis_client_roundtrip(struct vis_client *c);
+
+/* Requests without a reply: queued (and flushed when the buffer fills); return the request's
+ * number, 0 on a connection error. */
+VIS_EXPORT uint32_t vis_client_destroy_window(struct vis_client *c, uint32_t window);
+VIS_EXPORT uint32_t vis_client_map(struct vis_client *c, uint32_t window);
+VIS_EXPORT uint32_t vis_client_unmap(struct vis_client *c, uint32_t window);
+VIS_EXPORT uint32_t vis_client_move(struct vis_client *c, uint32_t window, int32_t x, int32_t y);
+VIS_EXPORT uint32_t vis_client_resize(struct vis_client *c, uint32_t window, uint32_t width,
+				      uint32_t height);
+VIS_EXPORT uint32_t vis_client_raise(struct vis_client *c, uint32_t window);
+VIS_EXPORT uint32_t vis_client_lower(struct vis_client *c, uint32_t window);
+VIS_EXPORT uint32_t vis_client_restack(struct vis_client *c, uint32_t window, uint32_t mode,
+				       uint32_t sibling);
+VIS_EXPORT uint32_t vis_client_reparent(struct vis_client *c, uint32_t window, uint32_t parent,
+					int32_t x, int32_t y);
+VIS_EXPORT uint32_t vis_client_batch_begin(struct vis_client *c);
+VIS_EXPORT uint32_t vis_client_batch_commit(struct vis_client *c);
+VIS_EXPORT uint32_t vis_client_subscribe(struct vis_client *c, uint32_t window, uint32_t mask,
+					 uint32_t rect_limit);
+VIS_EXPORT uint32_t vis_client_unsubscribe(struct vis_client *c, uint32_t window);
+
+/*
+ * Asynchronous requests with a reply. The callback runs from dispatch (or from a synchronous
+ * call's wait) with the reply, or with err set (then the other arguments are empty) when the
+ * request failed; err is NULL on success. Return the request's number, 0 on failure (the callback
+ * is then never called). Arrays passed to callbacks are valid only during the call.
+ */
+typedef void (*vis_create_cb)(void *data, const struct vis_error *err, uint32_t window);
+typedef void (*vis_state_cb)(void *data, const struct vis_error *err, uint32_t window,
+			     uint32_t state);
+typedef void (*vis_states_cb)(void *data, const struct vis_error *err,
+			      const struct vis_window_state *states, size_t n);
+typedef void (*vis_tree_cb)(void *data, const struct vis_error *err,
+			    const struct vis_window_info *windows, size_t n);
+typedef void (*vis_rects_cb)(void *data, const struct vis_error *err,
+			     const struct vis_rect32 *rects, size_t n);
+typedef void (*vis_windows_cb)(void *data, const struct vis_error *err, const uint32_t *windows,
+			       size_t n);
+typedef void (*vis_done_cb)(void *data, const struct vis_error *err);
+
+VIS_EXPORT uint32_t vis_client_create_async(struct vis_client *c, uint32_t parent, int32_t x,
+					    int32_t y, uint32_t width, uint32_t height,
+					    uint32_t flags, vis_create_cb cb, void *data);
+VIS_EXPORT uint32_t vis_client_get_state_async(struct vis_client *c, uint32_t window,
+					       vis_state_cb cb, void *data);
+VIS_EXPORT uint32_t vis_client_get_states_async(struct vis_client *c, vis_states_cb cb,
+						void *data);
+VIS_EXPORT uint32_t vis_client_get_tree_async(struct vis_client *c, vis_tree_cb cb, void *data);
+VIS_EXPORT uint32_t vis_client_get_region_async(struct vis_client *c, uint32_t window,
+						vis_rects_cb cb, void *data);
+VIS_EXPORT uint32_t vis_client_get_repaint_async(struct vis_client *c, struct vis_rect32 damage,
+						 vis_windows_cb cb, void *data);
+VIS_EXPORT uint32_t vis_client_sync_async(struct vis_client *c, vis_done_cb cb, void *data);
+
+/*
+ * Synchronous forms: send, then block until the reply. Return 0, or -1 when the request failed
+ * (a protocol error: see vis_client_last_error()) or the connection did (vis_client_error()).
+ * Arrays are allocated with malloc; the caller frees them.
+ */
+VIS_EXPORT int vis_client_create(struct vis_client *c, uint32_t parent, int32_t x, int32_t y,
+				 uint32_t width, uint32_t height, uint32_t flags,
+				 uint32_t *window);
+VIS_EXPORT int vis_client_get_state(struct vis_client *c, uint32_t window, uint32_t *state);
+VIS_EXPORT int vis_client_get_states(struct vis_client *c, struct vis_window_state **states,
+				     size_t *n);
+VIS_EXPORT int vis_client_get_tree(struct vis_client *c, struct vis_window_info **windows,
+				   size_t *n);
+VIS_EXPORT int vis_client_get_region(struct vis_client *c, uint32_t window,
+				     struct vis_rect32 **rects, size_t *n);
+VIS_EXPORT int vis_client_get_repaint(struct vis_client *c, struct vis_rect32 damage,
+				      uint32_t **windows, size_t *n);
+/* Sends sync and waits for its reply; returns -1 if the connection failed or if any request
+ * since the previous vis_client_sync() got an error. */
+VIS_EXPORT int vis_client_sync(struct vis_client *c);
+
+/* Names for logs and tools: "unobscured", "partially-obscured", "fully-obscured", "none". */
+VIS_EXPORT const char *vis_visibility_name(uint32_t state);
+/* An error code's name ("window", "access", …) and a request's ("create", …); "?" if unknown. */
+VIS_EXPORT const char *vis_error_code_name(uint32_t code);
+VIS_EXPORT const char *vis_request_name(uint32_t opcode);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
