@@ -1,0 +1,209 @@
+/* The window tree: creation, destruction and restacking; the states are in wtree-compute.c. */
+#include <errno.h>
+#include <stdlib.h>
+
+#include "wtree.h"
+
+void vis_wtree_init(struct vis_wtree *tree, int32_t width, int32_t height)
+{
+	*tree = (struct vis_wtree){ 0 };
+	tree->root.width = width;
+	tree->root.height = height;
+	tree->root.mapped = true;
+	tree->root.box = tree->root.clip = (struct vis_box){ 0, 0, width, height };
+	vis_idmap_init(&tree->ids);
+	tree->next_id = 1;
+}
+
+/* Frees a window's subtree without callbacks, iteratively: trees can be as deep as they are big. */
+static void free_subtree(struct vis_window *w)
+{
+	struct vis_window *stop = w->parent;
+	while (w != stop) {
+		if (w->top) {
+			w = w->top;
+			continue;
+		}
+		struct vis_window *parent = w->parent, *below = w->below;
+		if (parent)
+			parent->top = below;
+		free(w);
+		w = below ? below : parent;
+	}
+}
+
+void vis_wtree_finish(struct vis_wtree *tree)
+{
+	while (tree->root.top) {
+		struct vis_window *w = tree->root.top;
+		tree->root.top = w->below;
+		w->parent = NULL;
+		w->below = NULL;
+		free_subtree(w);
+	}
+	vis_idmap_finish(&tree->ids);
+	free(tree->order);
+}
+
+struct vis_window *vis_wtree_find(const struct vis_wtree *tree, uint32_t id)
+{
+	return vis_idmap_get(&tree->ids, id);
+}
+
+/* Takes a window out of its parent's child list. */
+static void unlink_window(struct vis_window *w)
+{
+	struct vis_window *p = w->parent;
+	if (w->below)
+		w->below->above = w->above;
+	else
+		p->bottom = w->above;
+	if (w->above)
+		w->above->below = w->below;
+	else
+		p->top = w->below;
+	w->above = w->below = NULL;
+}
+
+/* Links a window into parent's child list just above below (NULL: at the bottom). */
+static void link_above(struct vis_window *w, struct vis_window *parent, struct vis_window *below)
+{
+	w->parent = parent;
+	w->below = below;
+	w->above = below ? below->above : parent->bottom;
+	if (w->below)
+		w->below->above = w;
+	else
+		parent->bottom = w;
+	if (w->above)
+		w->above->below = w;
+	else
+		parent->top = w;
+}
+
+struct vis_window *vis_wtree_create(struct vis_wtree *tree, struct vis_window *parent,
+				    int32_t x, int32_t y, int32_t width, int32_t height,
+				    uint32_t owner)
+{
+	if (tree->next_id == 0) {
+		errno = EOVERFLOW;
+		return NULL;
+	}
+	struct vis_window *w = calloc(1, sizeof *w);
+	if (!w)
+		return NULL;
+	w->id = tree->next_id;
+	if (vis_idmap_put(&tree->ids, w->id, w) < 0) {
+		free(w);
+		return NULL;
+	}
+	tree->next_id++; /* wraps to 0 after the last ID: see above */
+	tree->count++;
+	w->owner = owner;
+	w->x = x;
+	w->y = y;
+	w->width = width;
+	w->height = height;
+	w->depth = parent->depth + 1;
+	w->state = w->old_state = VIS_WTREE_STATE_NONE;
+	link_above(w, parent, parent->top);
+	return w;
+}
+
+void vis_wtree_destroy(struct vis_wtree *tree, struct vis_window *window,
+		       void (*gone)(void *data, struct vis_window *w), void *data)
+{
+	struct vis_window *stop = window->parent, *w = window;
+	unlink_window(window);
+	window->parent = NULL; /* the walk ends when it climbs above window */
+	while (w) {
+		if (w->top) {
+			w = w->top;
+			continue;
+		}
+		struct vis_window *parent = w->parent;
+		if (gone) {
+			w->parent = parent ? parent : stop;
+			gone(data, w);
+			w->parent = parent;
+		}
+		if (parent)
+			unlink_window(w);
+		vis_idmap_remove(&tree->ids, w->id);
+		tree->count--;
+		free(w);
+		w = parent;
+	}
+}
+
+void vis_wtree_restack(struct vis_window *window, struct vis_window *sibling, bool above)
+{
+	if (window == sibling)
+		return;
+	struct vis_window *parent = window->parent;
+	unlink_window(window);
+	link_above(window, parent, above ? sibling : sibling->below);
+}
+
+void vis_wtree_raise(struct vis_window *window)
+{
+	struct vis_window *parent = window->parent;
+	unlink_window(window);
+	link_above(window, parent, parent->top);
+}
+
+void vis_wtree_lower(struct vis_window *window)
+{
+	struct vis_window *parent = window->parent;
+	unlink_window(window);
+	link_above(window, parent, NULL);
+}
+
+bool vis_wtree_is_ancestor(const struct vis_window *a, const struct vis_window *b)
+{
+	for (; b; b = b->parent)
+		if (a == b)
+			return true;
+	return false;
+}
+
+/* Visits the subtree of w in pre-order, iteratively. */
+#define FOR_SUBTREE(v, w)                                                                       \
+	for (struct vis_window *v = (w); v;                                                     \
+	     v = v->bottom ? v->bottom : next_after_subtree(v, (w)))
+
+/* The pre-order successor of v once its subtree is done, staying inside top's subtree. */
+static struct vis_window *next_after_subtree(struct vis_window *v, const struct vis_window *top)
+{
+	for (; v != top; v = v->parent)
+		if (v->above)
+			return v->above;
+	return NULL;
+}
+
+void vis_wtree_reparent(struct vis_window *window, struct vis_window *parent, int32_t x, int32_t y)
+{
+	unlink_window(window);
+	link_above(window, parent, parent->top);
+	window->x = x;
+	window->y = y;
+	FOR_SUBTREE(v, window)
+		v->depth = v->parent->depth + 1;
+}
+
+uint32_t vis_wtree_subtree_depth(const struct vis_window *window)
+{
+	uint32_t depth = 0;
+	FOR_SUBTREE(v, (struct vis_window *)window)
+		if (v->depth > depth)
+			depth = v->depth;
+	return depth;
+}
+
+bool vis_wtree_viewable(const struct vis_window *window)
+{
+	for (; window; window = window->parent)
+		if (!window->mapped)
+			return false;
+	return true;
+}

@@ -1,0 +1,125 @@
+/* The window tree the daemon keeps: X11-style windows, stacked among siblings, clipped by parents. */
+#ifndef VIS_WTREE_H
+#define VIS_WTREE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "idmap.h"
+#include "rect.h"
+
+/*
+ * A window: x, y relative to its parent's origin (the screen's for top-level windows); it covers
+ * x, y inclusive to x + width, y + height exclusive; 1 ≤ width, height ≤ INT32_MAX. Siblings form
+ * a list from bottom to top. Invariants: a window is in its parent's child list and in the ID map
+ * exactly while it exists; depth = its parent's depth + 1 (top-level windows: 1).
+ */
+struct vis_window {
+	uint32_t id;
+	uint32_t owner; /* the creating connection's ID; 0 once a retained window's owner is gone */
+	struct vis_window *parent;  /* the root for top-level windows */
+	struct vis_window *below, *above;   /* siblings; NULL at the ends */
+	struct vis_window *bottom, *top;    /* children */
+	int32_t x, y;
+	int32_t width, height;
+	bool mapped, retained;
+	uint32_t depth;
+	/* Set by vis_wtree_compute(): enum vis_visibility numbering, 3 (none) when not viewable. */
+	uint8_t state, old_state;
+	/* Set by vis_wtree_compute() for viewable windows: the absolute box and, clipped to the
+	 * ancestors and the screen, the box its pixels can be seen in (possibly empty). */
+	struct vis_box box, clip;
+	size_t pos; /* index in the tree's order, for viewable windows */
+	void *data; /* the daemon's */
+};
+
+#define VIS_WTREE_STATE_NONE 3
+
+struct vis_wtree {
+	struct vis_window root; /* the screen; id 0 */
+	struct vis_idmap ids;
+	uint32_t next_id;
+	size_t count;
+	/* Viewable windows in pre-order (bottom to top) after vis_wtree_compute(). */
+	struct vis_window **order;
+	size_t n_order, cap_order;
+};
+
+/* Sets up an empty tree over a screen of width × height (≥ 1). O(1). */
+void vis_wtree_init(struct vis_wtree *tree, int32_t width, int32_t height);
+
+/* Frees every window (not their data). O(n). */
+void vis_wtree_finish(struct vis_wtree *tree);
+
+/* The window with this ID, or NULL (the root is not found: its ID 0 means "the screen"). */
+struct vis_window *vis_wtree_find(const struct vis_wtree *tree, uint32_t id);
+
+/*
+ * Creates an unmapped window on top of parent's children. Returns it, or NULL with errno ENOMEM,
+ * or EOVERFLOW once 2^32 − 1 IDs were handed out (IDs are never reused). O(1).
+ */
+struct vis_window *vis_wtree_create(struct vis_wtree *tree, struct vis_window *parent,
+				    int32_t x, int32_t y, int32_t width, int32_t height,
+				    uint32_t owner);
+
+/*
+ * Destroys a window and its descendants, calling gone(data, w) for each, children before their
+ * parent, while the window is still linked. O(size of the subtree).
+ */
+void vis_wtree_destroy(struct vis_wtree *tree, struct vis_window *window,
+		       void (*gone)(void *data, struct vis_window *w), void *data);
+
+/* Puts window just above sibling (above = true) or just below it. O(1). */
+void vis_wtree_restack(struct vis_window *window, struct vis_window *sibling, bool above);
+
+/* Puts window on top of (or below) all its siblings. O(1). */
+void vis_wtree_raise(struct vis_window *window);
+void vis_wtree_lower(struct vis_window *window);
+
+/* Whether a is b or one of b's ancestors. O(depth). */
+bool vis_wtree_is_ancestor(const struct vis_window *a, const struct vis_window *b);
+
+/*
+ * Moves window under parent (not the window itself or a descendant) at x, y, on top of its new
+ * siblings, and updates the subtree's depths. O(size of the subtree).
+ */
+void vis_wtree_reparent(struct vis_window *window, struct vis_window *parent, int32_t x, int32_t y);
+
+/* The greatest depth in window's subtree, window's own depth included. O(size of the subtree). */
+uint32_t vis_wtree_subtree_depth(const struct vis_window *window);
+
+/* Whether the window and all its ancestors are mapped. O(depth). */
+bool vis_wtree_viewable(const struct vis_window *window);
+
+/*
+ * Recomputes every window's state with X.Org's VisibilityNotify semantics: a window is obscured by
+ * later siblings of itself and of its ancestors (and their descendants), never by its own
+ * descendants, and clipped by its ancestors and the screen; a window not wholly inside them is
+ * never unobscured. Moves each state to old_state first, so that callers can see what changed.
+ * Returns 0, or -1 with errno ENOMEM (states are then unchanged).
+ * O((1 + D) · n log n) with the sweep, where D is the number of depths holding a viewable window
+ * with viewable children: the sweep over the flattened tree (pre-order, each window clipped to
+ * its ancestors) is exact for windows without children; one over the windows at depth ≤ d is
+ * exact for those at depth d, whose descendants it leaves out.
+ */
+int vis_wtree_compute(struct vis_wtree *tree);
+
+/*
+ * The window's own visible pixels (not covered by any later window in pre-order, descendants
+ * included, as X's clip list) as rectangles in window coordinates, y-x banded, into a pixman
+ * region (pixman_region32_t *, initialized by the caller). Needs a computed tree. 0 or -1 (ENOMEM).
+ * O(n + r log r) for r overlapping windows.
+ */
+int vis_wtree_visible_region(const struct vis_wtree *tree, const struct vis_window *window,
+			     void *region);
+
+/*
+ * The windows that show pixels of their own inside the screen box damage, bottom to top: the
+ * sweep over the flattened tree, every window clipped to damage. Writes at most n_order windows
+ * to out and returns how many, or -1 with ENOMEM. Needs a computed tree. O(n log n).
+ */
+long vis_wtree_repaint(const struct vis_wtree *tree, struct vis_box damage,
+		       struct vis_window **out);
+
+#endif
