@@ -1,0 +1,192 @@
+/* visd: the window-visibility daemon. This file: options, the socket path and its lock, signals. */
+#include <ctype.h>
+#include <errno.h>
+#include <event2/event.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "log.h"
+#include "server.h"
+#include "vis/protocol.h"
+
+static const char usage_text[] =
+	"usage: visd [--socket PATH] [--screen WxH] [--restricted-socket PATH]\n"
+	"            [--max-request BYTES] [-v]\n"
+	"  --socket PATH             listen here (default: $VISD_SOCKET, else\n"
+	"                            $XDG_RUNTIME_DIR/visd-0)\n"
+	"  --screen WxH              the screen size (default 3840x2160)\n"
+	"  --restricted-socket PATH  a second socket whose clients never get a role\n"
+	"  --max-request BYTES       the largest request accepted (default 65536)\n"
+	"  -v                        log debug messages too\n";
+
+static int usage_error(const char *fmt, const char *arg)
+{
+	fprintf(stderr, "visd: ");
+	fprintf(stderr, fmt, arg);
+	fprintf(stderr, "\n%s", usage_text);
+	return 2;
+}
+
+/* Parses "WxH" with both in 1 … INT32_MAX. */
+static int parse_size(const char *s, int32_t *w, int32_t *h)
+{
+	char *end;
+	errno = 0;
+	long a = strtol(s, &end, 10);
+	if (errno || end == s || *end != 'x' || a < 1 || a > INT32_MAX)
+		return -1;
+	const char *t = end + 1;
+	long b = strtol(t, &end, 10);
+	if (errno || end == t || *end || b < 1 || b > INT32_MAX || !isdigit((unsigned char)*s) ||
+	    !isdigit((unsigned char)*t))
+		return -1;
+	*w = (int32_t)a;
+	*h = (int32_t)b;
+	return 0;
+}
+
+/*
+ * Takes PATH.lock with flock before anything touches PATH, so a stale socket is removed only when
+ * no other daemon holds it. Returns the lock's fd, or -1 after logging why.
+ */
+static int take_lock(const char *path, char *lock_path, size_t len)
+{
+	if ((size_t)snprintf(lock_path, len, "%s.lock", path) >= len) {
+		log_error("socket path '%s' is too long", path);
+		return -1;
+	}
+	int fd = open(lock_path, O_RDWR | O_CREAT | O_CLOEXEC, 0600);
+	if (fd < 0) {
+		log_error("cannot open lock file '%s': %s", lock_path, strerror(errno));
+		return -1;
+	}
+	if (flock(fd, LOCK_EX | LOCK_NB) < 0) {
+		log_error(errno == EWOULDBLOCK ? "another visd is serving '%s' (its lock is held)"
+					       : "cannot lock '%s'",
+			  path);
+		close(fd);
+		return -1;
+	}
+	return fd;
+}
+
+static void on_signal(evutil_socket_t sig, short what, void *data)
+{
+	(void)what;
+	log_info("%s: shutting down", strsignal((int)sig));
+	event_base_loopexit(data, NULL);
+}
+
+int main(int argc, char **argv)
+{
+	struct server_options opt = {
+		.screen_width = 3840,
+		.screen_height = 2160,
+		.max_request = 65536,
+		.max_batch = 16u << 20,
+		.allowed_uid = getuid(),
+	};
+	char default_path[PATH_MAX];
+	for (int i = 1; i < argc; i++) {
+		const char *a = argv[i];
+		const char *val = i + 1 < argc ? argv[i + 1] : NULL;
+		if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
+			fputs(usage_text, stdout);
+			return 0;
+		} else if (strcmp(a, "-v") == 0) {
+			log_set_level(LOG_DEBUG);
+			continue;
+		}
+		if (strcmp(a, "--socket") && strcmp(a, "--screen") && strcmp(a, "--restricted-socket") &&
+		    strcmp(a, "--max-request"))
+			return usage_error("unknown option '%s'", a);
+		if (!val || !*val)
+			return usage_error("%s needs a value", a);
+		i++;
+		if (strcmp(a, "--socket") == 0)
+			opt.socket_path = val;
+		else if (strcmp(a, "--restricted-socket") == 0)
+			opt.restricted_path = val;
+		else if (strcmp(a, "--screen") == 0) {
+			if (parse_size(val, &opt.screen_width, &opt.screen_height) < 0)
+				return usage_error("--screen '%s': want WxH, e.g. 1920x1080", val);
+		} else {
+			char *end;
+			errno = 0;
+			unsigned long n = strtoul(val, &end, 10);
+			if (errno || *end || !isdigit((unsigned char)*val) || n < 64 ||
+			    n > VIS_PROTOCOL_MAX_MESSAGE)
+				return usage_error("--max-request '%s': want 64 to 16777216 bytes", val);
+			opt.max_request = (uint32_t)n;
+		}
+	}
+	if (!opt.socket_path) {
+		const char *env = getenv("VISD_SOCKET"), *dir = getenv("XDG_RUNTIME_DIR");
+		if (env && *env)
+			opt.socket_path = env;
+		else if (dir && *dir) {
+			snprintf(default_path, sizeof default_path, "%s/visd-0", dir);
+			opt.socket_path = default_path;
+		} else {
+			fprintf(stderr, "visd: no socket path: pass --socket PATH, or set VISD_SOCKET "
+					"or XDG_RUNTIME_DIR\n");
+			return 2;
+		}
+	}
+
+	signal(SIGPIPE, SIG_IGN);
+	umask(077); /* the socket and its lock: the owner's only */
+	char lock_path[PATH_MAX + 8], rlock_path[PATH_MAX + 8];
+	int lock = take_lock(opt.socket_path, lock_path, sizeof lock_path), rlock = -1;
+	if (lock < 0)
+		return 1;
+	if (opt.restricted_path &&
+	    (rlock = take_lock(opt.restricted_path, rlock_path, sizeof rlock_path)) < 0) {
+		unlink(lock_path);
+		return 1;
+	}
+	struct event_base *base = event_base_new();
+	struct server server;
+	int status = 1;
+	if (!base) {
+		log_error("cannot create the event loop");
+		goto out;
+	}
+	struct event *sigint = evsignal_new(base, SIGINT, on_signal, base);
+	struct event *sigterm = evsignal_new(base, SIGTERM, on_signal, base);
+	if (!sigint || !sigterm || evsignal_add(sigint, NULL) < 0 || evsignal_add(sigterm, NULL) < 0) {
+		log_error("cannot handle signals");
+		goto out_base;
+	}
+	if (server_init(&server, base, &opt) == 0) {
+		log_info("listening on %s (screen %dx%d)%s%s", opt.socket_path, opt.screen_width,
+			 opt.screen_height, opt.restricted_path ? ", restricted " : "",
+			 opt.restricted_path ? opt.restricted_path : "");
+		status = event_base_dispatch(base) < 0 ? 1 : 0;
+	}
+	server_finish(&server);
+	unlink(opt.socket_path);
+	if (opt.restricted_path)
+		unlink(opt.restricted_path);
+out_base:
+	if (sigint)
+		event_free(sigint);
+	if (sigterm)
+		event_free(sigterm);
+	event_base_free(base);
+out:
+	unlink(lock_path);
+	close(lock);
+	if (rlock >= 0) {
+		unlink(rlock_path);
+		close(rlock);
+	}
+	return status;
+}

@@ -1,0 +1,300 @@
+/* One connection: reading requests, holding batches, queueing replies and notices, closing. */
+#include <errno.h>
+#include <event2/buffer.h>
+#include <event2/bufferevent.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include "log.h"
+#include "server.h"
+#include "vis/protocol.h"
+#include "wire.h"
+
+static void on_read(struct bufferevent *bev, void *data);
+static void on_write(struct bufferevent *bev, void *data);
+static void on_event(struct bufferevent *bev, short what, void *data);
+
+void server_client_accept(struct server *server, int fd, bool restricted)
+{
+	struct ucred cred;
+	socklen_t len = sizeof cred;
+	if (getsockopt(fd, SOL_SOCKET, SO_PEERCRED, &cred, &len) < 0) {
+		log_warn("refusing a connection: SO_PEERCRED: %s", strerror(errno));
+		close(fd);
+		return;
+	}
+	struct client *c = calloc(1, sizeof *c);
+	struct bufferevent *bev = bufferevent_socket_new(server->base, fd, BEV_OPT_CLOSE_ON_FREE);
+	struct evbuffer *batch = evbuffer_new();
+	if (!c || !bev || !batch) {
+		log_error("refusing a connection: out of memory");
+		free(c);
+		if (bev)
+			bufferevent_free(bev);
+		else
+			close(fd);
+		if (batch)
+			evbuffer_free(batch);
+		return;
+	}
+	c->server = server;
+	c->bev = bev;
+	c->batch = batch;
+	c->uid = cred.uid;
+	c->restricted = restricted;
+	c->id = server->next_client++;
+	if (!server->next_client)
+		server->next_client = 1; /* 0 is "no owner" */
+	TAILQ_INSERT_TAIL(&server->clients, c, link);
+	bufferevent_setcb(bev, on_read, on_write, on_event, c);
+	bufferevent_enable(bev, EV_READ | EV_WRITE);
+	log_debug("client %u connected (uid %u, pid %d%s)", c->id, (unsigned)cred.uid,
+		  (int)cred.pid, restricted ? ", restricted socket" : "");
+}
+
+/* Destroys the windows a departing connection owns, except retained ones, which it orphans. */
+static void drop_windows(struct client *c)
+{
+	struct server *server = c->server;
+	size_t n = 0, cap = 0;
+	uint32_t *ids = NULL;
+	struct vis_window *w = server->tree.root.bottom;
+	while (w) {
+		if (w->owner == c->id) {
+			if (n == cap) {
+				cap = cap ? 2 * cap : 64;
+				uint32_t *more = realloc(ids, cap * sizeof *ids);
+				if (!more) {
+					log_error("out of memory while dropping client %u", c->id);
+					break;
+				}
+				ids = more;
+			}
+			ids[n++] = w->id;
+		}
+		if (w->bottom) {
+			w = w->bottom;
+			continue;
+		}
+		while (w->parent && !w->above)
+			w = w->parent;
+		w = w->parent ? w->above : NULL;
+	}
+	for (size_t i = 0; i < n; i++) {
+		struct vis_window *v = vis_wtree_find(&server->tree, ids[i]);
+		if (!v)
+			continue; /* went with an ancestor */
+		if (v->retained)
+			v->owner = 0;
+		else
+			server_destroy_window(server, v);
+	}
+	free(ids);
+}
+
+void server_client_free(struct client *c)
+{
+	struct server *server = c->server;
+	TAILQ_REMOVE(&server->clients, c, link);
+	if (server->manager == c)
+		server->manager = NULL;
+	server_unsubscribe_all(c);
+	free(c->subs);
+	drop_windows(c);
+	log_debug("client %u gone", c->id);
+	bufferevent_free(c->bev);
+	evbuffer_free(c->batch);
+	free(c);
+	server_flush(server);
+}
+
+/* Ends the connection once what is queued has been written. */
+void server_client_close(struct client *c)
+{
+	c->closing = true;
+	bufferevent_disable(c->bev, EV_READ);
+}
+
+void server_client_send(struct client *c, uint32_t opcode, const union vis_arg *args)
+{
+	struct vis_buf *b = &c->server->scratch;
+	b->len = 0;
+	if (c->closing && opcode != VIS_OP_ERROR)
+		return;
+	if (vis_msg_encode(b, opcode, args) < 0 || bufferevent_write(c->bev, b->data, b->len) < 0) {
+		log_error("client %u: cannot queue a %s message: %s", c->id,
+			  vis_msg_type_find(opcode)->name, strerror(errno));
+		server_client_close(c);
+	}
+}
+
+void server_client_error(struct client *c, uint32_t seq, uint32_t opcode, uint32_t code,
+			 const char *fmt, ...)
+{
+	char msg[256];
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(msg, sizeof msg, fmt, ap);
+	va_end(ap);
+	const struct vis_msg_type *t = vis_msg_type_find(opcode);
+	bool fatal = code == VIS_ERROR_MALFORMED || code == VIS_ERROR_OPCODE ||
+		     code == VIS_ERROR_HANDSHAKE;
+	log_write(fatal ? LOG_INFO : LOG_DEBUG, __FILE__, __LINE__, "client %u: request %u (%s): %s%s",
+		  c->id, seq, t ? t->name : "?", msg, fatal ? "; closing the connection" : "");
+	union vis_arg a[4];
+	a[0].u = seq;
+	a[1].u = opcode;
+	a[2].u = code;
+	a[3].s.p = msg;
+	a[3].s.len = (uint32_t)strlen(msg);
+	server_client_send(c, VIS_OP_ERROR, a);
+	if (fatal)
+		server_client_close(c);
+}
+
+const struct sub *server_client_sub_for(const struct client *c, const struct vis_window *w,
+					uint32_t mask)
+{
+	const struct sub *all = NULL;
+	for (size_t i = 0; i < c->n_subs; i++) {
+		const struct sub *s = &c->subs[i];
+		if (!(s->mask & mask))
+			continue;
+		if (s->window == w->id)
+			return s;
+		if (!s->window && server_may_see(c, w))
+			all = s;
+	}
+	return all;
+}
+
+/* Whether a request may wait in a batch: the stack changes. */
+static bool batchable(uint32_t opcode)
+{
+	return opcode >= VIS_OP_CREATE && opcode <= VIS_OP_REPARENT;
+}
+
+/* Runs the requests held since batch-begin, with one recompute at the end. */
+static void commit_batch(struct client *c)
+{
+	struct server *server = c->server;
+	c->in_batch = false;
+	server->deferring = true;
+	while (evbuffer_get_length(c->batch) && !c->closing) {
+		uint8_t *p = evbuffer_pullup(c->batch, 4 + VIS_MSG_HEADER);
+		uint32_t seq = vis_wire_get_u32(p), size = vis_wire_get_u32(p + 4);
+		p = evbuffer_pullup(c->batch, 4 + (ssize_t)size);
+		struct vis_msg m;
+		char why[200];
+		if (vis_msg_decode(p + 4, size, size, 1, &m, why, sizeof why) == VIS_DECODE_OK)
+			server_client_dispatch(c, seq, &m);
+		evbuffer_drain(c->batch, 4 + (size_t)size);
+	}
+	evbuffer_drain(c->batch, evbuffer_get_length(c->batch));
+	server->deferring = false;
+	server_flush(server);
+}
+
+/* Routes one well-formed request: the handshake first, batches, then the request itself. */
+static void handle(struct client *c, uint32_t seq, const struct vis_msg *m, const uint8_t *raw)
+{
+	uint32_t op = m->type->opcode;
+	if (!c->hello_done && op != VIS_OP_HELLO) {
+		server_client_error(c, seq, op, VIS_ERROR_HANDSHAKE,
+				    "%s before the handshake: hello must come first", m->type->name);
+		return;
+	}
+	if (c->hello_done && op == VIS_OP_HELLO) {
+		server_client_error(c, seq, op, VIS_ERROR_HANDSHAKE, "a second hello");
+		return;
+	}
+	if (!c->in_batch) {
+		if (op == VIS_OP_BATCH_COMMIT)
+			server_client_error(c, seq, op, VIS_ERROR_STATE, "batch-commit without a batch");
+		else if (op == VIS_OP_BATCH_BEGIN)
+			c->in_batch = true;
+		else
+			server_client_dispatch(c, seq, m);
+		return;
+	}
+	if (op == VIS_OP_BATCH_COMMIT) {
+		commit_batch(c);
+	} else if (op == VIS_OP_BATCH_BEGIN) {
+		server_client_error(c, seq, op, VIS_ERROR_STATE, "batch-begin inside a batch");
+	} else if (!batchable(op)) {
+		server_client_error(c, seq, op, VIS_ERROR_STATE,
+				    "%s is not allowed inside a batch (stack changes only)",
+				    m->type->name);
+	} else if (evbuffer_get_length(c->batch) + 4 + m->size > c->server->opt.max_batch) {
+		server_client_error(c, seq, op, VIS_ERROR_LIMIT,
+				    "the batch holds over %u bytes; this request was dropped",
+				    c->server->opt.max_batch);
+	} else {
+		uint8_t s[4];
+		vis_wire_put_u32(s, seq);
+		if (evbuffer_add(c->batch, s, 4) < 0 || evbuffer_add(c->batch, raw, m->size) < 0) {
+			log_error("client %u: out of memory holding a batch", c->id);
+			server_client_close(c);
+		}
+	}
+}
+
+/* Reads every complete request, handles it, then recomputes once for all of them. */
+static void on_read(struct bufferevent *bev, void *data)
+{
+	struct client *c = data;
+	struct evbuffer *in = bufferevent_get_input(bev);
+	uint32_t max = c->server->opt.max_request;
+	while (!c->closing) {
+		size_t avail = evbuffer_get_length(in);
+		if (avail < VIS_MSG_HEADER)
+			break;
+		const uint8_t *p = evbuffer_pullup(in, VIS_MSG_HEADER);
+		uint32_t size;
+		char why[200];
+		struct vis_msg m;
+		if (vis_msg_peek(p, avail, max, &size, why, sizeof why) == VIS_DECODE_OK) {
+			if (avail < size)
+				break;
+			p = evbuffer_pullup(in, size);
+		}
+		enum vis_decode r = vis_msg_decode(p, avail, max, 1, &m, why, sizeof why);
+		uint32_t seq = ++c->seq;
+		if (r == VIS_DECODE_MALFORMED) {
+			uint32_t op = vis_wire_get_u16(p + 4);
+			const struct vis_msg_type *t = vis_msg_type_find(op);
+			bool known = t && t->dir == VIS_DIR_REQUEST;
+			server_client_error(c, seq, op, known ? VIS_ERROR_MALFORMED : VIS_ERROR_OPCODE,
+					    "%s", why);
+			break;
+		}
+		handle(c, seq, &m, p);
+		evbuffer_drain(in, size);
+	}
+	server_flush(c->server);
+	if (c->closing && !evbuffer_get_length(bufferevent_get_output(bev)))
+		server_client_free(c);
+}
+
+/* Frees a closing connection once its last message is out. */
+static void on_write(struct bufferevent *bev, void *data)
+{
+	struct client *c = data;
+	if (c->closing && !evbuffer_get_length(bufferevent_get_output(bev)))
+		server_client_free(c);
+}
+
+/* The peer hung up or the socket failed: the connection ends, its windows with it. */
+static void on_event(struct bufferevent *bev, short what, void *data)
+{
+	(void)bev;
+	struct client *c = data;
+	if (what & BEV_EVENT_ERROR)
+		log_debug("client %u: %s", c->id, strerror(EVUTIL_SOCKET_ERROR()));
+	if (what & (BEV_EVENT_EOF | BEV_EVENT_ERROR))
+		server_client_free(c);
+}

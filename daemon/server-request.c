@@ -1,0 +1,442 @@
+/* The requests: checks of rights and arguments, the change to the tree, the reply. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "log.h"
+#include "radix.h"
+#include "server.h"
+#include "vis/protocol.h"
+
+/* Records per list reply: well under the message maximum for the largest record (32 bytes). */
+#define CHUNK_RECORDS 16384u
+
+/* Looks up a window argument the connection may see; sends WINDOW and returns NULL otherwise. */
+static struct vis_window *window_arg(struct client *c, uint32_t seq, uint32_t op, uint32_t id)
+{
+	struct vis_window *w = vis_wtree_find(&c->server->tree, id);
+	if (!w || !server_may_see(c, w)) {
+		server_client_error(c, seq, op, VIS_ERROR_WINDOW, "no such window %u", id);
+		return NULL;
+	}
+	return w;
+}
+
+/* As window_arg(), for a window the request changes (ACCESS when it may only see it). */
+static struct vis_window *changeable_arg(struct client *c, uint32_t seq, uint32_t op, uint32_t id)
+{
+	struct vis_window *w = window_arg(c, seq, op, id);
+	if (w && !server_may_change(c, w)) {
+		server_client_error(c, seq, op, VIS_ERROR_ACCESS, "window %u is not yours to change%s",
+				    id, c->role == VIS_ROLE_OBSERVER ? " (observers change nothing)" : "");
+		return NULL;
+	}
+	return w;
+}
+
+/* A parent argument: 0 for the screen, else a window the connection may change. */
+static struct vis_window *parent_arg(struct client *c, uint32_t seq, uint32_t op, uint32_t id)
+{
+	if (id == VIS_WINDOW_ROOT) {
+		if (c->role == VIS_ROLE_OBSERVER) {
+			server_client_error(c, seq, op, VIS_ERROR_ACCESS, "observers change nothing");
+			return NULL;
+		}
+		return &c->server->tree.root;
+	}
+	return changeable_arg(c, seq, op, id);
+}
+
+/* Checks a width or height: 1 … INT32_MAX. */
+static bool size_ok(struct client *c, uint32_t seq, uint32_t op, uint32_t w, uint32_t h)
+{
+	if (w >= 1 && h >= 1 && w <= INT32_MAX && h <= INT32_MAX)
+		return true;
+	server_client_error(c, seq, op, VIS_ERROR_VALUE,
+			    "size %ux%u: width and height must be 1 to 2147483647", w, h);
+	return false;
+}
+
+static void changed(struct client *c, struct vis_window *w, uint32_t change)
+{
+	server_notify_stack(c->server, w, change);
+	c->server->dirty = true;
+}
+
+static void do_hello(struct client *c, uint32_t seq, const union vis_arg *a)
+{
+	struct server *server = c->server;
+	uint32_t op = VIS_OP_HELLO;
+	if (a[0].u != VIS_PROTOCOL_MAGIC) {
+		server_client_error(c, seq, op, VIS_ERROR_HANDSHAKE, "not a visd client (magic %#x)",
+				    a[0].u);
+		return;
+	}
+	if (a[1].u != VIS_PROTOCOL_VERSION) {
+		server_client_error(c, seq, op, VIS_ERROR_HANDSHAKE,
+				    "protocol version %u is not supported (this daemon speaks %u)",
+				    a[1].u, VIS_PROTOCOL_VERSION);
+		return;
+	}
+	uint32_t role = a[2].u;
+	if (role > VIS_ROLE_MANAGER) {
+		server_client_error(c, seq, op, VIS_ERROR_HANDSHAKE, "unknown role %u", role);
+		return;
+	}
+	if (role != VIS_ROLE_CLIENT && (c->restricted || c->uid != server->opt.allowed_uid)) {
+		server_client_error(c, seq, op, VIS_ERROR_ACCESS, "role %s refused: %s",
+				    role == VIS_ROLE_MANAGER ? "manager" : "observer",
+				    c->restricted ? "clients of the restricted socket get no role"
+						  : "the peer's uid is not allowed roles");
+		server_client_close(c);
+		return;
+	}
+	if (role == VIS_ROLE_MANAGER && server->manager) {
+		server_client_error(c, seq, op, VIS_ERROR_STATE,
+				    "the manager role is taken (client %u)", server->manager->id);
+		server_client_close(c);
+		return;
+	}
+	c->hello_done = true;
+	c->role = role;
+	if (role == VIS_ROLE_MANAGER)
+		server->manager = c;
+	union vis_arg r[7];
+	r[0].u = seq;
+	r[1].u = VIS_PROTOCOL_VERSION;
+	r[2].u = c->id;
+	r[3].u = role;
+	r[4].u = (uint32_t)server->tree.root.width;
+	r[5].u = (uint32_t)server->tree.root.height;
+	r[6].u = server->opt.max_request;
+	server_client_send(c, VIS_OP_HELLO_REPLY, r);
+}
+
+static void do_create(struct client *c, uint32_t seq, const union vis_arg *a)
+{
+	uint32_t op = VIS_OP_CREATE;
+	struct vis_window *parent = parent_arg(c, seq, op, a[0].u);
+	if (!parent || !size_ok(c, seq, op, a[3].u, a[4].u))
+		return;
+	if (a[5].u & ~(uint32_t)(VIS_CREATE_MAP | VIS_CREATE_RETAIN)) {
+		server_client_error(c, seq, op, VIS_ERROR_VALUE, "unknown flags %#x", a[5].u);
+		return;
+	}
+	struct vis_window *w = vis_wtree_create(&c->server->tree, parent, a[1].i, a[2].i,
+						(int32_t)a[3].u, (int32_t)a[4].u, c->id);
+	if (!w) {
+		server_client_error(c, seq, op, VIS_ERROR_LIMIT, "cannot create a window: %s",
+				    errno == EOVERFLOW ? "window IDs are exhausted" : "out of memory");
+		return;
+	}
+	w->retained = a[5].u & VIS_CREATE_RETAIN;
+	changed(c, w, VIS_STACK_CREATE);
+	if (a[5].u & VIS_CREATE_MAP) {
+		w->mapped = true;
+		changed(c, w, VIS_STACK_MAP);
+	}
+	server_flush(c->server); /* the window's notices precede the reply */
+	union vis_arg r[2] = { { .u = seq }, { .u = w->id } };
+	server_client_send(c, VIS_OP_CREATED, r);
+}
+
+/* The stack changes that take one window: destroy, map, unmap, raise, lower. */
+static void do_simple(struct client *c, uint32_t seq, uint32_t op, uint32_t id)
+{
+	struct vis_window *w = changeable_arg(c, seq, op, id);
+	if (!w)
+		return;
+	switch (op) {
+	case VIS_OP_DESTROY:
+		server_destroy_window(c->server, w);
+		break;
+	case VIS_OP_MAP:
+	case VIS_OP_UNMAP:
+		if (w->mapped != (op == VIS_OP_MAP)) {
+			w->mapped = op == VIS_OP_MAP;
+			changed(c, w, w->mapped ? VIS_STACK_MAP : VIS_STACK_UNMAP);
+		}
+		break;
+	case VIS_OP_RAISE:
+		vis_wtree_raise(w);
+		changed(c, w, VIS_STACK_RESTACK);
+		break;
+	case VIS_OP_LOWER:
+		vis_wtree_lower(w);
+		changed(c, w, VIS_STACK_RESTACK);
+		break;
+	}
+}
+
+static void do_configure(struct client *c, uint32_t seq, uint32_t op, const union vis_arg *a)
+{
+	struct vis_window *w = changeable_arg(c, seq, op, a[0].u);
+	if (!w)
+		return;
+	if (op == VIS_OP_MOVE) {
+		w->x = a[1].i;
+		w->y = a[2].i;
+	} else {
+		if (!size_ok(c, seq, op, a[1].u, a[2].u))
+			return;
+		w->width = (int32_t)a[1].u;
+		w->height = (int32_t)a[2].u;
+		/* As X with ForgetGravity: a resized window's contents are gone, all of it is exposed. */
+		struct window_data *d = w->data;
+		if (d)
+			pixman_region32_clear(&d->region);
+	}
+	changed(c, w, VIS_STACK_CONFIGURE);
+}
+
+static void do_restack(struct client *c, uint32_t seq, const union vis_arg *a)
+{
+	uint32_t op = VIS_OP_RESTACK;
+	struct vis_window *w = changeable_arg(c, seq, op, a[0].u);
+	if (!w)
+		return;
+	if (a[1].u > VIS_RESTACK_BELOW) {
+		server_client_error(c, seq, op, VIS_ERROR_VALUE, "unknown mode %u (0 above, 1 below)",
+				    a[1].u);
+		return;
+	}
+	struct vis_window *s = window_arg(c, seq, op, a[2].u);
+	if (!s)
+		return;
+	if (s == w || s->parent != w->parent) {
+		server_client_error(c, seq, op, VIS_ERROR_MATCH, "window %u is not a sibling of %u",
+				    s->id, w->id);
+		return;
+	}
+	vis_wtree_restack(w, s, a[1].u == VIS_RESTACK_ABOVE);
+	changed(c, w, VIS_STACK_RESTACK);
+}
+
+static void do_reparent(struct client *c, uint32_t seq, const union vis_arg *a)
+{
+	uint32_t op = VIS_OP_REPARENT;
+	struct vis_window *w = changeable_arg(c, seq, op, a[0].u);
+	struct vis_window *p = w ? parent_arg(c, seq, op, a[1].u) : NULL;
+	if (!p)
+		return;
+	if (vis_wtree_is_ancestor(w, p)) {
+		server_client_error(c, seq, op, VIS_ERROR_MATCH,
+				    "window %u cannot go under itself or its descendant %u", w->id,
+				    p->id);
+		return;
+	}
+	vis_wtree_reparent(w, p, a[2].i, a[3].i);
+	changed(c, w, VIS_STACK_REPARENT);
+}
+
+/* Sends the rest of a list reply: records of `words` words each, in chunks, more = 1 but last. */
+static void send_list(struct client *c, uint32_t opcode, union vis_arg *r, int at,
+		      const uint32_t *data, size_t n, uint32_t words)
+{
+	size_t i = 0;
+	do {
+		size_t k = n - i < CHUNK_RECORDS ? n - i : CHUNK_RECORDS;
+		r[at - 1].u = i + k < n;
+		r[at].a.words = data + i * words;
+		r[at].a.n = (uint32_t)k;
+		r[at].a.raw = NULL;
+		server_client_send(c, opcode, r);
+		i += k;
+	} while (i < n);
+}
+
+/* Grows a word array by one record; false when memory ran out (the error is sent). */
+static bool push_words(struct client *c, uint32_t seq, uint32_t op, uint32_t **v, size_t *n,
+		       size_t *cap, const uint32_t *rec, uint32_t words)
+{
+	if (*n + words > *cap) {
+		size_t ncap = *cap ? 2 * *cap : 256;
+		uint32_t *more = realloc(*v, ncap * sizeof **v);
+		if (!more) {
+			server_client_error(c, seq, op, VIS_ERROR_LIMIT, "out of memory");
+			return false;
+		}
+		*v = more;
+		*cap = ncap;
+	}
+	memcpy(*v + *n, rec, words * sizeof *rec);
+	*n += words;
+	return true;
+}
+
+static void do_get_states(struct client *c, uint32_t seq)
+{
+	struct vis_wtree *tree = &c->server->tree;
+	size_t n = 0;
+	uint64_t *keys = malloc((tree->n_order ? tree->n_order : 1) * sizeof *keys);
+	uint32_t *vals = malloc((tree->n_order ? tree->n_order : 1) * sizeof *vals);
+	uint32_t *words = malloc((tree->n_order ? tree->n_order : 1) * 2 * sizeof *words);
+	if (!keys || !vals || !words) {
+		server_client_error(c, seq, VIS_OP_GET_STATES, VIS_ERROR_LIMIT, "out of memory");
+		goto out;
+	}
+	for (size_t i = 0; i < tree->n_order; i++)
+		if (server_may_see(c, tree->order[i])) {
+			keys[n] = tree->order[i]->id;
+			vals[n++] = tree->order[i]->state;
+		}
+	if (vis_radix_sort(keys, vals, n) < 0) {
+		server_client_error(c, seq, VIS_OP_GET_STATES, VIS_ERROR_LIMIT, "out of memory");
+		goto out;
+	}
+	for (size_t i = 0; i < n; i++) {
+		words[2 * i] = (uint32_t)keys[i];
+		words[2 * i + 1] = vals[i];
+	}
+	union vis_arg r[3] = { { .u = seq } };
+	send_list(c, VIS_OP_STATES, r, 2, words, n, 2);
+out:
+	free(keys);
+	free(vals);
+	free(words);
+}
+
+static void do_get_tree(struct client *c, uint32_t seq)
+{
+	uint32_t *v = NULL;
+	size_t n = 0, cap = 0;
+	struct vis_window *w = c->server->tree.root.bottom;
+	while (w) {
+		if (server_may_see(c, w)) {
+			uint32_t flags = (w->mapped ? VIS_WINDOW_MAPPED : 0) |
+					 (w->state != VIS_WTREE_STATE_NONE ? VIS_WINDOW_VIEWABLE : 0) |
+					 (w->retained ? VIS_WINDOW_RETAINED : 0);
+			uint32_t rec[8] = { w->id, w->parent->id, (uint32_t)w->x, (uint32_t)w->y,
+					    (uint32_t)w->width, (uint32_t)w->height, flags, w->state };
+			if (!push_words(c, seq, VIS_OP_GET_TREE, &v, &n, &cap, rec, 8))
+				goto out;
+		}
+		if (w->bottom) {
+			w = w->bottom;
+			continue;
+		}
+		while (w->parent && !w->above)
+			w = w->parent;
+		w = w->parent ? w->above : NULL;
+	}
+	union vis_arg r[3] = { { .u = seq } };
+	send_list(c, VIS_OP_TREE, r, 2, v, n / 8, 8);
+out:
+	free(v);
+}
+
+static void do_get_region(struct client *c, uint32_t seq, uint32_t id)
+{
+	struct vis_window *w = window_arg(c, seq, VIS_OP_GET_REGION, id);
+	if (!w)
+		return;
+	pixman_region32_t reg;
+	pixman_region32_init(&reg);
+	int n = 0;
+	uint32_t *v = NULL;
+	if (vis_wtree_visible_region(&c->server->tree, w, &reg) < 0 ||
+	    !(v = malloc(((size_t)pixman_region32_n_rects(&reg) + 1) * 4 * sizeof *v))) {
+		server_client_error(c, seq, VIS_OP_GET_REGION, VIS_ERROR_LIMIT, "out of memory");
+		goto out;
+	}
+	const pixman_box32_t *b = pixman_region32_rectangles(&reg, &n);
+	for (int i = 0; i < n; i++) {
+		v[4 * i] = (uint32_t)b[i].x1;
+		v[4 * i + 1] = (uint32_t)b[i].y1;
+		v[4 * i + 2] = (uint32_t)(b[i].x2 - b[i].x1);
+		v[4 * i + 3] = (uint32_t)(b[i].y2 - b[i].y1);
+	}
+	union vis_arg r[4] = { { .u = seq }, { .u = id } };
+	send_list(c, VIS_OP_REGION, r, 3, v, (size_t)n, 4);
+out:
+	free(v);
+	pixman_region32_fini(&reg);
+}
+
+static void do_get_repaint(struct client *c, uint32_t seq, const union vis_arg *a)
+{
+	if (!size_ok(c, seq, VIS_OP_GET_REPAINT, a[2].u, a[3].u))
+		return;
+	struct vis_wtree *tree = &c->server->tree;
+	struct vis_box damage = { a[0].i, a[1].i, (int64_t)a[0].i + a[2].u,
+				  (int64_t)a[1].i + a[3].u };
+	struct vis_window **out = malloc((tree->n_order ? tree->n_order : 1) * sizeof *out);
+	uint32_t *ids = malloc((tree->n_order ? tree->n_order : 1) * sizeof *ids);
+	long k = out && ids ? vis_wtree_repaint(tree, damage, out) : -1;
+	if (k < 0) {
+		server_client_error(c, seq, VIS_OP_GET_REPAINT, VIS_ERROR_LIMIT, "out of memory");
+	} else {
+		size_t n = 0;
+		for (long i = 0; i < k; i++)
+			if (server_may_see(c, out[i]))
+				ids[n++] = out[i]->id;
+		union vis_arg r[3] = { { .u = seq } };
+		send_list(c, VIS_OP_REPAINT, r, 2, ids, n, 1);
+	}
+	free(out);
+	free(ids);
+}
+
+void server_client_dispatch(struct client *c, uint32_t seq, const struct vis_msg *m)
+{
+	const union vis_arg *a = m->args;
+	uint32_t op = m->type->opcode;
+	switch (op) {
+	case VIS_OP_HELLO:
+		do_hello(c, seq, a);
+		return;
+	case VIS_OP_CREATE:
+		do_create(c, seq, a);
+		return;
+	case VIS_OP_DESTROY:
+	case VIS_OP_MAP:
+	case VIS_OP_UNMAP:
+	case VIS_OP_RAISE:
+	case VIS_OP_LOWER:
+		do_simple(c, seq, op, a[0].u);
+		return;
+	case VIS_OP_MOVE:
+	case VIS_OP_RESIZE:
+		do_configure(c, seq, op, a);
+		return;
+	case VIS_OP_RESTACK:
+		do_restack(c, seq, a);
+		return;
+	case VIS_OP_REPARENT:
+		do_reparent(c, seq, a);
+		return;
+	case VIS_OP_SUBSCRIBE:
+	case VIS_OP_UNSUBSCRIBE:
+		server_subscription(c, seq, op, a);
+		return;
+	}
+	/* Queries and sync answer for the current states: recompute first if needed. */
+	server_flush(c->server);
+	switch (op) {
+	case VIS_OP_GET_STATE: {
+		struct vis_window *w = window_arg(c, seq, op, a[0].u);
+		if (w) {
+			union vis_arg r[3] = { { .u = seq }, { .u = w->id }, { .u = w->state } };
+			server_client_send(c, VIS_OP_STATE, r);
+		}
+		return;
+	}
+	case VIS_OP_GET_STATES:
+		do_get_states(c, seq);
+		return;
+	case VIS_OP_GET_TREE:
+		do_get_tree(c, seq);
+		return;
+	case VIS_OP_GET_REGION:
+		do_get_region(c, seq, a[0].u);
+		return;
+	case VIS_OP_GET_REPAINT:
+		do_get_repaint(c, seq, a);
+		return;
+	case VIS_OP_SYNC: {
+		union vis_arg r[1] = { { .u = seq } };
+		server_client_send(c, VIS_OP_SYNCED, r);
+		return;
+	}
+	}
+	log_error("client %u: request %s reached dispatch unhandled", c->id, m->type->name);
+}

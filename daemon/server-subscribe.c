@@ -1,0 +1,107 @@
+/* Subscriptions: who hears about which windows, and the exposure baselines they start from. */
+#include <stdlib.h>
+
+#include "log.h"
+#include "server.h"
+#include "vis/protocol.h"
+
+/* Counts (or, with delta −1, uncounts) a subscription in the window data and server totals. */
+static void count(struct client *c, const struct sub *s, int delta)
+{
+	struct server *server = c->server;
+	bool exposure = s->mask & VIS_NOTICE_EXPOSURE;
+	if (s->window) {
+		struct vis_window *w = vis_wtree_find(&server->tree, s->window);
+		struct window_data *d = w ? w->data : NULL;
+		if (d) {
+			d->subs += (uint32_t)delta;
+			if (exposure)
+				d->exposure_subs += (uint32_t)delta;
+		}
+	} else if (exposure) {
+		if (c->role != VIS_ROLE_CLIENT)
+			server->role_all_exposure += (uint32_t)delta;
+		else
+			c->all_exposure = delta > 0;
+	}
+}
+
+/* Starts exposure baselines for the windows a new subscription covers, from what they show now. */
+static void track_covered(struct client *c, const struct sub *s)
+{
+	struct server *server = c->server;
+	if (!(s->mask & VIS_NOTICE_EXPOSURE))
+		return;
+	if (s->window) {
+		server_track(vis_wtree_find(&server->tree, s->window), server);
+		return;
+	}
+	for (size_t i = 0; i < server->tree.n_order; i++)
+		if (server_may_see(c, server->tree.order[i]))
+			server_track(server->tree.order[i], server);
+}
+
+void server_subscription(struct client *c, uint32_t seq, uint32_t op, const union vis_arg *a)
+{
+	struct server *server = c->server;
+	uint32_t window = a[0].u;
+	struct sub *found = NULL;
+	for (size_t i = 0; i < c->n_subs; i++)
+		if (c->subs[i].window == window)
+			found = &c->subs[i];
+	if (op == VIS_OP_UNSUBSCRIBE) {
+		if (!found) {
+			server_client_error(c, seq, op, VIS_ERROR_VALUE, "no subscription to %s%.0u",
+					    window ? "window " : "every window", window);
+			return;
+		}
+		count(c, found, -1);
+		*found = c->subs[--c->n_subs];
+		return;
+	}
+	uint32_t mask = a[1].u, limit = a[2].u ? a[2].u : VIS_EXPOSURE_RECT_LIMIT;
+	if (!mask || (mask & ~(uint32_t)VIS_NOTICE_ALL)) {
+		server_client_error(c, seq, op, VIS_ERROR_VALUE, "notice mask %#x: use bits 1, 2, 4",
+				    mask);
+		return;
+	}
+	struct vis_window *w = NULL;
+	if (window) {
+		w = vis_wtree_find(&server->tree, window);
+		if (!w || !server_may_see(c, w)) {
+			server_client_error(c, seq, op, VIS_ERROR_WINDOW, "no such window %u", window);
+			return;
+		}
+		if (!server_window_data(w)) {
+			server_client_error(c, seq, op, VIS_ERROR_LIMIT, "out of memory");
+			return;
+		}
+	}
+	if (!found) {
+		if (c->n_subs == c->cap_subs) {
+			size_t cap = c->cap_subs ? 2 * c->cap_subs : 4;
+			struct sub *more = realloc(c->subs, cap * sizeof *more);
+			if (!more) {
+				server_client_error(c, seq, op, VIS_ERROR_LIMIT, "out of memory");
+				return;
+			}
+			c->subs = more;
+			c->cap_subs = cap;
+		}
+		found = &c->subs[c->n_subs++];
+	} else {
+		count(c, found, -1);
+	}
+	*found = (struct sub){ window, mask, limit };
+	count(c, found, +1);
+	/* Baselines come from the current states, so earlier changes must be computed first. */
+	server_flush(server);
+	track_covered(c, found);
+}
+
+void server_unsubscribe_all(struct client *c)
+{
+	for (size_t i = 0; i < c->n_subs; i++)
+		count(c, &c->subs[i], -1);
+	c->n_subs = 0;
+}

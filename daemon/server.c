@@ -1,0 +1,335 @@
+/* The daemon's shared state: listeners, the window tree, recomputes and the notice fan-out. */
+#include <errno.h>
+#include <event2/bufferevent.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include "log.h"
+#include "server.h"
+#include "vis/protocol.h"
+
+/* Accepts one connection on either socket. */
+static void on_accept(struct evconnlistener *l, evutil_socket_t fd, struct sockaddr *sa, int len,
+		      void *data)
+{
+	(void)sa;
+	(void)len;
+	struct server *server = data;
+	server_client_accept(server, fd, l == server->restricted_listener);
+}
+
+/* Re-enables accepting after running out of descriptors. */
+static void on_listener_retry(evutil_socket_t fd, short what, void *data)
+{
+	(void)fd;
+	(void)what;
+	struct server *server = data;
+	evconnlistener_enable(server->listener);
+	if (server->restricted_listener)
+		evconnlistener_enable(server->restricted_listener);
+}
+
+/* accept() failed: out of descriptors must not end the daemon; pause accepting for a moment. */
+static void on_accept_error(struct evconnlistener *l, void *data)
+{
+	struct server *server = data;
+	int err = EVUTIL_SOCKET_ERROR();
+	log_warn("accept: %s; refusing connections for 100 ms", strerror(err));
+	evconnlistener_disable(l);
+	struct timeval delay = { 0, 100000 };
+	evtimer_add(server->listener_retry, &delay);
+}
+
+/* Opens one listening socket at an already-locked path. */
+static struct evconnlistener *listen_at(struct server *server, const char *path)
+{
+	struct sockaddr_un addr = { .sun_family = AF_UNIX };
+	if (strlen(path) >= sizeof addr.sun_path) {
+		log_error("socket path '%s' is longer than %zu bytes", path,
+			  sizeof addr.sun_path - 1);
+		return NULL;
+	}
+	strcpy(addr.sun_path, path);
+	int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+	if (fd < 0) {
+		log_error("socket: %s", strerror(errno));
+		return NULL;
+	}
+	unlink(path); /* stale: the lock says no other daemon serves it */
+	if (bind(fd, (struct sockaddr *)&addr, sizeof addr) < 0) {
+		log_error("cannot bind '%s': %s", path, strerror(errno));
+		close(fd);
+		return NULL;
+	}
+	struct evconnlistener *l = evconnlistener_new(
+		server->base, on_accept, server, LEV_OPT_CLOSE_ON_FREE | LEV_OPT_CLOSE_ON_EXEC, 64,
+		fd);
+	if (!l) {
+		log_error("cannot listen on '%s': %s", path, strerror(errno));
+		close(fd);
+		unlink(path);
+		return NULL;
+	}
+	evconnlistener_set_error_cb(l, on_accept_error);
+	return l;
+}
+
+int server_init(struct server *server, struct event_base *base, const struct server_options *opt)
+{
+	memset(server, 0, sizeof *server);
+	server->base = base;
+	server->opt = *opt;
+	server->next_client = 1;
+	TAILQ_INIT(&server->clients);
+	vis_buf_init(&server->scratch);
+	vis_wtree_init(&server->tree, opt->screen_width, opt->screen_height);
+	server->listener_retry = evtimer_new(base, on_listener_retry, server);
+	if (!server->listener_retry)
+		return -1;
+	server->listener = listen_at(server, opt->socket_path);
+	if (!server->listener)
+		return -1;
+	if (opt->restricted_path) {
+		server->restricted_listener = listen_at(server, opt->restricted_path);
+		if (!server->restricted_listener)
+			return -1;
+	}
+	return 0;
+}
+
+/* Frees a window's daemon data: the tree callback of destruction at shutdown. */
+static void free_window_data(struct vis_window *w)
+{
+	struct window_data *d = w->data;
+	if (d) {
+		pixman_region32_fini(&d->region);
+		free(d);
+		w->data = NULL;
+	}
+}
+
+/* The tree's callback at shutdown. */
+static void forget_window_data(void *data, struct vis_window *w)
+{
+	(void)data;
+	free_window_data(w);
+}
+
+void server_finish(struct server *server)
+{
+	struct client *c;
+	while ((c = TAILQ_FIRST(&server->clients)))
+		server_client_free(c);
+	while (server->tree.root.top)
+		vis_wtree_destroy(&server->tree, server->tree.root.top, forget_window_data, NULL);
+	if (server->listener)
+		evconnlistener_free(server->listener);
+	if (server->restricted_listener)
+		evconnlistener_free(server->restricted_listener);
+	if (server->listener_retry)
+		event_free(server->listener_retry);
+	vis_wtree_finish(&server->tree);
+	vis_buf_finish(&server->scratch);
+}
+
+bool server_may_see(const struct client *c, const struct vis_window *w)
+{
+	return c->role != VIS_ROLE_CLIENT || w->owner == c->id;
+}
+
+bool server_may_change(const struct client *c, const struct vis_window *w)
+{
+	return c->role == VIS_ROLE_MANAGER || (c->role == VIS_ROLE_CLIENT && w->owner == c->id);
+}
+
+struct window_data *server_window_data(struct vis_window *w)
+{
+	if (!w->data) {
+		struct window_data *d = calloc(1, sizeof *d);
+		if (!d)
+			return NULL;
+		pixman_region32_init(&d->region);
+		w->data = d;
+	}
+	return w->data;
+}
+
+/* Whether some subscription asks for w's exposures. */
+static bool wants_exposure(const struct server *server, const struct vis_window *w)
+{
+	const struct window_data *d = w->data;
+	if (server->role_all_exposure || (d && d->exposure_subs))
+		return true;
+	/* A connection's subscription to all of its own windows. */
+	struct client *c;
+	TAILQ_FOREACH(c, &server->clients, link)
+		if (c->all_exposure && c->id == w->owner)
+			return true;
+	return false;
+}
+
+void server_track(struct vis_window *w, struct server *server)
+{
+	struct window_data *d = server_window_data(w);
+	if (!d || d->tracked)
+		return;
+	if (vis_wtree_visible_region(&server->tree, w, &d->region) < 0)
+		pixman_region32_clear(&d->region);
+	d->tracked = true;
+}
+
+/* The pre-order successor of w among all windows. */
+static struct vis_window *next_window(struct vis_window *w)
+{
+	if (w->bottom)
+		return w->bottom;
+	for (; w->parent; w = w->parent)
+		if (w->above)
+			return w->above;
+	return NULL;
+}
+
+/* Sends the visibility notice of w to every connection subscribed to it. */
+static void notify_visibility(struct server *server, struct vis_window *w)
+{
+	struct client *c;
+	TAILQ_FOREACH(c, &server->clients, link) {
+		if (c->closing || !server_client_sub_for(c, w, VIS_NOTICE_VISIBILITY))
+			continue;
+		union vis_arg a[4];
+		a[0].q = ++c->serial;
+		a[1].u = w->id;
+		a[2].u = w->state;
+		a[3].u = w->old_state;
+		server_client_send(c, VIS_OP_VISIBILITY, a);
+	}
+}
+
+/* Sends the exposure notice of w (rectangles in window coordinates) to its subscribers. */
+static void notify_exposure(struct server *server, struct vis_window *w, pixman_region32_t *exposed)
+{
+	int n;
+	const pixman_box32_t *boxes = pixman_region32_rectangles(exposed, &n);
+	pixman_box32_t *ext = pixman_region32_extents(exposed);
+	struct client *c;
+	TAILQ_FOREACH(c, &server->clients, link) {
+		const struct sub *s;
+		if (c->closing || !(s = server_client_sub_for(c, w, VIS_NOTICE_EXPOSURE)))
+			continue;
+		bool collapse = (uint32_t)n > s->rect_limit;
+		uint32_t count = collapse ? 1 : (uint32_t)n;
+		uint32_t *words = malloc((size_t)count * 4 * sizeof *words);
+		if (!words) {
+			log_error("out of memory for an exposure notice");
+			continue;
+		}
+		for (uint32_t i = 0; i < count; i++) {
+			const pixman_box32_t *b = collapse ? ext : &boxes[i];
+			words[4 * i] = (uint32_t)b->x1;
+			words[4 * i + 1] = (uint32_t)b->y1;
+			words[4 * i + 2] = (uint32_t)(b->x2 - b->x1);
+			words[4 * i + 3] = (uint32_t)(b->y2 - b->y1);
+		}
+		union vis_arg a[4];
+		a[0].q = ++c->serial;
+		a[1].u = w->id;
+		a[2].u = collapse ? VIS_EXPOSURE_COLLAPSED : 0;
+		a[3].a.words = words;
+		a[3].a.n = count;
+		a[3].a.raw = NULL;
+		server_client_send(c, VIS_OP_EXPOSURE, a);
+		free(words);
+	}
+}
+
+void server_flush(struct server *server)
+{
+	if (!server->dirty || server->deferring)
+		return;
+	if (vis_wtree_compute(&server->tree) < 0) {
+		log_error("recompute: out of memory; states stay as they were");
+		return;
+	}
+	server->dirty = false;
+	pixman_region32_t now, exposed;
+	pixman_region32_init(&now);
+	pixman_region32_init(&exposed);
+	for (struct vis_window *w = server->tree.root.bottom; w; w = next_window(w)) {
+		if (w->state != w->old_state && w->state != VIS_WTREE_STATE_NONE)
+			notify_visibility(server, w);
+		struct window_data *d = w->data;
+		if (!wants_exposure(server, w)) {
+			if (d && d->tracked) {
+				d->tracked = false;
+				pixman_region32_clear(&d->region);
+			}
+			continue;
+		}
+		if (!(d = server_window_data(w))) {
+			log_error("out of memory for exposure tracking");
+			continue;
+		}
+		/* A window first tracked now was created since the last recompute: it showed nothing. */
+		d->tracked = true;
+		if (vis_wtree_visible_region(&server->tree, w, &now) < 0) {
+			log_error("out of memory for a visible region");
+			continue;
+		}
+		pixman_region32_subtract(&exposed, &now, &d->region);
+		pixman_region32_copy(&d->region, &now);
+		if (pixman_region32_not_empty(&exposed))
+			notify_exposure(server, w, &exposed);
+	}
+	pixman_region32_fini(&now);
+	pixman_region32_fini(&exposed);
+}
+
+void server_notify_stack(struct server *server, struct vis_window *w, uint32_t change)
+{
+	struct client *c;
+	TAILQ_FOREACH(c, &server->clients, link) {
+		if (c->closing || !server_client_sub_for(c, w, VIS_NOTICE_STACK))
+			continue;
+		union vis_arg a[10];
+		a[0].q = ++c->serial;
+		a[1].u = change;
+		a[2].u = w->id;
+		a[3].u = w->parent ? w->parent->id : 0;
+		a[4].i = w->x;
+		a[5].i = w->y;
+		a[6].u = (uint32_t)w->width;
+		a[7].u = (uint32_t)w->height;
+		a[8].u = w->below ? w->below->id : 0;
+		a[9].u = (w->mapped ? VIS_WINDOW_MAPPED : 0) |
+			 (vis_wtree_viewable(w) ? VIS_WINDOW_VIEWABLE : 0) |
+			 (w->retained ? VIS_WINDOW_RETAINED : 0);
+		server_client_send(c, VIS_OP_STACK, a);
+	}
+}
+
+/* The tree's callback for each window destroyed: notices, subscriptions, daemon data. */
+static void window_gone(void *data, struct vis_window *w)
+{
+	struct server *server = data;
+	server_notify_stack(server, w, VIS_STACK_DESTROY);
+	struct window_data *d = w->data;
+	if (d && d->subs) {
+		struct client *c;
+		TAILQ_FOREACH(c, &server->clients, link)
+			for (size_t i = 0; i < c->n_subs;)
+				if (c->subs[i].window == w->id)
+					c->subs[i] = c->subs[--c->n_subs];
+				else
+					i++;
+	}
+	free_window_data(w);
+}
+
+void server_destroy_window(struct server *server, struct vis_window *w)
+{
+	vis_wtree_destroy(&server->tree, w, window_gone, server);
+	server->dirty = true;
+}
