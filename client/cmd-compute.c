@@ -4,14 +4,12 @@
  * through one large buffer and a hand-rolled integer formatter rather than printf per line.
  */
 #include <errno.h>
-#include <fcntl.h>
 #include <stdarg.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -96,60 +94,6 @@ static int out_finish(struct out *o)
 		return VISCTL_EXIT_FAILURE;
 	}
 	return VISCTL_EXIT_OK;
-}
-
-/* Reads a whole file (or stdin for "-") into a new buffer. Returns 0, or -1 with errno set. */
-static int read_all(const char *path, char **data, size_t *len)
-{
-	bool is_stdin = strcmp(path, "-") == 0;
-	int fd = is_stdin ? STDIN_FILENO : open(path, O_RDONLY | O_CLOEXEC);
-	struct stat st;
-	size_t cap = 1 << 16, n = 0;
-	char *buf = NULL;
-	int saved;
-
-	if (fd < 0)
-		return -1;
-	/* Size the buffer from the file when we can, to avoid copying a large scene while growing. */
-	if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0 &&
-	    (uint64_t)st.st_size < SIZE_MAX - 1)
-		cap = (size_t)st.st_size + 1;
-	if ((buf = malloc(cap)) == NULL)
-		goto fail;
-	for (;;) {
-		if (n == cap) {
-			if (cap > SIZE_MAX / 2) {
-				errno = ENOMEM;
-				goto fail;
-			}
-			char *p = realloc(buf, cap * 2);
-			if (p == NULL)
-				goto fail;
-			buf = p;
-			cap *= 2;
-		}
-		ssize_t r = read(fd, buf + n, cap - n);
-		if (r < 0 && errno == EINTR)
-			continue;
-		if (r < 0)
-			goto fail;
-		if (r == 0)
-			break;
-		n += (size_t)r;
-	}
-	if (!is_stdin)
-		close(fd);
-	*data = buf;
-	*len = n;
-	return 0;
-
-fail:
-	saved = errno;
-	free(buf);
-	if (!is_stdin)
-		close(fd);
-	errno = saved;
-	return -1;
 }
 
 /* The stack positions in ascending ID order; scenes already in order (generated ones) skip the sort. */
@@ -309,7 +253,7 @@ int cmd_compute(int argc, char **argv)
 	const char *shown = strcmp(path, "-") == 0 ? "<stdin>" : path;
 	char *text;
 	size_t len;
-	if (read_all(path, &text, &len) < 0) {
+	if (visctl_read_all(path, &text, &len) < 0) {
 		fprintf(stderr, "%s: cannot read: %s\n", shown, strerror(errno));
 		return errno == ENOMEM ? VISCTL_EXIT_FAILURE : VISCTL_EXIT_USAGE;
 	}

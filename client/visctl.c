@@ -1,54 +1,209 @@
-/* visctl: the command-line tool; this file only finds the subcommand and hands over argv. */
+/*
+ * visctl: the command-line tool. This file reads the global options, finds the subcommand and
+ * hands over argv; live subcommands also get the connection settings. It also holds the helpers
+ * every subcommand shares.
+ */
+#include <errno.h>
+#include <fcntl.h>
+#include <stdbool.h>
+#include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "visctl.h"
 
-struct command {
-	const char *name;
-	int (*run)(int argc, char **argv);
-	const char *usage;
+static const struct visctl_command commands[] = {
+	{ "compute", cmd_compute, NULL,
+	  "[--engine=auto|gmv|gmv-heap|region|brute] [--visible] [--time] SCENE" },
+	{ "gen", cmd_gen, NULL, "KIND N SEED [W H]" },
+	{ "bench", cmd_bench, NULL, "[OPTIONS]  (see `visctl bench --help`)" },
+	{ "create", NULL, cmd_create, "X Y W H [--parent ID] [--map] [--retain]" },
+	{ "destroy", NULL, cmd_destroy, "ID" },
+	{ "map", NULL, cmd_map, "ID" },
+	{ "unmap", NULL, cmd_unmap, "ID" },
+	{ "move", NULL, cmd_move, "ID X Y" },
+	{ "resize", NULL, cmd_resize, "ID W H" },
+	{ "raise", NULL, cmd_raise, "ID" },
+	{ "lower", NULL, cmd_lower, "ID" },
+	{ "stack", NULL, cmd_stack, "ID above|below SIBLING" },
+	{ "load", NULL, cmd_load, "[--retain] SCENE" },
+	{ "states", NULL, cmd_states, "" },
+	{ "tree", NULL, cmd_tree, "" },
+	{ "region", NULL, cmd_region, "ID" },
+	{ "repaint", NULL, cmd_repaint, "X Y W H" },
+	{ "watch", NULL, cmd_watch, "[--json] [--count N] [ID...]" },
+	{ "script", NULL, cmd_script, "FILE|-" },
+	{ "sync", NULL, cmd_sync, "" },
 };
 
-static const struct command commands[] = {
-	{ "compute", cmd_compute,
-	  "compute [--engine=auto|gmv|gmv-heap|region|brute] [--visible] [--time] SCENE" },
-	{ "gen", cmd_gen, "gen KIND N SEED [W H]" },
-	{ "bench", cmd_bench, "bench [OPTIONS]  (see `visctl bench --help`)" },
-};
+#define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))
+
+const struct visctl_command *visctl_command_find(const char *name)
+{
+	for (size_t i = 0; i < N_COMMANDS; i++)
+		if (strcmp(name, commands[i].name) == 0)
+			return &commands[i];
+	return NULL;
+}
 
 /* Prints the list of subcommands, to stdout when asked for and to stderr after a mistake. */
 static void usage(FILE *f)
 {
-	fprintf(f, "usage: visctl COMMAND [ARGS]\n"
+	fprintf(f, "usage: visctl [-s SOCKET] [--role observer|manager] COMMAND [ARGS]\n"
 		   "       visctl help\n"
 		   "commands:\n");
-	for (size_t i = 0; i < sizeof(commands) / sizeof(commands[0]); i++)
-		fprintf(f, "  visctl %s\n", commands[i].usage);
+	for (size_t i = 0; i < N_COMMANDS; i++)
+		fprintf(f, "  visctl %s%s%s\n", commands[i].name, commands[i].usage[0] ? " " : "",
+			commands[i].usage);
 	fprintf(f, "SCENE is a path or '-' for stdin; `visctl COMMAND --help` says more.\n"
-		   "exit status: 0 ok, 1 runtime error, 2 usage or bad input\n");
+		   "Commands from create on talk to visd at SOCKET (default $VISD_SOCKET, else\n"
+		   "$XDG_RUNTIME_DIR/visd-0), as a client unless --role says otherwise.\n"
+		   "exit status: 0 ok, 1 runtime or daemon error, 2 usage or bad input\n");
 }
 
-/* Dispatches to the subcommand named by argv[1]; each subcommand parses its own options. */
+/* Reports a mistake in the global options; returns the usage exit status. */
+static int bad_usage(const char *fmt, const char *arg)
+{
+	fputs("visctl: ", stderr);
+	fprintf(stderr, fmt, arg);
+	fputc('\n', stderr);
+	usage(stderr);
+	return VISCTL_EXIT_USAGE;
+}
+
+/* Parses a role's name. Returns 0, or -1. */
+static int parse_role(const char *name, uint32_t *role)
+{
+	static const char *const names[] = { "client", "observer", "manager" };
+	for (uint32_t r = 0; r < 3; r++)
+		if (strcmp(name, names[r]) == 0) {
+			*role = r;
+			return 0;
+		}
+	return -1;
+}
+
+/* Runs a live subcommand on its own connection, and reports a failure to write its output. */
+static int run_live(const struct visctl_command *cmd, const char *socket, uint32_t role,
+		    int argc, char **argv)
+{
+	struct live l = { .socket = socket, .role = role, .where = "visctl" };
+	int ret = cmd->live(&l, argc, argv);
+	vis_client_destroy(l.client);
+	if (fflush(stdout) != 0 || ferror(stdout)) {
+		fprintf(stderr, "visctl: write error: %s\n", strerror(errno));
+		return VISCTL_EXIT_FAILURE;
+	}
+	return ret;
+}
+
+/* Reads the global options, then dispatches to the subcommand, which parses its own. */
 int main(int argc, char **argv)
 {
-	if (argc < 2) {
+	const char *socket = NULL;
+	uint32_t role = VIS_ROLE_CLIENT;
+	int i = 1;
+
+	for (; i < argc && argv[i][0] == '-'; i++) {
+		const char *a = argv[i], *value = NULL;
+		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+			usage(stdout);
+			return fflush(stdout) == 0 ? VISCTL_EXIT_OK : VISCTL_EXIT_FAILURE;
+		}
+		bool is_socket = strcmp(a, "-s") == 0 || strcmp(a, "--socket") == 0;
+		bool is_role = strcmp(a, "--role") == 0;
+		if (strncmp(a, "--socket=", 9) == 0) {
+			is_socket = true;
+			value = a + 9;
+		} else if (strncmp(a, "--role=", 7) == 0) {
+			is_role = true;
+			value = a + 7;
+		} else if (!is_socket && !is_role) {
+			return bad_usage("unknown option '%s'", a);
+		} else if (i + 1 == argc) {
+			return bad_usage("%s needs a value", a);
+		} else {
+			value = argv[++i];
+		}
+		if (is_socket && !*value)
+			return bad_usage("%s", "empty SOCKET");
+		if (is_socket)
+			socket = value;
+		else if (parse_role(value, &role) < 0)
+			return bad_usage("unknown role '%s' (client, observer, manager)", value);
+	}
+	if (i == argc) {
 		usage(stderr);
 		return VISCTL_EXIT_USAGE;
 	}
-	const char *name = argv[1];
-	if (strcmp(name, "help") == 0 || strcmp(name, "--help") == 0 || strcmp(name, "-h") == 0) {
+	const char *name = argv[i];
+	if (strcmp(name, "help") == 0) {
 		usage(stdout);
 		return fflush(stdout) == 0 ? VISCTL_EXIT_OK : VISCTL_EXIT_FAILURE;
 	}
-	for (size_t i = 0; i < sizeof(commands) / sizeof(commands[0]); i++)
-		if (strcmp(name, commands[i].name) == 0)
-			return commands[i].run(argc - 1, argv + 1);
-
-	if (name[0] == '-')
-		fprintf(stderr, "visctl: unknown option '%s'\n", name);
-	else
+	const struct visctl_command *cmd = visctl_command_find(name);
+	if (!cmd) {
 		fprintf(stderr, "visctl: unknown command '%s'\n", name);
-	usage(stderr);
-	return VISCTL_EXIT_USAGE;
+		usage(stderr);
+		return VISCTL_EXIT_USAGE;
+	}
+	if (cmd->run)
+		return cmd->run(argc - i, argv + i);
+	return run_live(cmd, socket, role, argc - i, argv + i);
+}
+
+int visctl_read_all(const char *path, char **data, size_t *len)
+{
+	bool is_stdin = strcmp(path, "-") == 0;
+	int fd = is_stdin ? STDIN_FILENO : open(path, O_RDONLY | O_CLOEXEC);
+	struct stat st;
+	size_t cap = 1 << 16, n = 0;
+	char *buf = NULL;
+	int saved;
+
+	if (fd < 0)
+		return -1;
+	/* Size the buffer from the file when we can, to avoid copying a large scene while growing. */
+	if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0 &&
+	    (uint64_t)st.st_size < SIZE_MAX - 1)
+		cap = (size_t)st.st_size + 1;
+	if ((buf = malloc(cap)) == NULL)
+		goto fail;
+	for (;;) {
+		if (n == cap) {
+			if (cap > SIZE_MAX / 2) {
+				errno = ENOMEM;
+				goto fail;
+			}
+			char *p = realloc(buf, cap * 2);
+			if (p == NULL)
+				goto fail;
+			buf = p;
+			cap *= 2;
+		}
+		ssize_t r = read(fd, buf + n, cap - n);
+		if (r < 0 && errno == EINTR)
+			continue;
+		if (r < 0)
+			goto fail;
+		if (r == 0)
+			break;
+		n += (size_t)r;
+	}
+	if (!is_stdin)
+		close(fd);
+	*data = buf;
+	*len = n;
+	return 0;
+
+fail:
+	saved = errno;
+	free(buf);
+	if (!is_stdin)
+		close(fd);
+	errno = saved;
+	return -1;
 }

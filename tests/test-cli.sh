@@ -143,6 +143,79 @@ if [ "$rc" -eq 0 ] && grep -q "visctl gen" "$T/out"; then pass; else fail "--hel
 run compute --help
 if [ "$rc" -eq 0 ] && grep -q "usage: visctl compute" "$T/out"; then pass; else fail "compute --help"; fi
 
+# --- live commands: usage errors come before connecting (the socket does not exist) -----------
+N="$T/no-daemon"
+live_usage() {
+	what=$1 msg=$2
+	shift 2
+	expect_fail "$what" 2 "$msg" -s "$N" "$@"
+}
+live_usage "create too few" "create: expected X Y W H, got 3 arguments" create 1 2 3
+live_usage "create bad X" "X 'a' is not a 32-bit number" create a 0 1 1
+live_usage "create X too large" "X '2147483648' is not a 32-bit number" create 2147483648 0 1 1
+live_usage "create bad W" "W '-1' is not a number" create 0 0 -1 1
+live_usage "create unknown option" "unknown option '--frob'" create 0 0 1 1 --frob
+live_usage "create --parent without ID" "--parent needs an ID" create 0 0 1 1 --parent
+live_usage "create bad parent" "parent ID 'x' is not a number" create 0 0 1 1 --parent=x
+live_usage "create usage line" "usage: visctl create X Y W H" create
+live_usage "map without ID" "map: expected ID, got 0 arguments" map
+live_usage "map bad ID" "ID 'x' is not a number" map x
+live_usage "destroy ID too large" "ID '4294967296' is not a number" destroy 4294967296
+live_usage "unmap two IDs" "expected ID, got 2 arguments" unmap 1 2
+live_usage "raise option" "unknown option '--top'" raise --top 1
+live_usage "lower without ID" "lower: expected ID" lower
+live_usage "move too few" "move: expected ID X Y, got 2 arguments" move 1 2
+live_usage "move bad Y" "Y '1.5' is not a 32-bit number" move 1 2 1.5
+live_usage "resize negative H" "H '-3' is not a number" resize 1 2 -3
+live_usage "stack bad mode" "expected above or below, got 'beside'" stack 1 beside 2
+live_usage "stack bad sibling" "ID 'top' is not a number" stack 1 above top
+live_usage "states argument" "states: unexpected argument 'extra'" states extra
+live_usage "tree argument" "tree: unexpected argument '1'" tree 1
+live_usage "sync argument" "sync: unexpected argument 'now'" sync now
+live_usage "region without ID" "region: expected ID, got 0 arguments" region
+live_usage "repaint too few" "repaint: expected X Y W H, got 3 arguments" repaint 0 0 1
+live_usage "load without SCENE" "load: missing SCENE" load
+live_usage "load two SCENEs" "unexpected argument" load "$good" "$good"
+live_usage "load unknown option" "unknown option '--map'" load --map "$good"
+live_usage "load missing file" "$T/nope: cannot read: No such file or directory" load "$T/nope"
+f=$(scene bad-load.scene 'window 1 0 0 5 5\nwindow 2 0 0 5\n')
+live_usage "load bad scene" "$f:2: window: expected 5 fields (ID X Y W H), got 4" load --retain "$f"
+live_usage "watch --count 0" "N '0' is not a positive number" watch --count 0
+live_usage "watch --count without N" "--count needs a number" watch --count
+live_usage "watch bad ID" "ID 'x' is not a window ID" watch --json x
+live_usage "watch ID 0" "ID '0' is not a window ID" watch 0
+live_usage "watch unknown option" "unknown option '--all'" watch --all
+live_usage "script without FILE" "script: expected FILE|-, got 0 arguments" script
+live_usage "script missing file" "$T/nope: cannot read" script "$T/nope"
+f=$(scene bad1.script '# comment\n\nfrob 1\n')
+live_usage "script unknown command" "$f:3: unknown command 'frob'" script "$f"
+f=$(scene bad2.script '  # comment\nmap\n')
+live_usage "script usage error" "$f:2: map: expected ID, got 0 arguments" script "$f"
+f=$(scene bad3.script '# no global options\n-s /tmp/x sync\n')
+live_usage "script global option" "$f:2: global options such as '-s'" script "$f"
+f=$(scene bad4.script 'compute x\n')
+live_usage "script offline command" "$f:1: 'compute' cannot be used in a script" script "$f"
+printf 'visctl sync\n' | "$V" -s "$N" script - >"$T/out" 2>"$T/err"
+rc=$?
+if [ "$rc" -eq 2 ] && grep -qF "<stdin>:1: unknown command 'visctl'" "$T/err"; then pass
+else fail "script from stdin (status $rc)"; fi
+expect_fail "unknown role" 2 "unknown role 'admin'" --role admin states
+expect_fail "-s without SOCKET" 2 "-s needs a value" -s
+expect_fail "global options without command" 2 "usage: visctl" -s "$N"
+
+# --- live commands without a daemon: exit 1, naming the socket --------------------------------
+expect_fail "missing socket" 1 "$N" -s "$N" sync
+expect_fail "missing socket, manager" 1 "$N" -s "$N" --role=manager states
+env -u VISD_SOCKET -u XDG_RUNTIME_DIR "$V" sync >"$T/out" 2>"$T/err"
+rc=$?
+if [ "$rc" -eq 1 ] && grep -qF "set VISD_SOCKET or XDG_RUNTIME_DIR" "$T/err"; then pass
+else fail "no socket variables (status $rc)"; fi
+VISD_SOCKET="$N" "$V" sync >"$T/out" 2>"$T/err"
+rc=$?
+if [ "$rc" -eq 1 ] && grep -qF "$N" "$T/err"; then pass; else fail "VISD_SOCKET (status $rc)"; fi
+f=$(scene ok.script '# creates nothing before the failure\nmap 1\n')
+expect_fail "script without daemon" 1 "$f:2: " -s "$N" script "$f"
+
 # --- good scenes ------------------------------------------------------------------------------
 states='2 unobscured\n5 partially-obscured\n9 fully-obscured\n'
 expect_out "output in ascending ID order" "$states" compute "$good"

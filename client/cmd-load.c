@@ -1,0 +1,147 @@
+/*
+ * `visctl load`: a scene file becomes live windows, all created in one batch so that the daemon
+ * recomputes once. The scene is parsed completely before connecting: a bad scene changes nothing.
+ */
+#include <errno.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "live.h"
+#include "scene.h"
+#include "visctl.h"
+
+/* Requests queued between two waits for the socket, so that a large scene never piles up. */
+#define LOAD_DRAIN_EVERY 4096
+
+/* The created replies, which come in request order, hence in scene order. */
+struct load {
+	uint32_t *windows;
+	size_t created;
+	bool failed;
+	size_t failed_at;
+	struct vis_error error;
+};
+
+/* Called with each created reply. */
+static void on_created(void *data, const struct vis_error *err, uint32_t window)
+{
+	struct load *ld = data;
+	if (err && !ld->failed) {
+		ld->failed = true;
+		ld->failed_at = ld->created;
+		ld->error = *err;
+	}
+	ld->windows[ld->created++] = window;
+}
+
+/* Reads and parses the scene; a usage status (2) for bad input, as compute does. */
+static int read_scene(struct live *l, const char *path, struct vis_scene *scene)
+{
+	const char *shown = strcmp(path, "-") == 0 ? "<stdin>" : path;
+	char *text;
+	size_t len;
+	if (visctl_read_all(path, &text, &len) < 0) {
+		int saved = errno;
+		fprintf(stderr, "%s%s%s: cannot read: %s\n", l->in_script ? l->where : "",
+			l->in_script ? ": " : "", shown, strerror(saved));
+		return saved == ENOMEM ? VISCTL_EXIT_FAILURE : VISCTL_EXIT_USAGE;
+	}
+	struct vis_scene_error err;
+	int r = vis_scene_parse(scene, text, len, &err);
+	free(text);
+	if (r == 0)
+		return VISCTL_EXIT_OK;
+	if (l->in_script)
+		fprintf(stderr, "%s: ", l->where);
+	if (err.line == 0) {
+		fprintf(stderr, "%s: %s\n", shown, err.reason);
+		return VISCTL_EXIT_FAILURE;
+	}
+	fprintf(stderr, "%s:%zu: %s\n", shown, err.line, err.reason);
+	return VISCTL_EXIT_USAGE;
+}
+
+/* Sends the batch and waits for every window's ID; 0, or -1 when something failed. */
+static int send_batch(struct vis_client *c, const struct vis_scene *scene, uint32_t flags,
+		      struct load *ld)
+{
+	uint32_t begin = vis_client_batch_begin(c);
+	if (!begin)
+		return -1;
+	for (size_t i = 0; i < scene->n; i++) {
+		const struct vis_rect *r = &scene->rects[i];
+		if (!vis_client_create_async(c, VIS_WINDOW_ROOT, r->x, r->y, (uint32_t)r->w,
+					     (uint32_t)r->h, flags, on_created, ld))
+			return -1;
+		if ((i + 1) % LOAD_DRAIN_EVERY == 0 && live_drain(c) < 0)
+			return -1;
+	}
+	if (!vis_client_batch_commit(c))
+		return -1;
+	struct vis_error e;
+	if (vis_client_roundtrip(c) < 0 || ld->failed)
+		return -1;
+	/* batch-begin or batch-commit may have failed without a reply to carry it. */
+	if (vis_client_last_error(c, &e) && e.seq >= begin)
+		return -1;
+	return 0;
+}
+
+int cmd_load(struct live *l, int argc, char **argv)
+{
+	uint32_t flags = VIS_CREATE_MAP;
+	const char *path = NULL;
+	struct load ld = { 0 };
+	for (int i = 1; i < argc; i++) {
+		const char *a = argv[i];
+		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+			printf("usage: visctl load [--retain] SCENE\n"
+			       "  Creates the scene's windows, mapped, in one batch (file order is bottom\n"
+			       "  to top) and prints 'SCENE_ID WINDOW_ID' for each. SCENE is a path or '-'.\n");
+			return fflush(stdout) == 0 ? VISCTL_EXIT_OK : VISCTL_EXIT_FAILURE;
+		}
+		if (strcmp(a, "--retain") == 0)
+			flags |= VIS_CREATE_RETAIN;
+		else if (a[0] == '-' && a[1] != '\0')
+			return live_usage(l, argv[0], "unknown option '%s'", a);
+		else if (path)
+			return live_usage(l, argv[0], "unexpected argument '%s'", a);
+		else
+			path = a;
+	}
+	if (!path)
+		return live_usage(l, argv[0], "missing SCENE");
+
+	struct vis_scene scene;
+	vis_scene_init(&scene);
+	int ret = read_scene(l, path, &scene);
+	if (ret != VISCTL_EXIT_OK)
+		goto out;
+	ld.windows = malloc((scene.n ? scene.n : 1) * sizeof(uint32_t));
+	if (!ld.windows) {
+		ret = live_error(l, "load: %s", strerror(ENOMEM));
+		goto out;
+	}
+	ret = VISCTL_EXIT_FAILURE;
+	if (!live_connect(l))
+		goto out;
+	if (send_batch(l->client, &scene, flags, &ld) < 0) {
+		char what[256];
+		if (ld.failed && !vis_client_error(l->client))
+			live_error(l, "load %s: create of window %u: %s: %s", path,
+				   scene.ids[ld.failed_at], vis_error_code_name(ld.error.code),
+				   ld.error.message);
+		else
+			live_failed(l, live_describe(argc, argv, what, sizeof(what)));
+		goto out;
+	}
+	for (size_t i = 0; i < scene.n; i++)
+		printf("%u %u\n", scene.ids[i], ld.windows[i]);
+	ret = VISCTL_EXIT_OK;
+out:
+	free(ld.windows);
+	vis_scene_finish(&scene);
+	return ret;
+}

@@ -1,0 +1,128 @@
+/* The connection and the error reports visctl's live subcommands share. */
+#include <errno.h>
+#include <poll.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "live.h"
+#include "visctl.h"
+
+struct vis_client *live_connect(struct live *l)
+{
+	if (l->client)
+		return l->client;
+	char path[108];
+	if (!l->socket && vis_client_default_socket(path, sizeof(path)) < 0) {
+		live_error(l, "no socket: set VISD_SOCKET or XDG_RUNTIME_DIR, or give -s SOCKET");
+		return NULL;
+	}
+	struct vis_client *c = vis_client_connect(l->socket ? l->socket : path, l->role);
+	if (!c) {
+		live_error(l, "%s", strerror(ENOMEM));
+		return NULL;
+	}
+	if (vis_client_error(c)) {
+		/* Name the socket, unless the library's message does already. */
+		const char *msg = vis_client_error_message(c), *at = l->socket ? l->socket : path;
+		if (strstr(msg, at))
+			live_error(l, "%s", msg);
+		else
+			live_error(l, "%s: %s", at, msg);
+		vis_client_destroy(c);
+		return NULL;
+	}
+	l->client = c;
+	return c;
+}
+
+int live_error(struct live *l, const char *fmt, ...)
+{
+	va_list ap;
+	fprintf(stderr, "%s: ", l->where);
+	va_start(ap, fmt);
+	vfprintf(stderr, fmt, ap);
+	va_end(ap);
+	fputc('\n', stderr);
+	return VISCTL_EXIT_FAILURE;
+}
+
+int live_usage(struct live *l, const char *name, const char *fmt, ...)
+{
+	va_list ap;
+	fprintf(stderr, "%s: %s: ", l->where, name);
+	va_start(ap, fmt);
+	vfprintf(stderr, fmt, ap);
+	va_end(ap);
+	fputc('\n', stderr);
+	const struct visctl_command *cmd = visctl_command_find(name);
+	if (cmd)
+		fprintf(stderr, "usage: visctl %s%s%s\n", name, cmd->usage[0] ? " " : "",
+			cmd->usage);
+	return VISCTL_EXIT_USAGE;
+}
+
+int live_failed(struct live *l, const char *what)
+{
+	struct vis_error e;
+	if (!l->client)
+		return VISCTL_EXIT_FAILURE;
+	if (vis_client_error(l->client))
+		return live_error(l, "%s: %s", what, vis_client_error_message(l->client));
+	if (vis_client_last_error(l->client, &e))
+		return live_error(l, "%s: %s: %s", what, vis_error_code_name(e.code), e.message);
+	return live_error(l, "%s: failed", what);
+}
+
+const char *live_describe(int argc, char **argv, char *buf, size_t len)
+{
+	size_t at = 0;
+	buf[0] = '\0';
+	for (int i = 0; i < argc && at < len; i++) {
+		int n = snprintf(buf + at, len - at, "%s%s", i ? " " : "", argv[i]);
+		if (n < 0)
+			break;
+		at += (size_t)n;
+	}
+	return buf;
+}
+
+int live_parse_u32(const char *s, uint32_t *out)
+{
+	uint64_t v = 0;
+	if (!*s)
+		return -1;
+	for (; *s; s++) {
+		if (*s < '0' || *s > '9')
+			return -1;
+		v = v * 10 + (uint64_t)(*s - '0');
+		if (v > UINT32_MAX)
+			return -1;
+	}
+	*out = (uint32_t)v;
+	return 0;
+}
+
+int live_parse_i32(const char *s, int32_t *out)
+{
+	uint32_t v;
+	int neg = *s == '-';
+	if (live_parse_u32(s + neg, &v) < 0 || v > (uint32_t)INT32_MAX + (uint32_t)neg)
+		return -1;
+	*out = neg ? (int32_t)(0 - (int64_t)v) : (int32_t)v;
+	return 0;
+}
+
+int live_drain(struct vis_client *c)
+{
+	int f;
+	while ((f = vis_client_flush(c)) == 1) {
+		struct pollfd pfd = { .fd = vis_client_fd(c), .events = POLLIN | POLLOUT };
+		if (poll(&pfd, 1, -1) < 0 && errno != EINTR)
+			return -1;
+		if ((pfd.revents & (POLLIN | POLLHUP | POLLERR)) && vis_client_dispatch(c) < 0)
+			return -1;
+	}
+	return f;
+}

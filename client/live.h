@@ -1,0 +1,50 @@
+/*
+ * What visctl's live subcommands (the ones that talk to visd) share: one connection, opened by
+ * the first command that needs it and kept for a whole script, and the way errors are reported.
+ */
+#ifndef VISCTL_LIVE_H
+#define VISCTL_LIVE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "vis/visclient.h"
+
+struct live {
+	const char *socket; /* -s SOCKET, or NULL for the default */
+	uint32_t role;      /* enum vis_role, from --role */
+	struct vis_client *client; /* NULL until a command connects */
+	const char *where; /* what messages start with: "visctl", or "FILE:LINE" in a script */
+	bool in_script;
+};
+
+/* A live subcommand: argv[0] is its name; returns a VISCTL_EXIT_* status. */
+typedef int (*live_fn)(struct live *l, int argc, char **argv);
+
+/* The connection, opened on first use; NULL after saying why on stderr. */
+struct vis_client *live_connect(struct live *l);
+
+/* Says "WHERE: message" on stderr; returns VISCTL_EXIT_FAILURE. */
+int live_error(struct live *l, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* Says "WHERE: NAME: message" and the command's usage line on stderr; returns VISCTL_EXIT_USAGE. */
+int live_usage(struct live *l, const char *name, const char *fmt, ...)
+	__attribute__((format(printf, 3, 4)));
+
+/*
+ * Reports the failure of what the command asked (e.g. "map 42"): the connection's error if it
+ * failed, else the daemon's last error (code name and message). Returns VISCTL_EXIT_FAILURE.
+ */
+int live_failed(struct live *l, const char *what);
+
+/* The command line, "NAME ARG …", for messages naming the request. */
+const char *live_describe(int argc, char **argv, char *buf, size_t len);
+
+/* Parses plain decimal numbers ('-' allowed for signed ones). Return 0, or -1. */
+int live_parse_u32(const char *s, uint32_t *out);
+int live_parse_i32(const char *s, int32_t *out);
+
+/* Writes all queued requests, reading what comes meanwhile. Returns 0, or -1 (connection error). */
+int live_drain(struct vis_client *c);
+
+#endif
