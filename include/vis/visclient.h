@@ -6,8 +6,10 @@
  * - connection errors are sticky: once the connection fails (the daemon went away, sent bytes
  *   that do not parse, or memory ran out), every later call fails at once with the same error;
  *   vis_client_error() and vis_client_error_message() say what it was;
- * - protocol errors answer one request; the last one is kept (vis_client_last_error()) and given
- *   to the error handler, if one is set.
+ * - protocol errors answer one request; the last one is kept (vis_client_last_error()). An error
+ *   for a request with a callback goes to that callback; any other (a request without a reply,
+ *   or a fatal error naming no waiting request) goes to the error handler, if one is set.
+ * Once the connection has failed, the callbacks of requests still waiting are never called.
  *
  * Requests are numbered from 1 (hello) on, one per request sent, like X's sequence numbers;
  * functions that send a request return its number (0 on failure). Every window argument is a
@@ -108,7 +110,9 @@ VIS_EXPORT int vis_client_default_socket(char *buf, size_t len);
 /*
  * Connects to the daemon at path (NULL: the default socket) and performs the handshake, asking for
  * role (enum vis_role). Synchronous. Returns a connection, or NULL only when memory runs out;
- * check vis_client_error() before use.
+ * check vis_client_error() before use. A refused handshake leaves EACCES (role not allowed),
+ * EBUSY (the manager role is taken), EPROTONOSUPPORT (version) or ECONNREFUSED, and the daemon's
+ * error in vis_client_last_error().
  */
 VIS_EXPORT struct vis_client *vis_client_connect(const char *path, uint32_t role);
 
@@ -155,7 +159,8 @@ VIS_EXPORT int vis_client_flush(struct vis_client *c);
 VIS_EXPORT int vis_client_roundtrip(struct vis_client *c);
 
 /* Requests without a reply: queued (and flushed when the buffer fills); return the request's
- * number, 0 on a connection error. */
+ * number, 0 on a connection error. A queue the daemon does not drain (64 MiB) fails the
+ * connection with ENOBUFS rather than block or grow without bound. */
 VIS_EXPORT uint32_t vis_client_destroy_window(struct vis_client *c, uint32_t window);
 VIS_EXPORT uint32_t vis_client_map(struct vis_client *c, uint32_t window);
 VIS_EXPORT uint32_t vis_client_unmap(struct vis_client *c, uint32_t window);
