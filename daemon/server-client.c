@@ -226,9 +226,8 @@ static void handle(struct client *c, uint32_t seq, const struct vis_msg *m, cons
 	} else if (op == VIS_OP_BATCH_BEGIN) {
 		server_client_error(c, seq, op, VIS_ERROR_STATE, "batch-begin inside a batch");
 	} else if (!batchable(op)) {
-		server_client_error(c, seq, op, VIS_ERROR_STATE,
-				    "%s is not allowed inside a batch (stack changes only)",
-				    m->type->name);
+		/* Nothing held has taken effect: queries see the states from before the batch. */
+		server_client_dispatch(c, seq, m);
 	} else if (evbuffer_get_length(c->batch) + 4 + m->size > c->server->opt.max_batch) {
 		server_client_error(c, seq, op, VIS_ERROR_LIMIT,
 				    "the batch holds over %u bytes; this request was dropped",

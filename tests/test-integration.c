@@ -1,0 +1,724 @@
+/*
+ * Integration tests: a real visd on a private socket, driven through libvisclient. Every request
+ * and notice, errors and refusals, batches, child clipping, roles, disconnect cleanup, retained
+ * windows, many clients, and the key property: after random changes, the daemon's states equal
+ * the core's on the same scene, and the notices seen by an observer add up to those states.
+ * Usage: test-integration VISD [SEED]
+ */
+#include <dirent.h>
+#include <stdbool.h>
+#include <errno.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "engine.h"
+#include "rng.h"
+#include "vis/visclient.h"
+
+#define SCREEN_W 200
+#define SCREEN_H 100
+
+static char dir[64], sock[128], rsock[128];
+static pid_t daemon_pid;
+static const char *current = "start";
+
+static void fail(int line, const char *fmt, ...) __attribute__((format(printf, 2, 3), noreturn));
+static void fail(int line, const char *fmt, ...)
+{
+	va_list ap;
+	va_start(ap, fmt);
+	fprintf(stderr, "test-integration.c:%d: %s: ", line, current);
+	vfprintf(stderr, fmt, ap);
+	fputc('\n', stderr);
+	va_end(ap);
+	if (daemon_pid > 0)
+		kill(daemon_pid, SIGKILL);
+	exit(1);
+}
+#define CHECK(cond, ...)                          \
+	do {                                      \
+		if (!(cond))                      \
+			fail(__LINE__, __VA_ARGS__); \
+	} while (0)
+
+/* Recorded notices, with exposure rectangles copied. */
+struct rec {
+	struct vis_notice n;
+	struct vis_rect32 rects[32];
+};
+struct log {
+	struct rec *v;
+	size_t n, cap;
+};
+
+static void on_notice(void *data, const struct vis_notice *n)
+{
+	struct log *l = data;
+	if (l->n == l->cap) {
+		l->cap = l->cap ? 2 * l->cap : 64;
+		l->v = realloc(l->v, l->cap * sizeof *l->v);
+	}
+	struct rec *r = &l->v[l->n++];
+	r->n = *n;
+	if (n->kind == VIS_NOTICE_KIND_EXPOSURE) {
+		size_t k = n->exposure.n_rects < 32 ? n->exposure.n_rects : 32;
+		memcpy(r->rects, n->exposure.rects, k * sizeof *r->rects);
+		r->n.exposure.rects = r->rects;
+	}
+}
+
+static struct vis_client *connect_to(const char *path, uint32_t role, struct log *log)
+{
+	struct vis_client *c = vis_client_connect(path, role);
+	CHECK(c && !vis_client_error(c), "connect as role %u: %s", role,
+	      c ? vis_client_error_message(c) : "out of memory");
+	if (log)
+		vis_client_set_notice_handler(c, on_notice, log);
+	return c;
+}
+
+static int count_fds(pid_t pid)
+{
+	char path[64];
+	snprintf(path, sizeof path, "/proc/%d/fd", (int)pid);
+	DIR *d = opendir(path);
+	if (!d)
+		return -1;
+	int n = 0;
+	while (readdir(d))
+		n++;
+	closedir(d);
+	return n;
+}
+
+static void start_daemon(const char *visd)
+{
+	snprintf(dir, sizeof dir, "/tmp/visd-test-XXXXXX");
+	CHECK(mkdtemp(dir), "mkdtemp: %s", strerror(errno));
+	snprintf(sock, sizeof sock, "%s/sock", dir);
+	snprintf(rsock, sizeof rsock, "%s/restricted", dir);
+	daemon_pid = fork();
+	CHECK(daemon_pid >= 0, "fork");
+	if (daemon_pid == 0) {
+		execl(visd, visd, "--socket", sock, "--restricted-socket", rsock, "--screen", "200x100",
+		      (char *)NULL);
+		perror(visd);
+		_exit(127);
+	}
+	for (int i = 0; i < 500; i++) {
+		if (access(sock, F_OK) == 0 && access(rsock, F_OK) == 0)
+			return;
+		usleep(10000);
+	}
+	fail(__LINE__, "visd did not create %s", sock);
+}
+
+static void stop_daemon(void)
+{
+	kill(daemon_pid, SIGTERM);
+	int status;
+	waitpid(daemon_pid, &status, 0);
+	CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 0, "visd exited with status %#x", status);
+	CHECK(access(sock, F_OK) < 0 && access(rsock, F_OK) < 0, "visd left its sockets behind");
+	char lock[160];
+	snprintf(lock, sizeof lock, "%s.lock", sock);
+	CHECK(access(lock, F_OK) < 0, "visd left its lock behind");
+	rmdir(dir);
+}
+
+static uint32_t create(struct vis_client *c, uint32_t parent, int32_t x, int32_t y, uint32_t w,
+		       uint32_t h, uint32_t flags)
+{
+	uint32_t id = 0;
+	CHECK(vis_client_create(c, parent, x, y, w, h, flags, &id) == 0, "create failed");
+	return id;
+}
+
+static uint32_t state_of(struct vis_client *c, uint32_t w)
+{
+	uint32_t s = 99;
+	CHECK(vis_client_get_state(c, w, &s) == 0, "get-state %u failed", w);
+	return s;
+}
+
+/* Expects the last protocol error to be code for request seq. */
+static void expect_error(struct vis_client *c, uint32_t seq, uint32_t code, int line)
+{
+	vis_client_roundtrip(c);
+	struct vis_error e;
+	if (!vis_client_last_error(c, &e) || e.seq != seq || e.code != code)
+		fail(line, "request %u: wanted error %s, got %s (seq %u: %s)", seq,
+		     vis_error_code_name(code), vis_client_last_error(c, &e) ? vis_error_code_name(e.code) : "none",
+		     e.seq, e.message);
+}
+
+/* The last visibility notice for w in a log, or NULL. */
+static const struct vis_notice *last_visibility(const struct log *l, uint32_t w)
+{
+	for (size_t i = l->n; i-- > 0;)
+		if (l->v[i].n.kind == VIS_NOTICE_KIND_VISIBILITY && l->v[i].n.window == w)
+			return &l->v[i].n;
+	return NULL;
+}
+
+static void check_serials(const struct log *l)
+{
+	for (size_t i = 0; i < l->n; i++)
+		CHECK(l->v[i].n.serial == i + 1, "notice %zu has serial %llu", i + 1,
+		      (unsigned long long)l->v[i].n.serial);
+}
+
+/* Requests and notices on one connection: states, regions, occlusion, exposure, stack notices. */
+static void test_requests(void)
+{
+	current = "requests";
+	struct log log = { 0 };
+	struct vis_client *a = connect_to(sock, VIS_ROLE_CLIENT, &log);
+	vis_client_subscribe(a, VIS_WINDOW_ALL, VIS_NOTICE_ALL, 0);
+	uint32_t w1 = create(a, 0, 0, 0, 100, 50, VIS_CREATE_MAP);
+	const struct vis_notice *n = last_visibility(&log, w1);
+	CHECK(n && n->visibility.state == VIS_VISIBILITY_UNOBSCURED &&
+		      n->visibility.previous == VIS_VISIBILITY_NONE,
+	      "no first visibility notice after mapping");
+	CHECK(log.n == 4 && log.v[0].n.kind == VIS_NOTICE_KIND_STACK &&
+		      log.v[0].n.stack.change == VIS_STACK_CREATE &&
+		      log.v[1].n.stack.change == VIS_STACK_MAP &&
+		      log.v[3].n.kind == VIS_NOTICE_KIND_EXPOSURE,
+	      "create+map: wanted create, map, visibility, exposure; got %zu notices", log.n);
+	CHECK(log.v[3].n.exposure.n_rects == 1 && log.v[3].rects[0].width == 100 &&
+		      log.v[3].rects[0].height == 50,
+	      "the first exposure is not the whole window");
+
+	uint32_t w2 = create(a, 0, 50, 25, 100, 50, VIS_CREATE_MAP);
+	CHECK(state_of(a, w1) == VIS_VISIBILITY_PARTIALLY_OBSCURED, "w1 not partially obscured");
+	CHECK(last_visibility(&log, w1)->visibility.previous == VIS_VISIBILITY_UNOBSCURED,
+	      "w1's notice has the wrong previous state");
+	struct vis_window_state *st;
+	size_t n_st;
+	CHECK(vis_client_get_states(a, &st, &n_st) == 0 && n_st == 2 && st[0].window == w1 &&
+		      st[1].window == w2 && st[1].state == VIS_VISIBILITY_UNOBSCURED,
+	      "get-states");
+	free(st);
+	struct vis_rect32 *r;
+	size_t n_r;
+	CHECK(vis_client_get_region(a, w1, &r, &n_r) == 0 && n_r == 2 && r[0].x == 0 &&
+		      r[0].y == 0 && r[0].width == 100 && r[0].height == 25 && r[1].x == 0 &&
+		      r[1].y == 25 && r[1].width == 50 && r[1].height == 25,
+	      "get-region of w1");
+	free(r);
+	uint32_t *ids;
+	size_t n_ids;
+	CHECK(vis_client_get_repaint(a, (struct vis_rect32){ 0, 0, 40, 40 }, &ids, &n_ids) == 0 &&
+		      n_ids == 1 && ids[0] == w1,
+	      "get-repaint of a corner only w1 shows in");
+	free(ids);
+
+	/* Cover w1 exactly: the occlusion notice. Then raise it: all of it is exposed again. */
+	vis_client_move(a, w2, 0, 0);
+	vis_client_resize(a, w2, 100, 50);
+	CHECK(vis_client_sync(a) == 0, "move/resize failed");
+	n = last_visibility(&log, w1);
+	CHECK(n->visibility.state == VIS_VISIBILITY_FULLY_OBSCURED, "no occlusion notice");
+	size_t before = log.n;
+	vis_client_raise(a, w1);
+	CHECK(vis_client_sync(a) == 0, "raise failed");
+	CHECK(state_of(a, w1) == VIS_VISIBILITY_UNOBSCURED && state_of(a, w2) == 2, "raise");
+	/* Notices of the raise: stack, then in stacking order w2's visibility, w1's visibility and
+	 * exposure. */
+	CHECK(log.n == before + 4 && log.v[before].n.stack.change == VIS_STACK_RESTACK &&
+		      log.v[before].n.stack.sibling == w2 && log.v[before + 1].n.window == w2 &&
+		      log.v[before + 2].n.kind == VIS_NOTICE_KIND_VISIBILITY &&
+		      log.v[before + 2].n.window == w1 &&
+		      log.v[before + 3].n.kind == VIS_NOTICE_KIND_EXPOSURE &&
+		      log.v[before + 3].n.window == w1 && log.v[before + 3].rects[0].width == 100,
+	      "raise: wanted stack, visibility of w2, visibility and exposure of w1");
+	vis_client_restack(a, w1, VIS_RESTACK_BELOW, w2);
+	vis_client_lower(a, w2);
+	CHECK(vis_client_sync(a) == 0 && state_of(a, w1) == 0 && state_of(a, w2) == 2,
+	      "restack/lower");
+
+	/* Unmapping sends no visibility notice; mapping again always does. */
+	before = log.n;
+	vis_client_unmap(a, w1);
+	CHECK(vis_client_sync(a) == 0 && state_of(a, w1) == VIS_VISIBILITY_NONE, "unmap");
+	CHECK(last_visibility(&log, w2)->visibility.state == 0, "unmap: w2 not unobscured");
+	for (size_t i = before; i < log.n; i++)
+		CHECK(!(log.v[i].n.kind == VIS_NOTICE_KIND_VISIBILITY && log.v[i].n.window == w1),
+		      "unmap sent a visibility notice");
+	vis_client_map(a, w1);
+	CHECK(vis_client_sync(a) == 0, "map");
+	n = last_visibility(&log, w1);
+	CHECK(n->visibility.state == 0 && n->visibility.previous == VIS_VISIBILITY_NONE,
+	      "map: no first-state notice");
+
+	/* A window partly off-screen is never unobscured. */
+	vis_client_move(a, w1, 150, 0);
+	CHECK(vis_client_sync(a) == 0 && state_of(a, w1) == 1, "off-screen part");
+	vis_client_move(a, w1, 1000, 1000);
+	CHECK(vis_client_sync(a) == 0 && state_of(a, w1) == 2, "wholly off-screen");
+
+	vis_client_destroy_window(a, w2);
+	CHECK(vis_client_sync(a) == 0, "destroy");
+	uint32_t seq = vis_client_get_state_async(a, w2, NULL, NULL);
+	expect_error(a, seq, VIS_ERROR_WINDOW, __LINE__);
+	check_serials(&log);
+	vis_client_destroy(a);
+	free(log.v);
+}
+
+/* Exposures past the subscription's rectangle limit collapse to their bounding box. */
+static void test_exposure_limit(void)
+{
+	current = "exposure limit";
+	struct log log = { 0 };
+	struct vis_client *a = connect_to(sock, VIS_ROLE_CLIENT, &log);
+	uint32_t w = create(a, 0, 0, 0, 60, 60, VIS_CREATE_MAP);
+	uint32_t top = create(a, 0, 20, 20, 20, 20, VIS_CREATE_MAP);
+	uint32_t cover = create(a, 0, 0, 0, 60, 60, VIS_CREATE_MAP);
+	vis_client_subscribe(a, w, VIS_NOTICE_EXPOSURE, 1);
+	/* Uncovering w leaves a frame around top: 3 bands of rectangles, over the limit of 1. */
+	vis_client_destroy_window(a, cover);
+	CHECK(vis_client_sync(a) == 0, "destroy");
+	CHECK(log.n == 1 && log.v[0].n.kind == VIS_NOTICE_KIND_EXPOSURE &&
+		      log.v[0].n.exposure.flags == VIS_EXPOSURE_COLLAPSED &&
+		      log.v[0].n.exposure.n_rects == 1 && log.v[0].rects[0].width == 60 &&
+		      log.v[0].rects[0].height == 60,
+	      "wanted one collapsed exposure of 60x60, got %zu notices", log.n);
+	/* Within the limit: the exact rectangles. */
+	vis_client_subscribe(a, w, VIS_NOTICE_EXPOSURE, 0);
+	vis_client_destroy_window(a, top);
+	CHECK(vis_client_sync(a) == 0, "destroy top");
+	CHECK(log.n == 2 && log.v[1].n.exposure.flags == 0 && log.v[1].n.exposure.n_rects == 1 &&
+		      log.v[1].rects[0].x == 20 && log.v[1].rects[0].width == 20,
+	      "uncovering the middle");
+	/* A move keeps the contents: nothing new shows. A resize forgets them: all of it. */
+	vis_client_move(a, w, 5, 5);
+	CHECK(vis_client_sync(a) == 0 && log.n == 2, "a move exposed something");
+	vis_client_resize(a, w, 60, 61);
+	CHECK(vis_client_sync(a) == 0 && log.n == 3 && log.v[2].rects[0].height == 61,
+	      "a resize did not expose the whole window");
+	vis_client_destroy(a);
+	free(log.v);
+}
+
+/* Errors and refusals, each naming its request; roles and the restricted socket. */
+static void test_errors_and_roles(void)
+{
+	current = "errors and roles";
+	struct vis_client *a = connect_to(sock, VIS_ROLE_CLIENT, NULL);
+	struct vis_client *b = connect_to(sock, VIS_ROLE_CLIENT, NULL);
+	struct vis_client *obs = connect_to(sock, VIS_ROLE_OBSERVER, NULL);
+	struct vis_client *mgr = connect_to(sock, VIS_ROLE_MANAGER, NULL);
+	CHECK(vis_client_role(obs) == VIS_ROLE_OBSERVER && vis_client_role(mgr) == VIS_ROLE_MANAGER,
+	      "roles not granted");
+	uint32_t sw, sh;
+	vis_client_screen(a, &sw, &sh);
+	CHECK(sw == SCREEN_W && sh == SCREEN_H, "screen %ux%u", sw, sh);
+
+	uint32_t p = create(a, 0, 0, 0, 50, 50, VIS_CREATE_MAP);
+	uint32_t q = create(a, 0, 10, 10, 50, 50, VIS_CREATE_MAP);
+	uint32_t child = create(a, p, 1, 1, 5, 5, VIS_CREATE_MAP);
+
+	expect_error(a, vis_client_get_state_async(a, 9999, NULL, NULL), VIS_ERROR_WINDOW, __LINE__);
+	uint32_t id;
+	CHECK(vis_client_create(a, 0, 0, 0, 0, 5, 0, &id) < 0, "a zero width was accepted");
+	struct vis_error e;
+	CHECK(vis_client_last_error(a, &e) && e.code == VIS_ERROR_VALUE && e.opcode == 2 &&
+		      strstr(e.message, "width"),
+	      "a zero width: wrong error");
+	expect_error(a, vis_client_create_async(a, 0, 0, 0, 5, 5, 8, NULL, NULL), VIS_ERROR_VALUE,
+		     __LINE__);
+	expect_error(a, vis_client_create_async(a, 0, 0, 0, 0x80000000u, 5, 0, NULL, NULL),
+		     VIS_ERROR_VALUE, __LINE__);
+	expect_error(a, vis_client_restack(a, child, VIS_RESTACK_ABOVE, q), VIS_ERROR_MATCH,
+		     __LINE__);
+	expect_error(a, vis_client_restack(a, q, 7, p), VIS_ERROR_VALUE, __LINE__);
+	expect_error(a, vis_client_restack(a, q, 0, q), VIS_ERROR_MATCH, __LINE__);
+	expect_error(a, vis_client_reparent(a, p, child, 0, 0), VIS_ERROR_MATCH, __LINE__);
+	expect_error(a, vis_client_reparent(a, p, p, 0, 0), VIS_ERROR_MATCH, __LINE__);
+	expect_error(a, vis_client_batch_commit(a), VIS_ERROR_STATE, __LINE__);
+	expect_error(a, vis_client_unsubscribe(a, p), VIS_ERROR_VALUE, __LINE__);
+	expect_error(a, vis_client_subscribe(a, p, 0, 0), VIS_ERROR_VALUE, __LINE__);
+	expect_error(a, vis_client_subscribe(a, p, 8, 0), VIS_ERROR_VALUE, __LINE__);
+	expect_error(a, vis_client_get_repaint_async(a, (struct vis_rect32){ 0, 0, 0, 1 }, NULL,
+						     NULL),
+		     VIS_ERROR_VALUE, __LINE__);
+	/* Inside a batch, queries answer at once, from the states before it. */
+	vis_client_batch_begin(a);
+	vis_client_unmap(a, q);
+	CHECK(state_of(a, q) == VIS_VISIBILITY_UNOBSCURED, "a query inside a batch");
+	uint32_t nested = vis_client_batch_begin(a);
+	expect_error(a, nested, VIS_ERROR_STATE, __LINE__);
+	vis_client_batch_commit(a);
+	vis_client_roundtrip(a);
+	CHECK(state_of(a, q) == VIS_VISIBILITY_NONE, "batch commit");
+	vis_client_map(a, q);
+	vis_client_roundtrip(a);
+
+	/* Another client sees none of a's windows; an observer sees but changes nothing. */
+	expect_error(b, vis_client_map(b, p), VIS_ERROR_WINDOW, __LINE__);
+	expect_error(b, vis_client_subscribe(b, p, 1, 0), VIS_ERROR_WINDOW, __LINE__);
+	expect_error(b, vis_client_get_region_async(b, p, NULL, NULL), VIS_ERROR_WINDOW, __LINE__);
+	expect_error(b, vis_client_create_async(b, p, 0, 0, 5, 5, 0, NULL, NULL), VIS_ERROR_WINDOW,
+		     __LINE__);
+	uint32_t bw = create(b, 0, 0, 0, 5, 5, 0);
+	expect_error(b, vis_client_restack(b, bw, 0, q), VIS_ERROR_WINDOW, __LINE__);
+	struct vis_window_state *st;
+	size_t n;
+	CHECK(vis_client_get_states(b, &st, &n) == 0 && n == 0, "b sees %zu states", n);
+	free(st);
+	CHECK(state_of(obs, p) == VIS_VISIBILITY_PARTIALLY_OBSCURED, "observer reads a state");
+	CHECK(vis_client_get_states(obs, &st, &n) == 0 && n == 3, "observer sees %zu states", n);
+	free(st);
+	expect_error(obs, vis_client_unmap(obs, p), VIS_ERROR_ACCESS, __LINE__);
+	expect_error(obs, vis_client_create_async(obs, 0, 0, 0, 5, 5, 0, NULL, NULL),
+		     VIS_ERROR_ACCESS, __LINE__);
+	/* The manager changes anyone's windows. */
+	vis_client_unmap(mgr, q);
+	CHECK(vis_client_sync(mgr) == 0 && state_of(a, q) == VIS_VISIBILITY_NONE, "manager unmap");
+
+	/* One manager at a time; no roles on the restricted socket. */
+	struct vis_client *m2 = vis_client_connect(sock, VIS_ROLE_MANAGER);
+	CHECK(m2 && vis_client_error(m2), "a second manager was accepted");
+	vis_client_destroy(m2);
+	struct vis_client *r = vis_client_connect(rsock, VIS_ROLE_OBSERVER);
+	CHECK(r && vis_client_error(r), "a role was granted on the restricted socket");
+	vis_client_destroy(r);
+	r = connect_to(rsock, VIS_ROLE_CLIENT, NULL);
+	CHECK(create(r, 0, 0, 0, 5, 5, VIS_CREATE_MAP) > 0, "restricted client create");
+	vis_client_destroy(r);
+	/* Once the manager goes, another may take the role. */
+	vis_client_destroy(mgr);
+	for (int i = 0;; i++) {
+		m2 = vis_client_connect(sock, VIS_ROLE_MANAGER);
+		if (!vis_client_error(m2))
+			break;
+		vis_client_destroy(m2);
+		CHECK(i < 200, "the manager role was not released");
+		usleep(10000);
+	}
+	vis_client_destroy(m2);
+	vis_client_destroy(a);
+	vis_client_destroy(b);
+	vis_client_destroy(obs);
+}
+
+/* Waits until the observer sees exactly `want` windows (disconnects are handled asynchronously). */
+static void wait_windows(struct vis_client *obs, size_t want)
+{
+	for (int i = 0; i < 300; i++) {
+		struct vis_window_info *t;
+		size_t n;
+		CHECK(vis_client_get_tree(obs, &t, &n) == 0, "get-tree");
+		free(t);
+		if (n == want)
+			return;
+		usleep(10000);
+	}
+	fail(__LINE__, "the observer never saw %zu windows", want);
+}
+
+/* A batch is one recompute: changes that cancel out inside it send no visibility notice. */
+static void test_batch(void)
+{
+	current = "batch";
+	struct log log = { 0 };
+	struct vis_client *obs = connect_to(sock, VIS_ROLE_OBSERVER, &log);
+	struct vis_client *a = connect_to(sock, VIS_ROLE_CLIENT, NULL);
+	uint32_t w = create(a, 0, 0, 0, 50, 50, VIS_CREATE_MAP);
+	vis_client_subscribe(obs, VIS_WINDOW_ALL, VIS_NOTICE_VISIBILITY, 0);
+	CHECK(vis_client_sync(obs) == 0, "subscribe");
+	vis_client_batch_begin(a);
+	uint32_t cover = 0;
+	vis_client_create_async(a, 0, 0, 0, 50, 50, VIS_CREATE_MAP, NULL, NULL);
+	vis_client_move(a, w, 100, 0);
+	vis_client_move(a, w, 0, 0);
+	vis_client_batch_commit(a);
+	CHECK(vis_client_sync(a) == 0, "batch failed");
+	vis_client_roundtrip(obs);
+	/* Only the new window's first state and w's occlusion: no state in between. */
+	struct vis_window_info *t;
+	size_t n;
+	CHECK(vis_client_get_tree(a, &t, &n) == 0 && n == 2, "tree after batch");
+	cover = t[1].window;
+	free(t);
+	CHECK(log.n == 2 && log.v[0].n.window == w && log.v[0].n.visibility.state == 2 &&
+		      log.v[1].n.window == cover && log.v[1].n.visibility.state == 0,
+	      "batch: wanted 2 notices, got %zu", log.n);
+	/* Inside a batch, an unmap then a map leaves nothing to notice. */
+	vis_client_batch_begin(a);
+	vis_client_unmap(a, cover);
+	vis_client_map(a, cover);
+	vis_client_batch_commit(a);
+	CHECK(vis_client_sync(a) == 0 && (vis_client_roundtrip(obs), log.n == 2),
+	      "unmap+map in a batch sent notices");
+	vis_client_destroy(a);
+	vis_client_destroy(obs);
+	free(log.v);
+}
+
+/* Children: clipped by the parent, never obscuring it, unviewable with it. */
+static void test_children(void)
+{
+	current = "children";
+	struct log log = { 0 };
+	struct vis_client *a = connect_to(sock, VIS_ROLE_CLIENT, &log);
+	uint32_t p = create(a, 0, 10, 10, 50, 50, VIS_CREATE_MAP);
+	uint32_t out = create(a, p, 40, 40, 30, 30, VIS_CREATE_MAP);
+	uint32_t in = create(a, p, 5, 5, 10, 10, VIS_CREATE_MAP);
+	uint32_t all = create(a, p, 0, 0, 50, 50, 0);
+	CHECK(state_of(a, p) == 0, "a parent is not obscured by its children");
+	CHECK(state_of(a, out) == 1, "a child cut by its parent is partially obscured");
+	CHECK(state_of(a, in) == 0, "an inner child is unobscured");
+	CHECK(state_of(a, all) == VIS_VISIBILITY_NONE, "unmapped child has a state");
+	vis_client_map(a, all);
+	CHECK(vis_client_sync(a) == 0 && state_of(a, p) == 0 && state_of(a, in) == 2 &&
+		      state_of(a, out) == 2,
+	      "a child covering its parent");
+	struct vis_rect32 *r;
+	size_t n;
+	CHECK(vis_client_get_region(a, p, &r, &n) == 0 && n == 0, "parent's own region not empty");
+	free(r);
+	uint32_t s = create(a, 0, 0, 0, 20, 20, VIS_CREATE_MAP);
+	CHECK(state_of(a, p) == 1 && state_of(a, all) == 1, "a sibling over the parent");
+	vis_client_subscribe(a, VIS_WINDOW_ALL, VIS_NOTICE_VISIBILITY, 0);
+	vis_client_unmap(a, p);
+	CHECK(vis_client_sync(a) == 0 && state_of(a, in) == VIS_VISIBILITY_NONE, "unmapped parent");
+	size_t before = log.n;
+	vis_client_map(a, p);
+	CHECK(vis_client_sync(a) == 0, "map parent");
+	CHECK(log.n == before + 4, "mapping the parent: %zu notices, wanted 4 (p, out, in, all)",
+	      log.n - before);
+	for (size_t i = before; i < log.n; i++)
+		CHECK(log.v[i].n.visibility.previous == VIS_VISIBILITY_NONE, "previous not none");
+	/* Reparent the covering child to the top level: it now obscures the parent. */
+	vis_client_reparent(a, all, 0, 10, 10);
+	CHECK(vis_client_sync(a) == 0 && state_of(a, p) == 2 && state_of(a, s) == 1,
+	      "reparent to the screen");
+	vis_client_destroy(a);
+	free(log.v);
+}
+
+/* Disconnects destroy a client's windows, except retained ones; fds are not leaked. */
+static void test_disconnect(void)
+{
+	current = "disconnect";
+	struct log log = { 0 };
+	struct vis_client *obs = connect_to(sock, VIS_ROLE_OBSERVER, &log);
+	wait_windows(obs, 0);
+	int fds = count_fds(daemon_pid);
+	vis_client_subscribe(obs, VIS_WINDOW_ALL, VIS_NOTICE_STACK, 0);
+	vis_client_roundtrip(obs);
+	struct vis_client *a = connect_to(sock, VIS_ROLE_CLIENT, NULL);
+	uint32_t w = create(a, 0, 0, 0, 10, 10, VIS_CREATE_MAP);
+	uint32_t kept = create(a, 0, 0, 0, 10, 10, VIS_CREATE_MAP | VIS_CREATE_RETAIN);
+	uint32_t child = create(a, kept, 0, 0, 5, 5, VIS_CREATE_MAP);
+	vis_client_destroy(a);
+	wait_windows(obs, 1);
+	vis_client_roundtrip(obs);
+	size_t destroyed = 0;
+	for (size_t i = 0; i < log.n; i++)
+		if (log.v[i].n.kind == VIS_NOTICE_KIND_STACK &&
+		    log.v[i].n.stack.change == VIS_STACK_DESTROY)
+			destroyed += log.v[i].n.window == w || log.v[i].n.window == child;
+	CHECK(destroyed == 2, "destroy notices for %zu of 2 windows", destroyed);
+	struct vis_window_info *t;
+	size_t n;
+	CHECK(vis_client_get_tree(obs, &t, &n) == 0 && n == 1 && t[0].window == kept &&
+		      (t[0].flags & VIS_WINDOW_RETAINED),
+	      "the retained window is gone");
+	free(t);
+	/* 64 clients at once, then all gone: the daemon is back to its descriptors. */
+	struct vis_client *many[64];
+	for (int i = 0; i < 64; i++) {
+		many[i] = connect_to(sock, VIS_ROLE_CLIENT, NULL);
+		create(many[i], 0, i, i, 20, 20, VIS_CREATE_MAP);
+	}
+	wait_windows(obs, 65);
+	for (int i = 0; i < 64; i++)
+		vis_client_destroy(many[i]);
+	wait_windows(obs, 1);
+	struct vis_client *mgr = connect_to(sock, VIS_ROLE_MANAGER, NULL);
+	vis_client_destroy_window(mgr, kept);
+	CHECK(vis_client_sync(mgr) == 0, "manager destroys the retained window");
+	vis_client_destroy(mgr);
+	wait_windows(obs, 0);
+	CHECK(count_fds(daemon_pid) == fds, "the daemon holds %d descriptors, %d before",
+	      count_fds(daemon_pid), fds);
+	vis_client_destroy(obs);
+	free(log.v);
+}
+
+/*
+ * The key property: after random changes by a manager, the daemon's states equal the core's on
+ * the same scene (the tree, read back, as a stack), and the last visibility notice an observer got
+ * for each viewable window is its state.
+ */
+static int checks;
+
+static void test_random(uint64_t seed, int steps)
+{
+	char name[64];
+	snprintf(name, sizeof name, "random (seed %llu)", (unsigned long long)seed);
+	current = name;
+	struct vis_rng rng = { seed };
+	struct log log = { 0 };
+	struct vis_client *mgr = connect_to(sock, VIS_ROLE_MANAGER, NULL);
+	struct vis_client *obs = connect_to(sock, VIS_ROLE_OBSERVER, &log);
+	vis_client_subscribe(obs, VIS_WINDOW_ALL, VIS_NOTICE_VISIBILITY, 0);
+	vis_client_roundtrip(obs);
+	/* The model: the stack as the test expects it, bottom to top. */
+	struct model {
+		uint32_t id;
+		struct vis_rect r;
+		bool mapped;
+	} m[64], tmp;
+	size_t n = 0;
+	for (int step = 0; step < steps; step++) {
+		int op = (int)vis_rng_below(&rng, 10);
+		int32_t x = (int32_t)vis_rng_range(&rng, -20, SCREEN_W);
+		int32_t y = (int32_t)vis_rng_range(&rng, -20, SCREEN_H);
+		uint32_t w = 1 + (uint32_t)vis_rng_below(&rng, vis_rng_below(&rng, 4) ? 60 : 220);
+		uint32_t h = 1 + (uint32_t)vis_rng_below(&rng, vis_rng_below(&rng, 4) ? 40 : 120);
+		if (n < 2 || (op == 0 && n < 64)) {
+			bool map = vis_rng_below(&rng, 5) != 0;
+			m[n].id = create(mgr, 0, x, y, w, h, map ? VIS_CREATE_MAP : 0);
+			m[n].r = (struct vis_rect){ x, y, (int32_t)w, (int32_t)h };
+			m[n++].mapped = map;
+			continue;
+		}
+		size_t k = (size_t)vis_rng_below(&rng, n), j = (size_t)vis_rng_below(&rng, n);
+		uint32_t id = m[k].id;
+		tmp = m[k];
+		switch (op) {
+		case 1:
+			vis_client_destroy_window(mgr, id);
+			memmove(&m[k], &m[k + 1], (n - k - 1) * sizeof *m);
+			n--;
+			break;
+		case 2:
+		case 3:
+			op == 2 ? vis_client_map(mgr, id) : vis_client_unmap(mgr, id);
+			m[k].mapped = op == 2;
+			break;
+		case 4:
+			vis_client_move(mgr, id, x, y);
+			m[k].r.x = x;
+			m[k].r.y = y;
+			break;
+		case 5:
+			vis_client_resize(mgr, id, w, h);
+			m[k].r.w = (int32_t)w;
+			m[k].r.h = (int32_t)h;
+			break;
+		case 6:
+		case 7:
+			op == 6 ? vis_client_raise(mgr, id) : vis_client_lower(mgr, id);
+			memmove(&m[k], &m[k + 1], (n - k - 1) * sizeof *m);
+			if (op == 6) {
+				m[n - 1] = tmp;
+			} else {
+				memmove(&m[1], &m[0], (n - 1) * sizeof *m);
+				m[0] = tmp;
+			}
+			break;
+		default: {
+			if (j == k)
+				break;
+			uint32_t sib = m[j].id;
+			vis_client_restack(mgr, id, op == 8 ? VIS_RESTACK_ABOVE : VIS_RESTACK_BELOW, sib);
+			memmove(&m[k], &m[k + 1], (n - k - 1) * sizeof *m);
+			size_t at = 0;
+			while (m[at].id != sib)
+				at++;
+			at += op == 8;
+			memmove(&m[at + 1], &m[at], (n - 1 - at) * sizeof *m);
+			m[at] = tmp;
+		}
+		}
+		if (step % 7)
+			continue;
+		CHECK(vis_client_sync(mgr) == 0, "a change failed at step %d", step);
+		struct vis_window_info *t;
+		size_t nt;
+		struct vis_window_state *st;
+		size_t ns;
+		CHECK(vis_client_get_tree(mgr, &t, &nt) == 0 && vis_client_get_states(mgr, &st, &ns) == 0,
+		      "queries");
+		CHECK(nt == n, "step %d: the daemon has %zu windows, the model %zu", step, nt, n);
+		struct vis_rect rects[64];
+		uint32_t of[64];
+		uint8_t want[64];
+		size_t mapped = 0;
+		for (size_t i = 0; i < n; i++) {
+			CHECK(t[i].window == m[i].id && t[i].x == m[i].r.x && t[i].y == m[i].r.y &&
+				      t[i].width == (uint32_t)m[i].r.w &&
+				      t[i].height == (uint32_t)m[i].r.h &&
+				      !!(t[i].flags & VIS_WINDOW_MAPPED) == m[i].mapped,
+			      "step %d: window %zu of the stack is %u, the model says %u", step, i,
+			      t[i].window, m[i].id);
+			if (m[i].mapped) {
+				rects[mapped] = m[i].r;
+				of[mapped++] = m[i].id;
+			}
+		}
+		struct vis_stack stack = { rects, mapped, true, SCREEN_W, SCREEN_H };
+		CHECK(vis_compute(VIS_ENGINE_BRUTE, &stack, want) == 0, "brute force");
+		CHECK(ns == mapped, "step %d: %zu states for %zu mapped windows", step, ns, mapped);
+		vis_client_roundtrip(obs);
+		for (size_t i = 0; i < mapped; i++) {
+			uint32_t got = 99;
+			for (size_t q = 0; q < ns; q++)
+				if (st[q].window == of[i])
+					got = st[q].state;
+			CHECK(got == want[i], "step %d: window %u is %s, the core says %s", step, of[i],
+			      vis_visibility_name(got), vis_visibility_name(want[i]));
+			const struct vis_notice *v = last_visibility(&log, of[i]);
+			CHECK(v && v->visibility.state == got,
+			      "step %d: the observer's last notice for %u says %s, the state is %s", step,
+			      of[i], v ? vis_visibility_name(v->visibility.state) : "nothing",
+			      vis_visibility_name(got));
+		}
+		free(t);
+		free(st);
+		checks++;
+	}
+	check_serials(&log);
+	vis_client_destroy(mgr);
+	vis_client_destroy(obs);
+	free(log.v);
+}
+
+int main(int argc, char **argv)
+{
+	if (argc < 2) {
+		fprintf(stderr, "usage: test-integration VISD [SEED]\n");
+		return 2;
+	}
+	signal(SIGPIPE, SIG_IGN);
+	start_daemon(argv[1]);
+	if (argc > 2) {
+		test_random(strtoull(argv[2], NULL, 10), 700);
+	} else {
+		test_requests();
+		test_exposure_limit();
+		test_errors_and_roles();
+		test_batch();
+		test_children();
+		test_disconnect();
+		for (uint64_t seed = 1; seed <= 12; seed++)
+			test_random(seed, 700);
+	}
+	current = "shutdown";
+	stop_daemon();
+	printf("integration: every request, notice and refusal as documented; %d random stacks "
+	       "agree with the model and the core\n", checks);
+	return 0;
+}

@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# visctl's live subcommands against a real visd on a private socket: the daemon's states equal
+# `visctl compute` on the same scene; scripts, watch, exit codes; visd's own start-up errors.
+# Usage: test-live.sh VISD VISCTL
+set -uo pipefail
+visd=$1
+visctl=$2
+dir=$(mktemp -d /tmp/visd-live-XXXXXX)
+sock=$dir/sock
+pid=
+cleanup() {
+	[ -n "$pid" ] && kill "$pid" 2>/dev/null
+	rm -rf "$dir"
+}
+trap cleanup EXIT
+failures=0
+fail() {
+	echo "FAIL: $*" >&2
+	failures=$((failures + 1))
+}
+
+"$visd" --socket "$sock" --screen 3840x2160 2>"$dir/visd.log" &
+pid=$!
+for _ in $(seq 100); do [ -S "$sock" ] && break; sleep 0.05; done
+[ -S "$sock" ] || { echo "visd did not start" >&2; cat "$dir/visd.log" >&2; exit 1; }
+v() { "$visctl" -s "$sock" "$@"; }
+
+# The key property, through the command line: load a scene, read the states back.
+for kind in random tiles cascade; do
+	"$visctl" gen $kind 300 7 >"$dir/scene" || fail "gen $kind"
+	v load --retain "$dir/scene" >"$dir/map" || fail "load $kind"
+	[ "$(wc -l <"$dir/map")" -eq 300 ] || fail "load $kind printed $(wc -l <"$dir/map") lines"
+	"$visctl" compute "$dir/scene" >"$dir/want.scene-ids" || fail "compute $kind"
+	awk 'NR == FNR { id[$1] = $2; next } { print id[$1], $2 }' "$dir/map" "$dir/want.scene-ids" |
+		sort -n >"$dir/want"
+	v --role observer states | sort -n >"$dir/got.all"
+	# Earlier scenes' windows are still there (retained): compare only this scene's.
+	awk 'NR == FNR { mine[$2] = 1; next } ($1 in mine)' "$dir/map" "$dir/got.all" >"$dir/got"
+	cmp -s "$dir/want" "$dir/got" || fail "$kind: daemon states differ from visctl compute"
+	# Clear the screen for the next scene.
+	cut -d' ' -f2 "$dir/map" | sed 's/^/destroy /' >"$dir/clear"
+	v --role manager script "$dir/clear" || fail "clearing $kind"
+done
+[ -z "$(v --role observer states)" ] || fail "windows left after clearing"
+
+# A script: one connection, its windows gone with it unless retained.
+cat >"$dir/script" <<'SCRIPT'
+# a window, a child, and a query
+create 0 0 100 100 --map
+states
+SCRIPT
+out=$(v script "$dir/script") || fail "script failed"
+[ "$(echo "$out" | wc -l)" -eq 2 ] && [ "$(echo "$out" | sed -n 2p | cut -d' ' -f2)" = unobscured ] ||
+	fail "script output: $out"
+[ -z "$(v --role observer states)" ] || fail "a script's windows outlived it"
+printf 'create 0 0 10 10\nmap 999999\n' >"$dir/bad-script"
+v script "$dir/bad-script" >/dev/null 2>"$dir/err"
+[ $? -eq 1 ] && grep -q "bad-script:2:" "$dir/err" || fail "a failing script line: $(cat "$dir/err")"
+
+# Daemon errors: exit 1, naming the request and the reason.
+v map 999999 2>"$dir/err"
+[ $? -eq 1 ] && grep -q "map" "$dir/err" && grep -q "no such window" "$dir/err" ||
+	fail "map of a missing window: $(cat "$dir/err")"
+"$visctl" -s "$dir/nothing" states 2>"$dir/err"
+[ $? -eq 1 ] && grep -q "$dir/nothing" "$dir/err" || fail "no daemon: $(cat "$dir/err")"
+
+# watch: notices as lines, and as JSON.
+v --role observer watch --count 3 >"$dir/watch" &
+wpid=$!
+sleep 0.5
+id=$(v create 10 10 50 50 --map --retain) || fail "create"
+wait $wpid || fail "watch exited $?"
+grep -q "^1 stack create $id " "$dir/watch" && grep -q "^2 stack map $id " "$dir/watch" &&
+	grep -q "^3 visibility $id unobscured none$" "$dir/watch" || fail "watch lines: $(cat "$dir/watch")"
+v --role observer watch --json --count 2 "$id" >"$dir/watch.json" &
+wpid=$!
+sleep 0.5
+v --role manager move "$id" 3800 2000 || fail "move"
+wait $wpid || fail "watch --json exited $?"
+grep -q "\"notice\":\"visibility\",\"window\":$id,\"state\":\"partially-obscured\",\"previous\":\"unobscured\"" \
+	"$dir/watch.json" || fail "watch --json: $(cat "$dir/watch.json")"
+v --role manager destroy "$id" || fail "destroy"
+
+# visd's own errors: a second daemon on the same socket, bad options.
+"$visd" --socket "$sock" 2>"$dir/err"
+[ $? -eq 1 ] && grep -q "another visd" "$dir/err" || fail "second daemon: $(cat "$dir/err")"
+"$visd" --screen 0x5 --socket "$dir/x" 2>/dev/null
+[ $? -eq 2 ] || fail "visd --screen 0x5 was accepted"
+env -u VISD_SOCKET -u XDG_RUNTIME_DIR "$visd" 2>"$dir/err"
+[ $? -eq 2 ] && grep -q "VISD_SOCKET" "$dir/err" || fail "no socket path: $(cat "$dir/err")"
+mode=$(stat -c %a "$sock")
+[ $((8#$mode & 8#077)) -eq 0 ] || fail "the socket is open to others: mode $mode"
+
+kill "$pid"
+wait "$pid" || fail "visd exited $? on SIGTERM"
+pid=
+[ ! -e "$sock" ] && [ ! -e "$sock.lock" ] || fail "visd left its socket or lock behind"
+if grep -qE "ERROR|runtime error" "$dir/visd.log"; then fail "visd log: $(cat "$dir/visd.log")"; fi
+[ $failures -eq 0 ] && echo "live: every check passed"
+exit $((failures > 0))
