@@ -66,6 +66,7 @@ struct vis_client {
 	int connected; /* the handshake succeeded */
 	uint32_t role, id, screen_width, screen_height, max_request;
 	uint32_t next_seq, answered;
+	int in_batch; /* batch-begin sent, batch-commit not yet: the daemon holds requests */
 	uint64_t next_serial;
 
 	struct vis_buf out, in;
@@ -102,6 +103,12 @@ uint32_t vis_client_send(struct vis_client *c, uint32_t opcode, const union vis_
 
 /* Blocks until *done is set by a callback or the connection fails. Returns 0 or -1. */
 int vis_client_wait(struct vis_client *c, const int *done);
+
+/*
+ * Whether a synchronous call must be refused: inside a batch the daemon holds every request until
+ * batch-commit, so waiting for a reply would wait forever. Sets errno to EDEADLK then.
+ */
+int vis_client_refuse_in_batch(const struct vis_client *c);
 
 /* How many protocol errors the connection has received, to tell whether a sync saw new ones. */
 unsigned long vis_client_error_count(const struct vis_client *c);

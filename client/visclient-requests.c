@@ -68,12 +68,18 @@ uint32_t vis_client_reparent(struct vis_client *c, uint32_t window, uint32_t par
 
 uint32_t vis_client_batch_begin(struct vis_client *c)
 {
-	return vis_client_send(c, VIS_OP_BATCH_BEGIN, NULL, NULL);
+	uint32_t seq = vis_client_send(c, VIS_OP_BATCH_BEGIN, NULL, NULL);
+	if (seq)
+		c->in_batch = 1;
+	return seq;
 }
 
 uint32_t vis_client_batch_commit(struct vis_client *c)
 {
-	return vis_client_send(c, VIS_OP_BATCH_COMMIT, NULL, NULL);
+	uint32_t seq = vis_client_send(c, VIS_OP_BATCH_COMMIT, NULL, NULL);
+	if (seq)
+		c->in_batch = 0;
+	return seq;
 }
 
 uint32_t vis_client_subscribe(struct vis_client *c, uint32_t window, uint32_t mask,
@@ -233,6 +239,8 @@ int vis_client_create(struct vis_client *c, uint32_t parent, int32_t x, int32_t 
 		      uint32_t height, uint32_t flags, uint32_t *window)
 {
 	struct answer a = { 0 };
+	if (vis_client_refuse_in_batch(c))
+		return -1;
 	if (await(c, vis_client_create_async(c, parent, x, y, width, height, flags, on_created, &a),
 		  &a) < 0)
 		return -1;
@@ -243,6 +251,8 @@ int vis_client_create(struct vis_client *c, uint32_t parent, int32_t x, int32_t 
 int vis_client_get_state(struct vis_client *c, uint32_t window, uint32_t *state)
 {
 	struct answer a = { 0 };
+	if (vis_client_refuse_in_batch(c))
+		return -1;
 	if (await(c, vis_client_get_state_async(c, window, on_state, &a), &a) < 0)
 		return -1;
 	*state = a.state;
@@ -252,6 +262,8 @@ int vis_client_get_state(struct vis_client *c, uint32_t window, uint32_t *state)
 int vis_client_get_states(struct vis_client *c, struct vis_window_state **states, size_t *n)
 {
 	struct answer a = { 0 };
+	if (vis_client_refuse_in_batch(c))
+		return -1;
 	if (await(c, vis_client_get_states_async(c, on_states, &a), &a) < 0)
 		return -1;
 	*states = a.items;
@@ -262,6 +274,8 @@ int vis_client_get_states(struct vis_client *c, struct vis_window_state **states
 int vis_client_get_tree(struct vis_client *c, struct vis_window_info **windows, size_t *n)
 {
 	struct answer a = { 0 };
+	if (vis_client_refuse_in_batch(c))
+		return -1;
 	if (await(c, vis_client_get_tree_async(c, on_tree, &a), &a) < 0)
 		return -1;
 	*windows = a.items;
@@ -273,6 +287,8 @@ int vis_client_get_region(struct vis_client *c, uint32_t window, struct vis_rect
 			  size_t *n)
 {
 	struct answer a = { 0 };
+	if (vis_client_refuse_in_batch(c))
+		return -1;
 	if (await(c, vis_client_get_region_async(c, window, on_rects, &a), &a) < 0)
 		return -1;
 	*rects = a.items;
@@ -284,6 +300,8 @@ int vis_client_get_repaint(struct vis_client *c, struct vis_rect32 damage, uint3
 			   size_t *n)
 {
 	struct answer a = { 0 };
+	if (vis_client_refuse_in_batch(c))
+		return -1;
 	if (await(c, vis_client_get_repaint_async(c, damage, on_windows, &a), &a) < 0)
 		return -1;
 	*windows = a.items;

@@ -193,9 +193,19 @@ static void on_done(void *data, const struct vis_error *err)
 	*(int *)data = 1;
 }
 
+int vis_client_refuse_in_batch(const struct vis_client *c)
+{
+	if (!c->in_batch)
+		return 0;
+	errno = EDEADLK;
+	return 1;
+}
+
 int vis_client_roundtrip(struct vis_client *c)
 {
 	int done = 0;
+	if (vis_client_refuse_in_batch(c))
+		return -1;
 	if (!vis_client_sync_async(c, on_done, &done))
 		return -1;
 	return vis_client_wait(c, &done);

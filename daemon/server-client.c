@@ -172,13 +172,11 @@ const struct sub *server_client_sub_for(const struct client *c, const struct vis
 	return all;
 }
 
-/* Whether a request may wait in a batch: the stack changes. */
-static bool batchable(uint32_t opcode)
-{
-	return opcode >= VIS_OP_CREATE && opcode <= VIS_OP_REPARENT;
-}
-
-/* Runs the requests held since batch-begin, with one recompute at the end. */
+/*
+ * Runs the requests held since batch-begin in order, with one recompute at the end: queries met on
+ * the way answer from the states computed before the batch, so that replies keep request order
+ * and nobody sees a state between the batch's changes.
+ */
 static void commit_batch(struct client *c)
 {
 	struct server *server = c->server;
@@ -190,7 +188,12 @@ static void commit_batch(struct client *c)
 		p = evbuffer_pullup(c->batch, 4 + (ssize_t)size);
 		struct vis_msg m;
 		char why[200];
-		if (vis_msg_decode(p + 4, size, size, 1, &m, why, sizeof why) == VIS_DECODE_OK)
+		if (vis_msg_decode(p + 4, size, size, 1, &m, why, sizeof why) != VIS_DECODE_OK)
+			log_error("client %u: a held request no longer decodes: %s", c->id, why);
+		else if (m.type->opcode == VIS_OP_BATCH_BEGIN)
+			server_client_error(c, seq, VIS_OP_BATCH_BEGIN, VIS_ERROR_STATE,
+					    "batch-begin inside a batch");
+		else
 			server_client_dispatch(c, seq, &m);
 		evbuffer_drain(c->batch, 4 + (size_t)size);
 	}
@@ -223,15 +226,12 @@ static void handle(struct client *c, uint32_t seq, const struct vis_msg *m, cons
 	}
 	if (op == VIS_OP_BATCH_COMMIT) {
 		commit_batch(c);
-	} else if (op == VIS_OP_BATCH_BEGIN) {
-		server_client_error(c, seq, op, VIS_ERROR_STATE, "batch-begin inside a batch");
-	} else if (!batchable(op)) {
-		/* Nothing held has taken effect: queries see the states from before the batch. */
-		server_client_dispatch(c, seq, m);
 	} else if (evbuffer_get_length(c->batch) + 4 + m->size > c->server->opt.max_batch) {
+		/* Fatal: answering now would break the order of the replies to what is held. */
 		server_client_error(c, seq, op, VIS_ERROR_LIMIT,
-				    "the batch holds over %u bytes; this request was dropped",
+				    "the batch holds over %u bytes; closing the connection",
 				    c->server->opt.max_batch);
+		server_client_close(c);
 	} else {
 		uint8_t s[4];
 		vis_wire_put_u32(s, seq);

@@ -275,7 +275,7 @@ static void do_get_states(struct client *c, uint32_t seq)
 		goto out;
 	}
 	for (size_t i = 0; i < tree->n_order; i++)
-		if (server_may_see(c, tree->order[i])) {
+		if (tree->order[i] && server_may_see(c, tree->order[i])) {
 			keys[n] = tree->order[i]->id;
 			vals[n++] = tree->order[i]->state;
 		}

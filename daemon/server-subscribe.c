@@ -37,7 +37,7 @@ static void track_covered(struct client *c, const struct sub *s)
 		return;
 	}
 	for (size_t i = 0; i < server->tree.n_order; i++)
-		if (server_may_see(c, server->tree.order[i]))
+		if (server->tree.order[i] && server_may_see(c, server->tree.order[i]))
 			server_track(server->tree.order[i], server);
 }
 

@@ -78,8 +78,10 @@ static int sweep(const struct vis_wtree *tree, uint32_t max_depth, struct vis_bo
 	size_t n = 0;
 	for (size_t i = 0; i < tree->n_order; i++) {
 		const struct vis_window *w = tree->order[i];
-		struct vis_box c = vis_box_intersect(w->clip, within);
 		state_of[i] = VIS_FULLY_OBSCURED;
+		if (!w)
+			continue;
+		struct vis_box c = vis_box_intersect(w->clip, within);
 		if (vis_box_empty(c) || (max_depth && w->depth > max_depth))
 			continue;
 		rects[n] = box_rect(c);
@@ -170,6 +172,8 @@ int vis_wtree_visible_region(const struct vis_wtree *tree, const struct vis_wind
 	if (!boxes)
 		return -1;
 	for (size_t i = window->pos + 1; i < tree->n_order; i++) {
+		if (!tree->order[i])
+			continue;
 		struct vis_box c = vis_box_intersect(tree->order[i]->clip, clip);
 		if (vis_box_empty(c))
 			continue;

@@ -129,6 +129,9 @@ void vis_wtree_destroy(struct vis_wtree *tree, struct vis_window *window,
 		}
 		if (parent)
 			unlink_window(w);
+		/* Until the next compute, the order may be read (queries in a batch): drop w from it. */
+		if (w->pos < tree->n_order && tree->order[w->pos] == w)
+			tree->order[w->pos] = NULL;
 		vis_idmap_remove(&tree->ids, w->id);
 		tree->count--;
 		free(w);

@@ -41,7 +41,8 @@ struct vis_wtree {
 	struct vis_idmap ids;
 	uint32_t next_id;
 	size_t count;
-	/* Viewable windows in pre-order (bottom to top) after vis_wtree_compute(). */
+	/* Viewable windows in pre-order (bottom to top) after vis_wtree_compute(); windows destroyed
+	 * since leave NULL behind. */
 	struct vis_window **order;
 	size_t n_order, cap_order;
 };

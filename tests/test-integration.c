@@ -148,6 +148,19 @@ static uint32_t state_of(struct vis_client *c, uint32_t w)
 	return s;
 }
 
+static void on_state(void *data, const struct vis_error *err, uint32_t window, uint32_t state)
+{
+	(void)window;
+	if (!err)
+		*(uint32_t *)data = state;
+}
+
+static void on_created(void *data, const struct vis_error *err, uint32_t window)
+{
+	if (!err)
+		*(uint32_t *)data = window;
+}
+
 /* Expects the last protocol error to be code for request seq. */
 static void expect_error(struct vis_client *c, uint32_t seq, uint32_t code, int line)
 {
@@ -350,15 +363,21 @@ static void test_errors_and_roles(void)
 	expect_error(a, vis_client_get_repaint_async(a, (struct vis_rect32){ 0, 0, 0, 1 }, NULL,
 						     NULL),
 		     VIS_ERROR_VALUE, __LINE__);
-	/* Inside a batch, queries answer at once, from the states before it. */
+	/* Inside a batch everything is held: replies keep request order, and queries answer from
+	 * the states before the batch; synchronous calls would wait forever and are refused. */
 	vis_client_batch_begin(a);
 	vis_client_unmap(a, q);
-	CHECK(state_of(a, q) == VIS_VISIBILITY_UNOBSCURED, "a query inside a batch");
+	uint32_t held_state = 99;
+	uint32_t s1 = vis_client_get_state_async(a, q, on_state, &held_state);
 	uint32_t nested = vis_client_batch_begin(a);
-	expect_error(a, nested, VIS_ERROR_STATE, __LINE__);
+	uint32_t s2 = vis_client_create_async(a, 0, 0, 0, 5, 5, 0, on_created, &id);
+	CHECK(s1 && s2 && vis_client_get_state(a, q, &held_state) < 0 && errno == EDEADLK,
+	      "a synchronous call inside a batch was not refused");
 	vis_client_batch_commit(a);
-	vis_client_roundtrip(a);
+	expect_error(a, nested, VIS_ERROR_STATE, __LINE__);
+	CHECK(held_state == VIS_VISIBILITY_UNOBSCURED && id > child, "held query and create");
 	CHECK(state_of(a, q) == VIS_VISIBILITY_NONE, "batch commit");
+	vis_client_destroy_window(a, id);
 	vis_client_map(a, q);
 	vis_client_roundtrip(a);
 

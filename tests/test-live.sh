@@ -64,22 +64,35 @@ v map 999999 2>"$dir/err"
 "$visctl" -s "$dir/nothing" states 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "$dir/nothing" "$dir/err" || fail "no daemon: $(cat "$dir/err")"
 
-# watch: notices as lines, and as JSON.
-v --role observer watch --count 3 >"$dir/watch" &
+# watch: notices as lines, and as JSON. A probe window tells when watch has subscribed.
+await_line() { # FILE PATTERN: waits up to 10 s for a line
+	for _ in $(seq 200); do grep -qE "$2" "$1" 2>/dev/null && return 0; sleep 0.05; done
+	return 1
+}
+"$visctl" -s "$sock" --role observer watch >"$dir/watch" &
 wpid=$!
-sleep 0.5
+probe=$(v create 0 0 1 1 --retain) || fail "probe"
+until [ -s "$dir/watch" ]; do v --role manager move "$probe" 1 1 && v --role manager move "$probe" 0 0; done
 id=$(v create 10 10 50 50 --map --retain) || fail "create"
-wait $wpid || fail "watch exited $?"
-grep -q "^1 stack create $id " "$dir/watch" && grep -q "^2 stack map $id " "$dir/watch" &&
-	grep -q "^3 visibility $id unobscured none$" "$dir/watch" || fail "watch lines: $(cat "$dir/watch")"
-v --role observer watch --json --count 2 "$id" >"$dir/watch.json" &
+await_line "$dir/watch" "^[0-9]+ visibility $id " || fail "watch saw no visibility of $id"
+kill $wpid
+wait $wpid
+grep -qE "^[0-9]+ stack create $id 0 10,10,50,50 $probe$" "$dir/watch" &&
+	grep -qE "^[0-9]+ stack map $id " "$dir/watch" &&
+	grep -qE "^[0-9]+ visibility $id unobscured none$" "$dir/watch" &&
+	grep -qE "^[0-9]+ exposure $id 0,0,50,50$" "$dir/watch" || fail "watch lines: $(cat "$dir/watch")"
+awk '{ if ($1 != NR) bad = 1 } END { exit bad }' "$dir/watch" || fail "watch serials have gaps"
+"$visctl" -s "$sock" --role observer watch --json "$id" >"$dir/watch.json" &
 wpid=$!
-sleep 0.5
+until [ -s "$dir/watch.json" ]; do v --role manager resize "$id" 50 50 || break; done
 v --role manager move "$id" 3800 2000 || fail "move"
-wait $wpid || fail "watch --json exited $?"
+await_line "$dir/watch.json" "visibility" || fail "watch --json saw no visibility notice"
+kill $wpid
+wait $wpid
 grep -q "\"notice\":\"visibility\",\"window\":$id,\"state\":\"partially-obscured\",\"previous\":\"unobscured\"" \
 	"$dir/watch.json" || fail "watch --json: $(cat "$dir/watch.json")"
 v --role manager destroy "$id" || fail "destroy"
+v --role manager destroy "$probe" || fail "destroy probe"
 
 # visd's own errors: a second daemon on the same socket, bad options.
 "$visd" --socket "$sock" 2>"$dir/err"

@@ -32,20 +32,63 @@ build() {
 
 demo() {
 	build build-release --buildtype=release
-	scene=$(mktemp --suffix=.scene)
-	trap 'rm -f "$scene" "$scene.out"' EXIT
-	build-release/client/visctl gen random 10000 1 >"$scene"
-	echo "== a generated desktop: 10,000 windows on a 3840x2160 screen ($scene)"
-	build-release/client/visctl compute --time "$scene" >"$scene.out"
-	echo "== how many windows are in each state:"
-	awk '{ n[$2]++ } END { for (s in n) printf "   %-20s %d\n", s, n[s] }' "$scene.out" | sort
-	echo "== the windows that can be seen (ID STATE):"
-	grep -v fully-obscured "$scene.out" | sed 's/^/   /'
-	echo "== the same scene with every engine:"
+	local bin=build-release tmp
+	tmp=$(mktemp -d)
+	local sock=$tmp/visd-0
+	visd_pid=
+	watch_pid=
+	# shellcheck disable=SC2064
+	trap "kill \${watch_pid:-} 2>/dev/null; sleep 0.1; kill \${visd_pid:-} 2>/dev/null; rm -rf '$tmp'" EXIT
+	local visctl=$bin/client/visctl
+	v() { "$visctl" -s "$sock" "$@"; }
+
+	"$visctl" gen random 10000 1 >"$tmp/big.scene"
+	echo "== offline: visctl compute on a generated desktop of 10,000 windows"
+	"$visctl" compute --time "$tmp/big.scene" >"$tmp/big.out"
+	awk '{ n[$2]++ } END { for (s in n) printf "   %-20s %d\n", s, n[s] }' "$tmp/big.out" | sort
 	for e in auto gmv gmv-heap region; do
 		printf '   %-9s ' "$e"
-		build-release/client/visctl compute --engine="$e" --time "$scene" 2>&1 >/dev/null
+		"$visctl" compute --engine="$e" --time "$tmp/big.scene" 2>&1 >/dev/null
 	done
+
+	echo "== the daemon: visd --socket $sock --screen 3840x2160"
+	"$bin/daemon/visd" --socket "$sock" --screen 3840x2160 &
+	visd_pid=$!
+	for _ in $(seq 100); do [ -S "$sock" ] && break; sleep 0.05; done
+	echo "== an observer watches every window: visctl --role observer watch"
+	"$visctl" -s "$sock" --role observer watch >"$tmp/watch" &
+	watch_pid=$!
+	sleep 0.3
+	"$visctl" gen random 200 1 >"$tmp/desk.scene"
+	echo "== visctl load --retain: 200 windows created and mapped in one batch"
+	v load --retain "$tmp/desk.scene" >"$tmp/map"
+	echo "== visctl --role observer states, summed up:"
+	v --role observer states | awk '{ n[$2]++ } END { for (s in n) printf "   %-20s %d\n", s, n[s] }' |
+		sort
+	"$visctl" compute "$tmp/desk.scene" >"$tmp/desk.out"
+	awk 'NR == FNR { id[$1] = $2; next } { print id[$1], $2 }' "$tmp/map" "$tmp/desk.out" |
+		sort -n >"$tmp/want"
+	if v --role observer states | cmp -s - "$tmp/want"; then
+		echo "   (the same states as visctl compute on the scene file)"
+	else
+		echo "   DIFFERENT from visctl compute on the scene file" >&2
+	fi
+	echo "== an application: its window, covered by a popup, then uncovered (visctl script)"
+	cat >"$tmp/app" <<'SCRIPT'
+create 100 100 640 480 --map --retain
+SCRIPT
+	local app
+	app=$(v script "$tmp/app")
+	v --role manager raise "$app"
+	local popup
+	popup=$(v create 50 50 800 600 --map --retain)
+	v --role manager move "$popup" 3000 1500
+	v --role manager destroy "$popup"
+	v sync
+	sleep 0.2
+	echo "== what the observer saw about them (serial, notice, window, …):"
+	grep -E " ($app|$popup) " "$tmp/watch" | sed 's/^/   /'
+	echo "== $(wc -l <"$tmp/watch") notices in all; visctl watch --json prints JSON; see proto/PROTOCOL.md"
 }
 
 run_tests() {

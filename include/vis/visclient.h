@@ -213,8 +213,11 @@ VIS_EXPORT uint32_t vis_client_get_repaint_async(struct vis_client *c, struct vi
 VIS_EXPORT uint32_t vis_client_sync_async(struct vis_client *c, vis_done_cb cb, void *data);
 
 /*
- * Synchronous forms: send, then block until the reply. Return 0, or -1 when the request failed
- * (a protocol error: see vis_client_last_error()) or the connection did (vis_client_error()).
+ * Synchronous forms: send, then block until the reply. Between batch-begin and batch-commit the
+ * daemon holds every request, so these (and vis_client_roundtrip/sync) fail at once with errno
+ * EDEADLK, sending nothing; use the asynchronous forms there. Return 0, or -1 when the request
+ * failed (a protocol error: see vis_client_last_error()) or the connection did
+ * (vis_client_error()).
  * Arrays are allocated with malloc; the caller frees them.
  */
 VIS_EXPORT int vis_client_create(struct vis_client *c, uint32_t parent, int32_t x, int32_t y,
