@@ -121,6 +121,7 @@ static void forget_window_data(void *data, struct vis_window *w)
 void server_finish(struct server *server)
 {
 	struct client *c;
+	server->deferring = true; /* no recomputes or notices while everything goes */
 	while ((c = TAILQ_FIRST(&server->clients)))
 		server_client_free(c);
 	while (server->tree.root.top)
