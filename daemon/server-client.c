@@ -62,8 +62,7 @@ static void drop_windows(struct client *c)
 	struct server *server = c->server;
 	size_t n = 0, cap = 0;
 	uint32_t *ids = NULL;
-	struct vis_window *w = server->tree.root.bottom;
-	while (w) {
+	for (struct vis_window *w = server->tree.root.bottom; w; w = vis_wtree_next(w)) {
 		if (w->owner == c->id) {
 			if (n == cap) {
 				cap = cap ? 2 * cap : 64;
@@ -76,13 +75,6 @@ static void drop_windows(struct client *c)
 			}
 			ids[n++] = w->id;
 		}
-		if (w->bottom) {
-			w = w->bottom;
-			continue;
-		}
-		while (w->parent && !w->above)
-			w = w->parent;
-		w = w->parent ? w->above : NULL;
 	}
 	for (size_t i = 0; i < n; i++) {
 		struct vis_window *v = vis_wtree_find(&server->tree, ids[i]);

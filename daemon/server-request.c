@@ -299,8 +299,7 @@ static void do_get_tree(struct client *c, uint32_t seq)
 {
 	uint32_t *v = NULL;
 	size_t n = 0, cap = 0;
-	struct vis_window *w = c->server->tree.root.bottom;
-	while (w) {
+	for (struct vis_window *w = c->server->tree.root.bottom; w; w = vis_wtree_next(w)) {
 		if (server_may_see(c, w)) {
 			uint32_t flags = (w->mapped ? VIS_WINDOW_MAPPED : 0) |
 					 (w->state != VIS_WTREE_STATE_NONE ? VIS_WINDOW_VIEWABLE : 0) |
@@ -310,13 +309,6 @@ static void do_get_tree(struct client *c, uint32_t seq)
 			if (!push_words(c, seq, VIS_OP_GET_TREE, &v, &n, &cap, rec, 8))
 				goto out;
 		}
-		if (w->bottom) {
-			w = w->bottom;
-			continue;
-		}
-		while (w->parent && !w->above)
-			w = w->parent;
-		w = w->parent ? w->above : NULL;
 	}
 	union vis_arg r[3] = { { .u = seq } };
 	send_list(c, VIS_OP_TREE, r, 2, v, n / 8, 8);

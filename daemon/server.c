@@ -182,17 +182,6 @@ void server_track(struct vis_window *w, struct server *server)
 	d->tracked = true;
 }
 
-/* The pre-order successor of w among all windows. */
-static struct vis_window *next_window(struct vis_window *w)
-{
-	if (w->bottom)
-		return w->bottom;
-	for (; w->parent; w = w->parent)
-		if (w->above)
-			return w->above;
-	return NULL;
-}
-
 /* Sends the visibility notice of w to every connection subscribed to it. */
 static void notify_visibility(struct server *server, struct vis_window *w)
 {
@@ -258,7 +247,7 @@ void server_flush(struct server *server)
 	pixman_region32_t now, exposed;
 	pixman_region32_init(&now);
 	pixman_region32_init(&exposed);
-	for (struct vis_window *w = server->tree.root.bottom; w; w = next_window(w)) {
+	for (struct vis_window *w = server->tree.root.bottom; w; w = vis_wtree_next(w)) {
 		if (w->state != w->old_state && w->state != VIS_WTREE_STATE_NONE)
 			notify_visibility(server, w);
 		struct window_data *d = w->data;

@@ -17,17 +17,6 @@ static struct vis_window *next_viewable(struct vis_window *w)
 	return NULL;
 }
 
-/* The pre-order successor of w among all windows. */
-static struct vis_window *next_any(struct vis_window *w)
-{
-	if (w->bottom)
-		return w->bottom;
-	for (; w->parent; w = w->parent)
-		if (w->above)
-			return w->above;
-	return NULL;
-}
-
 /* Lists the viewable windows in pre-order, with their absolute and clipped boxes. */
 static int flatten(struct vis_wtree *tree)
 {
@@ -133,7 +122,7 @@ int vis_wtree_compute(struct vis_wtree *tree)
 	}
 
 	/* Every window, viewable or not, moves its state to old_state: unviewable ones have none. */
-	for (struct vis_window *w = tree->root.bottom; w; w = next_any(w)) {
+	for (struct vis_window *w = tree->root.bottom; w; w = vis_wtree_next(w)) {
 		w->old_state = w->state;
 		w->state = VIS_WTREE_STATE_NONE;
 	}

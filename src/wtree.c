@@ -203,6 +203,16 @@ uint32_t vis_wtree_subtree_depth(const struct vis_window *window)
 	return depth;
 }
 
+struct vis_window *vis_wtree_next(const struct vis_window *w)
+{
+	if (w->bottom)
+		return w->bottom;
+	for (; w->parent; w = w->parent)
+		if (w->above)
+			return w->above;
+	return NULL;
+}
+
 bool vis_wtree_viewable(const struct vis_window *window)
 {
 	for (; window; window = window->parent)

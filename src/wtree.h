@@ -90,6 +90,12 @@ void vis_wtree_reparent(struct vis_window *window, struct vis_window *parent, in
 /* The greatest depth in window's subtree, window's own depth included. O(size of the subtree). */
 uint32_t vis_wtree_subtree_depth(const struct vis_window *window);
 
+/*
+ * The window after w in pre-order (stacking order, parents before children) over every window,
+ * mapped or not; NULL after the last. Start from tree->root.bottom. O(depth) at worst.
+ */
+struct vis_window *vis_wtree_next(const struct vis_window *w);
+
 /* Whether the window and all its ancestors are mapped. O(depth). */
 bool vis_wtree_viewable(const struct vis_window *window);
 
