@@ -197,31 +197,19 @@ static inline void report(struct sweep *s, uint32_t z)
 }
 
 /*
- * LEFT-INSERT: S is the highest top among v's ancestors. Returns whether v's summary changed;
- * most insertions land under a higher top and change nothing, which spares the ancestors.
+ * LEFT-INSERT at a canonical node; S is the highest top among its ancestors. Returns whether its
+ * summary changed: most insertions land under a higher top and change nothing.
  */
-static bool left_insert(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S,
-			struct summary *out)
+static inline bool insert_at(struct sweep *s, struct head *hd, const struct summary *kid, uint32_t S,
+			     struct summary *out)
 {
-	struct summary *kid;
-	struct head *hd = head_at(s, v, lo, hi, &kid);
-	if (s->a <= lo && hi <= s->b) {
-		/* Read l before the update: z is visible here iff it beats what was visible. */
-		uint32_t old_top = hd->top, old_l = max32(children_l(kid), old_top);
-		if (!set_top(s, hd, source_insert(s->src, hd, s->z)))
-			return false;
-		if (s->z > old_l && s->z > S)
-			report(s, s->z);
-		return update_changed(s, hd->top, kid, out);
-	}
-	uint32_t mid = vis_segtree_mid(lo, hi);
-	bool changed = false;
-	S = max32(S, hd->top);
-	if (s->a < mid)
-		changed |= left_insert(s, vis_segtree_left(v), lo, mid, S, &kid[0]);
-	if (s->b > mid)
-		changed |= left_insert(s, vis_segtree_right(v, lo, mid), mid, hi, S, &kid[1]);
-	return changed && update_changed(s, hd->top, kid, out);
+	/* Read l before the update: z is visible here iff it beats what was visible. */
+	uint32_t old_top = hd->top, old_l = max32(children_l(kid), old_top);
+	if (!set_top(s, hd, source_insert(s->src, hd, s->z)))
+		return false;
+	if (s->z > old_l && s->z > S)
+		report(s, s->z);
+	return update_changed(s, hd->top, kid, out);
 }
 
 /* RIGHT-REPORT: reports the unreported windows above S now visible in v's subtree. */
@@ -248,37 +236,135 @@ static void right_report(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, 
 }
 
 /*
- * RIGHT-DELETE: S is the highest top among v's ancestors. Returns whether v's summary changed:
- * removing a window that was not the top changes nothing, exposes nothing.
+ * RIGHT-DELETE at canonical node v covering [lo, hi); S as for insert_at(). Returns whether its
+ * summary changed: removing a window that was not the top changes nothing, exposes nothing.
  */
-static bool right_delete(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S,
-			 struct summary *out)
+static inline bool delete_at(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi,
+			     struct head *hd, struct summary *kid, uint32_t S, struct summary *out)
+{
+	uint32_t old_top = hd->top;
+	bool was_visible = old_top == s->z && s->z > S && s->z > children_l(kid);
+	if (!set_top(s, hd, source_remove(s->src, hd, s->z)))
+		return false;
+	bool changed = update_changed(s, hd->top, kid, out);
+	/* The deletion may expose S itself here, which RIGHT-REPORT never looks at. */
+	if (S && S > out->l)
+		report(s, S);
+	if (was_visible) {
+		right_report(s, v, lo, hi, S, out);
+		changed = true;
+	}
+	return changed;
+}
+
+/* The event's step at canonical node v covering [lo, hi): a deletion if del, else an insertion. */
+static inline bool at_canonical(struct sweep *s, bool del, uint32_t v, uint32_t lo, uint32_t hi,
+				uint32_t S, struct summary *out)
 {
 	struct summary *kid;
 	struct head *hd = head_at(s, v, lo, hi, &kid);
-	if (s->a <= lo && hi <= s->b) {
-		uint32_t old_top = hd->top;
-		bool was_visible = old_top == s->z && s->z > S && s->z > children_l(kid);
-		if (!set_top(s, hd, source_remove(s->src, hd, s->z)))
-			return false;
-		bool changed = update_changed(s, hd->top, kid, out);
-		/* The deletion may expose S itself here, which RIGHT-REPORT never looks at. */
-		if (S && S > out->l)
-			report(s, S);
-		if (was_visible) {
-			right_report(s, v, lo, hi, S, out);
-			changed = true;
-		}
-		return changed;
+	return del ? delete_at(s, v, lo, hi, hd, kid, S, out) : insert_at(s, hd, kid, S, out);
+}
+
+/*
+ * The walk of one event, without recursion: the nodes it passes through (those that meet [a, b)
+ * without lying inside it) form a path from the root to the split node, then at most one path
+ * below each of its children, along which the range's ends run. Each path node has at most one
+ * canonical child off the path. Going down gathers S and does the canonical steps; coming back up
+ * refreshes the path nodes below a changed child, deepest first. Returns whether the root's
+ * summary changed.
+ */
+struct hop {
+	struct node *nd;
+	struct summary *out; /* where the node's summary lives */
+	bool changed;	     /* whether a child's summary changed */
+};
+
+/* Refreshes the path nodes hop[from …] deepest first; changed: whether the deepest one's child did. */
+static inline bool climb(struct sweep *s, struct hop *hop, size_t from, size_t d, bool changed)
+{
+	while (d-- > from) {
+		changed |= hop[d].changed;
+		changed = changed && update_changed(s, hop[d].nd->hd.top, hop[d].nd->kid, hop[d].out);
 	}
-	uint32_t mid = vis_segtree_mid(lo, hi);
-	bool changed = false;
-	S = max32(S, hd->top);
-	if (s->a < mid)
-		changed |= right_delete(s, vis_segtree_left(v), lo, mid, S, &kid[0]);
-	if (s->b > mid)
-		changed |= right_delete(s, vis_segtree_right(v, lo, mid), mid, hi, S, &kid[1]);
-	return changed && update_changed(s, hd->top, kid, out);
+	return changed;
+}
+
+/*
+ * The path below one child of the split node, whose interval [lo, hi) holds the end a (left) or b
+ * (right) of the range and lies inside it on the other side; pushes its nodes from hop[d].
+ */
+static inline bool walk_side(struct sweep *s, bool del, bool left, uint32_t v, uint32_t lo,
+			     uint32_t hi, uint32_t S, struct summary *out, struct hop *hop, size_t d)
+{
+	size_t from = d;
+	for (;;) {
+		if (left ? s->a <= lo : hi <= s->b)
+			break;
+		struct node *nd = &s->node[v - lo];
+		uint32_t mid = vis_segtree_mid(lo, hi);
+		S = max32(S, nd->hd.top);
+		hop[d] = (struct hop){ nd, out, false };
+		if (left && s->a < mid) {
+			/* [mid, hi) lies inside the range. */
+			hop[d].changed = at_canonical(s, del, vis_segtree_right(v, lo, mid), mid, hi, S,
+						      &nd->kid[1]);
+			v = vis_segtree_left(v);
+			hi = mid;
+			out = &nd->kid[0];
+		} else if (!left && s->b > mid) {
+			hop[d].changed = at_canonical(s, del, vis_segtree_left(v), lo, mid, S, &nd->kid[0]);
+			v = vis_segtree_right(v, lo, mid);
+			lo = mid;
+			out = &nd->kid[1];
+		} else if (left) {
+			v = vis_segtree_right(v, lo, mid);
+			lo = mid;
+			out = &nd->kid[1];
+		} else {
+			v = vis_segtree_left(v);
+			hi = mid;
+			out = &nd->kid[0];
+		}
+		d++;
+	}
+	return climb(s, hop, from, d, at_canonical(s, del, v, lo, hi, S, out));
+}
+
+/* LEFT-INSERT (del false) or RIGHT-DELETE (del true) of the current window from the root. */
+static inline void walk(struct sweep *s, bool del, uint32_t m)
+{
+	struct hop hop[2 * VIS_SEGTREE_MAX_HEIGHT];
+	uint32_t v = 0, lo = 0, hi = m, S = 0;
+	struct summary *out = &s->root;
+	size_t d = 0;
+	bool changed;
+	for (;;) {
+		if (s->a <= lo && hi <= s->b) {
+			changed = at_canonical(s, del, v, lo, hi, S, out);
+			break;
+		}
+		struct node *nd = &s->node[v - lo];
+		uint32_t mid = vis_segtree_mid(lo, hi);
+		S = max32(S, nd->hd.top);
+		hop[d++] = (struct hop){ nd, out, false };
+		if (s->b <= mid) {
+			v = vis_segtree_left(v);
+			hi = mid;
+			out = &nd->kid[0];
+		} else if (s->a >= mid) {
+			v = vis_segtree_right(v, lo, mid);
+			lo = mid;
+			out = &nd->kid[1];
+		} else {
+			changed = walk_side(s, del, true, vis_segtree_left(v), lo, mid, S, &nd->kid[0],
+					    hop, d);
+			changed |= walk_side(s, del, false, vis_segtree_right(v, lo, mid), mid, hi, S,
+					     &nd->kid[1], hop, d);
+			break;
+		}
+	}
+	climb(s, hop, 0, d, changed);
 }
 
 /* Recomputes h on the canonical nodes of [a, b) and their ancestors. */
@@ -497,13 +583,13 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 			 * need not even visit its nodes (on desktop-like stacks, most windows).
 			 */
 			if (!SOURCE_LAZY_DELETE || s.ntop[s.z] > 0)
-				right_delete(&s, 0, 0, m, 0, &s.root);
+				walk(&s, true, m);
 			if (s.cstate[s.z] == CAND_ACTIVE) {
 				s.cstate[s.z] = CAND_DONE;
 				cand_store(&s, 0, 0, m, 0);
 			}
 		} else {
-			left_insert(&s, 0, 0, m, 0, &s.root);
+			walk(&s, false, m);
 			s.group[s.ngroup++] = *st;
 		}
 		/* Section 6: a newly reported window no longer counts in h anywhere. */
