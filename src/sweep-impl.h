@@ -4,13 +4,17 @@
  * 6). The sweep is memory-latency bound and makes these reads at every canonical node, so each
  * engine gets its own copy with the reads inlined and their state in the node record itself.
  * Define SOURCE_AUX (the words of per-node state the source needs), SOURCE_LAZY_DELETE (1 if the
- * source needs no call for a deletion at a node the window does not top) and struct source before
- * including this, and after it:
+ * source needs no call for a deletion at a node the window does not top), SOURCE_PREFETCH (1 if
+ * source_prefetch() does anything) and struct source before including this, and after it:
  *   uint32_t source_insert(struct source *, struct head *, uint32_t z)  -> the node's new top
  *   uint32_t source_remove(struct source *, struct head *, uint32_t z)  -> the node's new top
  *   void source_deleted(struct source *, uint32_t z)   before a window's removals begin
- *   int source_make(struct source *, const struct vis_events *, const uint32_t *sched,
+ *   int source_make(struct source *, const struct vis_events *, struct step *steps,
  *                   struct sweep *)                    sets up every head's aux; 0 or -1
+ *   void source_number(struct source *, struct head *) called by walk_number() at each
+ *                                                      canonical node, in the walks' order
+ *   void source_prefetch(const struct source *, const struct head *, uint32_t z, bool del)
+ *                                                      prefetches what the next calls will read
  *   void source_free(struct source *)
  * Windows are named by z = k + 1 for kept window k, 0 standing for none (the paper's −∞).
  */
@@ -56,11 +60,15 @@ struct node {
 
 struct sweep;
 struct source;
+struct step;
 static inline uint32_t source_insert(struct source *src, struct head *hd, uint32_t z);
 static inline uint32_t source_remove(struct source *src, struct head *hd, uint32_t z);
 static inline void source_deleted(struct source *src, uint32_t z);
-static int source_make(struct source *src, const struct vis_events *ev, const uint32_t *sched,
+static inline void source_prefetch(const struct source *src, const struct head *hd, uint32_t z,
+				   bool del);
+static int source_make(struct source *src, const struct vis_events *ev, struct step *steps,
 		       struct sweep *s);
+static inline void source_number(struct source *src, struct head *hd);
 static void source_free(struct source *src);
 
 /*
@@ -196,176 +204,7 @@ static inline void report(struct sweep *s, uint32_t z)
 	}
 }
 
-/*
- * LEFT-INSERT at a canonical node; S is the highest top among its ancestors. Returns whether its
- * summary changed: most insertions land under a higher top and change nothing.
- */
-static inline bool insert_at(struct sweep *s, struct head *hd, const struct summary *kid, uint32_t S,
-			     struct summary *out)
-{
-	/* Read l before the update: z is visible here iff it beats what was visible. */
-	uint32_t old_top = hd->top, old_l = max32(children_l(kid), old_top);
-	if (!set_top(s, hd, source_insert(s->src, hd, s->z)))
-		return false;
-	if (s->z > old_l && s->z > S)
-		report(s, s->z);
-	return update_changed(s, hd->top, kid, out);
-}
-
-/* RIGHT-REPORT: reports the unreported windows above S now visible in v's subtree. */
-static void right_report(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S,
-			 struct summary *out)
-{
-	if (out->h <= S)
-		return;
-	struct summary *kid;
-	struct head *hd = head_at(s, v, lo, hi, &kid);
-	uint32_t t = hd->top;
-	if (t > S) {
-		/* Visible within the subtree: tested against the children, not against l_v. */
-		if (!s->reported[t] && t > children_l(kid))
-			report(s, t);
-		S = t;
-	}
-	if (hi - lo > 1) {
-		uint32_t mid = vis_segtree_mid(lo, hi);
-		right_report(s, vis_segtree_left(v), lo, mid, S, &kid[0]);
-		right_report(s, vis_segtree_right(v, lo, mid), mid, hi, S, &kid[1]);
-	}
-	update(s, hd->top, kid, out);
-}
-
-/*
- * RIGHT-DELETE at canonical node v covering [lo, hi); S as for insert_at(). Returns whether its
- * summary changed: removing a window that was not the top changes nothing, exposes nothing.
- */
-static inline bool delete_at(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi,
-			     struct head *hd, struct summary *kid, uint32_t S, struct summary *out)
-{
-	uint32_t old_top = hd->top;
-	bool was_visible = old_top == s->z && s->z > S && s->z > children_l(kid);
-	if (!set_top(s, hd, source_remove(s->src, hd, s->z)))
-		return false;
-	bool changed = update_changed(s, hd->top, kid, out);
-	/* The deletion may expose S itself here, which RIGHT-REPORT never looks at. */
-	if (S && S > out->l)
-		report(s, S);
-	if (was_visible) {
-		right_report(s, v, lo, hi, S, out);
-		changed = true;
-	}
-	return changed;
-}
-
-/* The event's step at canonical node v covering [lo, hi): a deletion if del, else an insertion. */
-static inline bool at_canonical(struct sweep *s, bool del, uint32_t v, uint32_t lo, uint32_t hi,
-				uint32_t S, struct summary *out)
-{
-	struct summary *kid;
-	struct head *hd = head_at(s, v, lo, hi, &kid);
-	return del ? delete_at(s, v, lo, hi, hd, kid, S, out) : insert_at(s, hd, kid, S, out);
-}
-
-/*
- * The walk of one event, without recursion: the nodes it passes through (those that meet [a, b)
- * without lying inside it) form a path from the root to the split node, then at most one path
- * below each of its children, along which the range's ends run. Each path node has at most one
- * canonical child off the path. Going down gathers S and does the canonical steps; coming back up
- * refreshes the path nodes below a changed child, deepest first. Returns whether the root's
- * summary changed.
- */
-struct hop {
-	struct node *nd;
-	struct summary *out; /* where the node's summary lives */
-	bool changed;	     /* whether a child's summary changed */
-};
-
-/* Refreshes the path nodes hop[from …] deepest first; changed: whether the deepest one's child did. */
-static inline bool climb(struct sweep *s, struct hop *hop, size_t from, size_t d, bool changed)
-{
-	while (d-- > from) {
-		changed |= hop[d].changed;
-		changed = changed && update_changed(s, hop[d].nd->hd.top, hop[d].nd->kid, hop[d].out);
-	}
-	return changed;
-}
-
-/*
- * The path below one child of the split node, whose interval [lo, hi) holds the end a (left) or b
- * (right) of the range and lies inside it on the other side; pushes its nodes from hop[d].
- */
-static inline bool walk_side(struct sweep *s, bool del, bool left, uint32_t v, uint32_t lo,
-			     uint32_t hi, uint32_t S, struct summary *out, struct hop *hop, size_t d)
-{
-	size_t from = d;
-	for (;;) {
-		if (left ? s->a <= lo : hi <= s->b)
-			break;
-		struct node *nd = &s->node[v - lo];
-		uint32_t mid = vis_segtree_mid(lo, hi);
-		S = max32(S, nd->hd.top);
-		hop[d] = (struct hop){ nd, out, false };
-		if (left && s->a < mid) {
-			/* [mid, hi) lies inside the range. */
-			hop[d].changed = at_canonical(s, del, vis_segtree_right(v, lo, mid), mid, hi, S,
-						      &nd->kid[1]);
-			v = vis_segtree_left(v);
-			hi = mid;
-			out = &nd->kid[0];
-		} else if (!left && s->b > mid) {
-			hop[d].changed = at_canonical(s, del, vis_segtree_left(v), lo, mid, S, &nd->kid[0]);
-			v = vis_segtree_right(v, lo, mid);
-			lo = mid;
-			out = &nd->kid[1];
-		} else if (left) {
-			v = vis_segtree_right(v, lo, mid);
-			lo = mid;
-			out = &nd->kid[1];
-		} else {
-			v = vis_segtree_left(v);
-			hi = mid;
-			out = &nd->kid[0];
-		}
-		d++;
-	}
-	return climb(s, hop, from, d, at_canonical(s, del, v, lo, hi, S, out));
-}
-
-/* LEFT-INSERT (del false) or RIGHT-DELETE (del true) of the current window from the root. */
-static inline void walk(struct sweep *s, bool del, uint32_t m)
-{
-	struct hop hop[2 * VIS_SEGTREE_MAX_HEIGHT];
-	uint32_t v = 0, lo = 0, hi = m, S = 0;
-	struct summary *out = &s->root;
-	size_t d = 0;
-	bool changed;
-	for (;;) {
-		if (s->a <= lo && hi <= s->b) {
-			changed = at_canonical(s, del, v, lo, hi, S, out);
-			break;
-		}
-		struct node *nd = &s->node[v - lo];
-		uint32_t mid = vis_segtree_mid(lo, hi);
-		S = max32(S, nd->hd.top);
-		hop[d++] = (struct hop){ nd, out, false };
-		if (s->b <= mid) {
-			v = vis_segtree_left(v);
-			hi = mid;
-			out = &nd->kid[0];
-		} else if (s->a >= mid) {
-			v = vis_segtree_right(v, lo, mid);
-			lo = mid;
-			out = &nd->kid[1];
-		} else {
-			changed = walk_side(s, del, true, vis_segtree_left(v), lo, mid, S, &nd->kid[0],
-					    hop, d);
-			changed |= walk_side(s, del, false, vis_segtree_right(v, lo, mid), mid, hi, S,
-					     &nd->kid[1], hop, d);
-			break;
-		}
-	}
-	climb(s, hop, 0, d, changed);
-}
+#include "sweep-walk.h"
 
 /* Recomputes h on the canonical nodes of [a, b) and their ancestors. */
 static void refresh(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, struct summary *out)
@@ -567,13 +406,18 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 	for (size_t v = 0; v < nodes; v++)
 		s.submin[v] = UINT32_MAX;
 	struct step *steps = make_steps(ev, sched);
-	if (!steps || source_make(&src, ev, sched, &s) < 0) {
+	if (!steps || source_make(&src, ev, steps, &s) < 0) {
 		free(steps);
 		sweep_free(&s);
 		return -1;
 	}
 	for (size_t i = 0; i < 2 * n; i++) {
 		const struct step *st = &steps[i];
+		if (SOURCE_PREFETCH && i + PREFETCH_SOURCE_AHEAD < 2 * n &&
+		    walks(&s, st + PREFETCH_SOURCE_AHEAD))
+			prefetch_source(&s, st + PREFETCH_SOURCE_AHEAD, m);
+		if (i + PREFETCH_NODES_AHEAD < 2 * n && walks(&s, st + PREFETCH_NODES_AHEAD))
+			prefetch_nodes(&s, st + PREFETCH_NODES_AHEAD, m);
 		set_step(&s, st);
 		if (st->zf & STEP_DELETE) {
 			source_deleted(&src, s.z);
@@ -582,14 +426,14 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 			 * changes no summary and exposes nothing. A source that deletes lazily
 			 * need not even visit its nodes (on desktop-like stacks, most windows).
 			 */
-			if (!SOURCE_LAZY_DELETE || s.ntop[s.z] > 0)
-				walk(&s, true, m);
+			if (walks(&s, st))
+				walk_delete(&s, st, m);
 			if (s.cstate[s.z] == CAND_ACTIVE) {
 				s.cstate[s.z] = CAND_DONE;
 				cand_store(&s, 0, 0, m, 0);
 			}
 		} else {
-			walk(&s, false, m);
+			walk_insert(&s, st, m);
 			s.group[s.ngroup++] = *st;
 		}
 		/* Section 6: a newly reported window no longer counts in h anywhere. */
