@@ -110,7 +110,7 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 		s->leaf[i].aux[HEAP_OFF] = sum;
 		sum += c;
 	}
-	src->a = malloc(total * sizeof(*src->a) + 1);
+	src->a = vis_bigalloc(total * sizeof(*src->a), false);
 	if (!src->a || !src->dead) {
 		source_free(src);
 		errno = ENOMEM;

@@ -1,6 +1,7 @@
 /* Section 6: the sweep reading top(H_v) from lists computed offline. */
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 /*
  * The sweep touches each node in a fixed order, so every node's sequence of inserts and deletes is
@@ -128,11 +129,12 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 		errno = EOVERFLOW;
 		return -1;
 	}
-	src->tops = calloc(2 * total + 1, sizeof(*src->tops));
-	src->stream = calloc(2 * total + STREAM_AHEAD, sizeof(*src->stream));
-	next = malloc((2 * total + 1) * sizeof(*next));
+	src->tops = vis_bigalloc((2 * total + 1) * sizeof(*src->tops), true);
+	src->stream = vis_bigalloc((2 * total + STREAM_AHEAD) * sizeof(*src->stream), false);
+	next = vis_bigalloc((2 * total + 1) * sizeof(*next), false);
 	if (!src->tops || !src->stream || !next)
 		goto nomem;
+	memset(src->stream + 2 * total, 0, STREAM_AHEAD * sizeof(*src->stream));
 	/* Runs in any order: internal nodes, then leaves. */
 	uint32_t sum = 0;
 	for (uint32_t i = 0; i + 1 < m; i++) {

@@ -23,6 +23,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bigalloc.h"
 #include "engine.h"
 #include "events.h"
 #include "segtree.h"
@@ -387,13 +388,13 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 	if (n == 0)
 		return 0;
 	struct sweep s = { .src = &src };
-	s.node = calloc(m, sizeof(*s.node)); /* m − 1 internal nodes */
-	s.leaf = calloc(m, sizeof(*s.leaf));
+	s.node = vis_bigalloc(m * sizeof(*s.node), true); /* m − 1 internal nodes */
+	s.leaf = vis_bigalloc(m * sizeof(*s.leaf), true);
 	s.reported = calloc(n + 1, 1);
 	s.ntop = calloc(n + 1, sizeof(*s.ntop));
 	s.cstate = calloc(n + 1, 1);
-	s.cand = calloc(nodes, sizeof(*s.cand));
-	s.submin = malloc(nodes * sizeof(*s.submin));
+	s.cand = vis_bigalloc(nodes * sizeof(*s.cand), true);
+	s.submin = vis_bigalloc(nodes * sizeof(*s.submin), false);
 	s.newly = malloc(n * sizeof(*s.newly));
 	s.group = malloc(n * sizeof(*s.group));
 	s.found = malloc(n * sizeof(*s.found));
