@@ -149,8 +149,9 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 	}
 
 	/* Number each node's operations in the order the sweep will make them. */
+	bool prefetch = prefetch_pays(m);
 	for (size_t i = 0; i < 2 * n; i++) {
-		if (i + NUMBER_AHEAD < 2 * n)
+		if (prefetch && i + NUMBER_AHEAD < 2 * n)
 			prefetch_nodes(s, &steps[i + NUMBER_AHEAD], m);
 		uint32_t k = STEP_Z(steps[i].zf) - 1;
 		pos[3 * k + !!(steps[i].zf & STEP_DELETE)] = (uint32_t)src->len;

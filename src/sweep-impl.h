@@ -412,12 +412,14 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 		sweep_free(&s);
 		return -1;
 	}
+	bool prefetch = prefetch_pays(m);
 	for (size_t i = 0; i < 2 * n; i++) {
 		const struct step *st = &steps[i];
-		if (SOURCE_PREFETCH && i + PREFETCH_SOURCE_AHEAD < 2 * n &&
+		if (prefetch && SOURCE_PREFETCH && i + PREFETCH_SOURCE_AHEAD < 2 * n &&
 		    walks(&s, st + PREFETCH_SOURCE_AHEAD))
 			prefetch_source(&s, st + PREFETCH_SOURCE_AHEAD, m);
-		if (i + PREFETCH_NODES_AHEAD < 2 * n && walks(&s, st + PREFETCH_NODES_AHEAD))
+		if (prefetch && i + PREFETCH_NODES_AHEAD < 2 * n &&
+		    walks(&s, st + PREFETCH_NODES_AHEAD))
 			prefetch_nodes(&s, st + PREFETCH_NODES_AHEAD, m);
 		set_step(&s, st);
 		if (st->zf & STEP_DELETE) {

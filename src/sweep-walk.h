@@ -85,6 +85,18 @@ enum walk_kind {
 #define PREFETCH_NODES_AHEAD 8
 #define PREFETCH_SOURCE_AHEAD 2
 
+/*
+ * Below this much tree the caches hold it (screen-bound scenes have a few thousand leaves
+ * whatever n is), and the prefetching walks would only add their instructions.
+ */
+#define PREFETCH_MIN_BYTES ((size_t)8 << 20)
+
+/* Whether a tree over m leaves is large enough for prefetching to pay. */
+static inline bool prefetch_pays(uint32_t m)
+{
+	return (size_t)m * (sizeof(struct node) + sizeof(struct head)) >= PREFETCH_MIN_BYTES;
+}
+
 /* Prefetches an internal node's record, which may straddle two lines. */
 static inline void prefetch_node(const struct node *nd)
 {
