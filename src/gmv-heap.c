@@ -13,6 +13,7 @@
  * the costliest step of the sweep); the appended tail is pushed into heap order when the top is
  * deleted, each element once, in a burst that keeps the heap's top levels in the cache.
  */
+#define SOURCE_PREFETCH 1
 #define SOURCE_LAZY_DELETE 1
 #define SOURCE_AUX 3
 
@@ -51,6 +52,16 @@ static inline uint32_t source_remove(struct source *src, struct head *hd, uint32
 	return len ? a[0] : 0;
 }
 
+/* Prefetches what source_insert or source_remove will read beyond the head. */
+static inline void source_prefetch(const struct source *src, const struct head *hd, uint32_t z,
+				   bool del)
+{
+	if (!del)
+		__builtin_prefetch(src->a + hd->aux[HEAP_OFF] + hd->aux[HEAP_LEN]);
+	else if (hd->top == z)
+		__builtin_prefetch(src->a + hd->aux[HEAP_OFF]);
+}
+
 static inline void source_deleted(struct source *src, uint32_t z)
 {
 	src->dead[z] = 1;
@@ -62,10 +73,16 @@ static void source_free(struct source *src)
 	free(src->dead);
 }
 
-static int source_make(struct source *src, const struct vis_events *ev, const uint32_t *sched,
+static inline void source_number(struct source *src, struct head *hd)
+{
+	(void)src;
+	(void)hd;
+}
+
+static int source_make(struct source *src, const struct vis_events *ev, struct step *steps,
 		       struct sweep *s)
 {
-	(void)sched;
+	(void)steps;
 	uint32_t slots[VIS_SEGTREE_MAX_CANONICAL];
 	size_t total = 0;
 	src->a = NULL;
@@ -93,7 +110,7 @@ static int source_make(struct source *src, const struct vis_events *ev, const ui
 		s->leaf[i].aux[HEAP_OFF] = sum;
 		sum += c;
 	}
-	src->a = malloc(total * sizeof(*src->a) + 1);
+	src->a = vis_bigalloc(total * sizeof(*src->a), false);
 	if (!src->a || !src->dead) {
 		source_free(src);
 		errno = ENOMEM;

@@ -29,6 +29,7 @@ static inline uint32_t vis_segtree_slot(uint32_t v, uint32_t lo, uint32_t hi)
 }
 
 #define VIS_SEGTREE_MAX_CANONICAL 64
+#define VIS_SEGTREE_MAX_HEIGHT 32
 
 static inline uint32_t vis_segtree_mid(uint32_t lo, uint32_t hi)
 {

@@ -4,13 +4,17 @@
  * 6). The sweep is memory-latency bound and makes these reads at every canonical node, so each
  * engine gets its own copy with the reads inlined and their state in the node record itself.
  * Define SOURCE_AUX (the words of per-node state the source needs), SOURCE_LAZY_DELETE (1 if the
- * source needs no call for a deletion at a node the window does not top) and struct source before
- * including this, and after it:
+ * source needs no call for a deletion at a node the window does not top), SOURCE_PREFETCH (1 if
+ * source_prefetch() does anything) and struct source before including this, and after it:
  *   uint32_t source_insert(struct source *, struct head *, uint32_t z)  -> the node's new top
  *   uint32_t source_remove(struct source *, struct head *, uint32_t z)  -> the node's new top
  *   void source_deleted(struct source *, uint32_t z)   before a window's removals begin
- *   int source_make(struct source *, const struct vis_events *, const uint32_t *sched,
+ *   int source_make(struct source *, const struct vis_events *, struct step *steps,
  *                   struct sweep *)                    sets up every head's aux; 0 or -1
+ *   void source_number(struct source *, struct head *) called by walk_number() at each
+ *                                                      canonical node, in the walks' order
+ *   void source_prefetch(const struct source *, const struct head *, uint32_t z, bool del)
+ *                                                      prefetches what the next calls will read
  *   void source_free(struct source *)
  * Windows are named by z = k + 1 for kept window k, 0 standing for none (the paper's −∞).
  */
@@ -19,6 +23,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bigalloc.h"
 #include "engine.h"
 #include "events.h"
 #include "segtree.h"
@@ -56,11 +61,15 @@ struct node {
 
 struct sweep;
 struct source;
+struct step;
 static inline uint32_t source_insert(struct source *src, struct head *hd, uint32_t z);
 static inline uint32_t source_remove(struct source *src, struct head *hd, uint32_t z);
 static inline void source_deleted(struct source *src, uint32_t z);
-static int source_make(struct source *src, const struct vis_events *ev, const uint32_t *sched,
+static inline void source_prefetch(const struct source *src, const struct head *hd, uint32_t z,
+				   bool del);
+static int source_make(struct source *src, const struct vis_events *ev, struct step *steps,
 		       struct sweep *s);
+static inline void source_number(struct source *src, struct head *hd);
 static void source_free(struct source *src);
 
 /*
@@ -196,90 +205,7 @@ static inline void report(struct sweep *s, uint32_t z)
 	}
 }
 
-/*
- * LEFT-INSERT: S is the highest top among v's ancestors. Returns whether v's summary changed;
- * most insertions land under a higher top and change nothing, which spares the ancestors.
- */
-static bool left_insert(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S,
-			struct summary *out)
-{
-	struct summary *kid;
-	struct head *hd = head_at(s, v, lo, hi, &kid);
-	if (s->a <= lo && hi <= s->b) {
-		/* Read l before the update: z is visible here iff it beats what was visible. */
-		uint32_t old_top = hd->top, old_l = max32(children_l(kid), old_top);
-		if (!set_top(s, hd, source_insert(s->src, hd, s->z)))
-			return false;
-		if (s->z > old_l && s->z > S)
-			report(s, s->z);
-		return update_changed(s, hd->top, kid, out);
-	}
-	uint32_t mid = vis_segtree_mid(lo, hi);
-	bool changed = false;
-	S = max32(S, hd->top);
-	if (s->a < mid)
-		changed |= left_insert(s, vis_segtree_left(v), lo, mid, S, &kid[0]);
-	if (s->b > mid)
-		changed |= left_insert(s, vis_segtree_right(v, lo, mid), mid, hi, S, &kid[1]);
-	return changed && update_changed(s, hd->top, kid, out);
-}
-
-/* RIGHT-REPORT: reports the unreported windows above S now visible in v's subtree. */
-static void right_report(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S,
-			 struct summary *out)
-{
-	if (out->h <= S)
-		return;
-	struct summary *kid;
-	struct head *hd = head_at(s, v, lo, hi, &kid);
-	uint32_t t = hd->top;
-	if (t > S) {
-		/* Visible within the subtree: tested against the children, not against l_v. */
-		if (!s->reported[t] && t > children_l(kid))
-			report(s, t);
-		S = t;
-	}
-	if (hi - lo > 1) {
-		uint32_t mid = vis_segtree_mid(lo, hi);
-		right_report(s, vis_segtree_left(v), lo, mid, S, &kid[0]);
-		right_report(s, vis_segtree_right(v, lo, mid), mid, hi, S, &kid[1]);
-	}
-	update(s, hd->top, kid, out);
-}
-
-/*
- * RIGHT-DELETE: S is the highest top among v's ancestors. Returns whether v's summary changed:
- * removing a window that was not the top changes nothing, exposes nothing.
- */
-static bool right_delete(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S,
-			 struct summary *out)
-{
-	struct summary *kid;
-	struct head *hd = head_at(s, v, lo, hi, &kid);
-	if (s->a <= lo && hi <= s->b) {
-		uint32_t old_top = hd->top;
-		bool was_visible = old_top == s->z && s->z > S && s->z > children_l(kid);
-		if (!set_top(s, hd, source_remove(s->src, hd, s->z)))
-			return false;
-		bool changed = update_changed(s, hd->top, kid, out);
-		/* The deletion may expose S itself here, which RIGHT-REPORT never looks at. */
-		if (S && S > out->l)
-			report(s, S);
-		if (was_visible) {
-			right_report(s, v, lo, hi, S, out);
-			changed = true;
-		}
-		return changed;
-	}
-	uint32_t mid = vis_segtree_mid(lo, hi);
-	bool changed = false;
-	S = max32(S, hd->top);
-	if (s->a < mid)
-		changed |= right_delete(s, vis_segtree_left(v), lo, mid, S, &kid[0]);
-	if (s->b > mid)
-		changed |= right_delete(s, vis_segtree_right(v, lo, mid), mid, hi, S, &kid[1]);
-	return changed && update_changed(s, hd->top, kid, out);
-}
+#include "sweep-walk.h"
 
 /* Recomputes h on the canonical nodes of [a, b) and their ancestors. */
 static void refresh(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, struct summary *out)
@@ -462,13 +388,13 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 	if (n == 0)
 		return 0;
 	struct sweep s = { .src = &src };
-	s.node = calloc(m, sizeof(*s.node)); /* m − 1 internal nodes */
-	s.leaf = calloc(m, sizeof(*s.leaf));
+	s.node = vis_bigalloc(m * sizeof(*s.node), true); /* m − 1 internal nodes */
+	s.leaf = vis_bigalloc(m * sizeof(*s.leaf), true);
 	s.reported = calloc(n + 1, 1);
 	s.ntop = calloc(n + 1, sizeof(*s.ntop));
 	s.cstate = calloc(n + 1, 1);
-	s.cand = calloc(nodes, sizeof(*s.cand));
-	s.submin = malloc(nodes * sizeof(*s.submin));
+	s.cand = vis_bigalloc(nodes * sizeof(*s.cand), true);
+	s.submin = vis_bigalloc(nodes * sizeof(*s.submin), false);
 	s.newly = malloc(n * sizeof(*s.newly));
 	s.group = malloc(n * sizeof(*s.group));
 	s.found = malloc(n * sizeof(*s.found));
@@ -481,13 +407,20 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 	for (size_t v = 0; v < nodes; v++)
 		s.submin[v] = UINT32_MAX;
 	struct step *steps = make_steps(ev, sched);
-	if (!steps || source_make(&src, ev, sched, &s) < 0) {
+	if (!steps || source_make(&src, ev, steps, &s) < 0) {
 		free(steps);
 		sweep_free(&s);
 		return -1;
 	}
+	bool prefetch = prefetch_pays(m);
 	for (size_t i = 0; i < 2 * n; i++) {
 		const struct step *st = &steps[i];
+		if (prefetch && SOURCE_PREFETCH && i + PREFETCH_SOURCE_AHEAD < 2 * n &&
+		    walks(&s, st + PREFETCH_SOURCE_AHEAD))
+			prefetch_source(&s, st + PREFETCH_SOURCE_AHEAD, m);
+		if (prefetch && i + PREFETCH_NODES_AHEAD < 2 * n &&
+		    walks(&s, st + PREFETCH_NODES_AHEAD))
+			prefetch_nodes(&s, st + PREFETCH_NODES_AHEAD, m);
 		set_step(&s, st);
 		if (st->zf & STEP_DELETE) {
 			source_deleted(&src, s.z);
@@ -496,14 +429,14 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 			 * changes no summary and exposes nothing. A source that deletes lazily
 			 * need not even visit its nodes (on desktop-like stacks, most windows).
 			 */
-			if (!SOURCE_LAZY_DELETE || s.ntop[s.z] > 0)
-				right_delete(&s, 0, 0, m, 0, &s.root);
+			if (walks(&s, st))
+				walk_delete(&s, st, m);
 			if (s.cstate[s.z] == CAND_ACTIVE) {
 				s.cstate[s.z] = CAND_DONE;
 				cand_store(&s, 0, 0, m, 0);
 			}
 		} else {
-			left_insert(&s, 0, 0, m, 0, &s.root);
+			walk_insert(&s, st, m);
 			s.group[s.ngroup++] = *st;
 		}
 		/* Section 6: a newly reported window no longer counts in h anywhere. */

@@ -1,0 +1,17 @@
+/* Allocation of the sweeps' large arrays, backed by huge pages where the system offers them. */
+#ifndef VIS_BIGALLOC_H
+#define VIS_BIGALLOC_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+/*
+ * Allocates bytes (zeroed if zero), to be released with free(); NULL (ENOMEM) on failure. The
+ * sweeps visit their trees and per-node arrays at random, tens of megabytes of them: with 4 KiB
+ * pages nearly every such visit also misses the TLB. An array of several megabytes is therefore
+ * aligned to 2 MiB and marked for transparent huge pages (a hint the system may ignore).
+ * O(bytes) when zeroed.
+ */
+void *vis_bigalloc(size_t bytes, bool zero);
+
+#endif
