@@ -15,32 +15,10 @@ void vis_wtree_init(struct vis_wtree *tree, int32_t width, int32_t height)
 	tree->next_id = 1;
 }
 
-/* Frees a window's subtree without callbacks, iteratively: trees can be as deep as they are big. */
-static void free_subtree(struct vis_window *w)
-{
-	struct vis_window *stop = w->parent;
-	while (w != stop) {
-		if (w->top) {
-			w = w->top;
-			continue;
-		}
-		struct vis_window *parent = w->parent, *below = w->below;
-		if (parent)
-			parent->top = below;
-		free(w);
-		w = below ? below : parent;
-	}
-}
-
 void vis_wtree_finish(struct vis_wtree *tree)
 {
-	while (tree->root.top) {
-		struct vis_window *w = tree->root.top;
-		tree->root.top = w->below;
-		w->parent = NULL;
-		w->below = NULL;
-		free_subtree(w);
-	}
+	while (tree->root.top)
+		vis_wtree_destroy(tree, tree->root.top, NULL, NULL);
 	vis_idmap_finish(&tree->ids);
 	free(tree->order);
 }
@@ -170,17 +148,14 @@ bool vis_wtree_is_ancestor(const struct vis_window *a, const struct vis_window *
 	return false;
 }
 
-/* Visits the subtree of w in pre-order, iteratively. */
-#define FOR_SUBTREE(v, w)                                                                       \
-	for (struct vis_window *v = (w); v;                                                     \
-	     v = v->bottom ? v->bottom : next_after_subtree(v, (w)))
-
-/* The pre-order successor of v once its subtree is done, staying inside top's subtree. */
-static struct vis_window *next_after_subtree(struct vis_window *v, const struct vis_window *top)
+/* The pre-order successor of w, staying inside top's subtree (NULL: the whole tree). */
+static struct vis_window *next_within(const struct vis_window *w, const struct vis_window *top)
 {
-	for (; v != top; v = v->parent)
-		if (v->above)
-			return v->above;
+	if (w->bottom)
+		return w->bottom;
+	for (; w != top && w->parent; w = w->parent)
+		if (w->above)
+			return w->above;
 	return NULL;
 }
 
@@ -190,27 +165,13 @@ void vis_wtree_reparent(struct vis_window *window, struct vis_window *parent, in
 	link_above(window, parent, parent->top);
 	window->x = x;
 	window->y = y;
-	FOR_SUBTREE(v, window)
+	for (struct vis_window *v = window; v; v = next_within(v, window))
 		v->depth = v->parent->depth + 1;
-}
-
-uint32_t vis_wtree_subtree_depth(const struct vis_window *window)
-{
-	uint32_t depth = 0;
-	FOR_SUBTREE(v, (struct vis_window *)window)
-		if (v->depth > depth)
-			depth = v->depth;
-	return depth;
 }
 
 struct vis_window *vis_wtree_next(const struct vis_window *w)
 {
-	if (w->bottom)
-		return w->bottom;
-	for (; w->parent; w = w->parent)
-		if (w->above)
-			return w->above;
-	return NULL;
+	return next_within(w, NULL);
 }
 
 bool vis_wtree_viewable(const struct vis_window *window)

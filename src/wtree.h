@@ -87,9 +87,6 @@ bool vis_wtree_is_ancestor(const struct vis_window *a, const struct vis_window *
  */
 void vis_wtree_reparent(struct vis_window *window, struct vis_window *parent, int32_t x, int32_t y);
 
-/* The greatest depth in window's subtree, window's own depth included. O(size of the subtree). */
-uint32_t vis_wtree_subtree_depth(const struct vis_window *window);
-
 /*
  * The window after w in pre-order (stacking order, parents before children) over every window,
  * mapped or not; NULL after the last. Start from tree->root.bottom. O(depth) at worst.
