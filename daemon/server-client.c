@@ -49,6 +49,13 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 	c->id = server->next_client++;
 	if (!server->next_client)
 		server->next_client = 1; /* 0 is "no owner" */
+	if (vis_idmap_put(&server->clients_by_id, c->id, c) < 0) {
+		log_error("refusing a connection: out of memory");
+		bufferevent_free(bev);
+		evbuffer_free(batch);
+		free(c);
+		return;
+	}
 	TAILQ_INSERT_TAIL(&server->clients, c, link);
 	bufferevent_setcb(bev, on_read, on_write, on_event, c);
 	bufferevent_enable(bev, EV_READ | EV_WRITE);
@@ -92,6 +99,7 @@ void server_client_free(struct client *c)
 {
 	struct server *server = c->server;
 	TAILQ_REMOVE(&server->clients, c, link);
+	vis_idmap_remove(&server->clients_by_id, c->id);
 	if (server->manager == c)
 		server->manager = NULL;
 	server_unsubscribe_all(c);

@@ -323,22 +323,15 @@ static void do_get_region(struct client *c, uint32_t seq, uint32_t id)
 		return;
 	pixman_region32_t reg;
 	pixman_region32_init(&reg);
-	int n = 0;
+	uint32_t n = 0;
 	uint32_t *v = NULL;
 	if (vis_wtree_visible_region(&c->server->tree, w, &reg) < 0 ||
-	    !(v = malloc(((size_t)pixman_region32_n_rects(&reg) + 1) * 4 * sizeof *v))) {
+	    !(v = server_region_words(&reg, &n))) {
 		server_client_error(c, seq, VIS_OP_GET_REGION, VIS_ERROR_LIMIT, "out of memory");
 		goto out;
 	}
-	const pixman_box32_t *b = pixman_region32_rectangles(&reg, &n);
-	for (int i = 0; i < n; i++) {
-		v[4 * i] = (uint32_t)b[i].x1;
-		v[4 * i + 1] = (uint32_t)b[i].y1;
-		v[4 * i + 2] = (uint32_t)(b[i].x2 - b[i].x1);
-		v[4 * i + 3] = (uint32_t)(b[i].y2 - b[i].y1);
-	}
 	union vis_arg r[4] = { { .u = seq }, { .u = id } };
-	send_list(c, VIS_OP_REGION, r, 3, v, (size_t)n, 4);
+	send_list(c, VIS_OP_REGION, r, 3, v, n, 4);
 out:
 	free(v);
 	pixman_region32_fini(&reg);

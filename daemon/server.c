@@ -84,6 +84,7 @@ int server_init(struct server *server, struct event_base *base, const struct ser
 	server->opt = *opt;
 	server->next_client = 1;
 	TAILQ_INIT(&server->clients);
+	vis_idmap_init(&server->clients_by_id);
 	vis_buf_init(&server->scratch);
 	vis_wtree_init(&server->tree, opt->screen_width, opt->screen_height);
 	server->listener_retry = evtimer_new(base, on_listener_retry, server);
@@ -133,6 +134,7 @@ void server_finish(struct server *server)
 	if (server->listener_retry)
 		event_free(server->listener_retry);
 	vis_wtree_finish(&server->tree);
+	vis_idmap_finish(&server->clients_by_id);
 	vis_buf_finish(&server->scratch);
 }
 
@@ -164,12 +166,9 @@ static bool wants_exposure(const struct server *server, const struct vis_window 
 	const struct window_data *d = w->data;
 	if (server->role_all_exposure || (d && d->exposure_subs))
 		return true;
-	/* A connection's subscription to all of its own windows. */
-	struct client *c;
-	TAILQ_FOREACH(c, &server->clients, link)
-		if (c->all_exposure && c->id == w->owner)
-			return true;
-	return false;
+	/* The owner's subscription to all of its own windows. */
+	const struct client *owner = vis_idmap_get(&server->clients_by_id, w->owner);
+	return owner && owner->all_exposure;
 }
 
 void server_track(struct vis_window *w, struct server *server)
@@ -199,40 +198,51 @@ static void notify_visibility(struct server *server, struct vis_window *w)
 }
 
 /* Sends the exposure notice of w (rectangles in window coordinates) to its subscribers. */
-static void notify_exposure(struct server *server, struct vis_window *w, pixman_region32_t *exposed)
+uint32_t *server_region_words(pixman_region32_t *region, uint32_t *count)
 {
 	int n;
-	const pixman_box32_t *boxes = pixman_region32_rectangles(exposed, &n);
-	pixman_box32_t *ext = pixman_region32_extents(exposed);
+	const pixman_box32_t *b = pixman_region32_rectangles(region, &n);
+	uint32_t *words = malloc(((size_t)n + 1) * 4 * sizeof *words);
+	if (!words)
+		return NULL;
+	for (int i = 0; i < n; i++) {
+		words[4 * i] = (uint32_t)b[i].x1;
+		words[4 * i + 1] = (uint32_t)b[i].y1;
+		words[4 * i + 2] = (uint32_t)(b[i].x2 - b[i].x1);
+		words[4 * i + 3] = (uint32_t)(b[i].y2 - b[i].y1);
+	}
+	*count = (uint32_t)n;
+	return words;
+}
+
+/* Sends the exposure notice of w (rectangles in window coordinates) to its subscribers. */
+static void notify_exposure(struct server *server, struct vis_window *w, pixman_region32_t *exposed)
+{
+	uint32_t n;
+	uint32_t *words = server_region_words(exposed, &n);
+	if (!words) {
+		log_error("out of memory for an exposure notice");
+		return;
+	}
+	const pixman_box32_t *e = pixman_region32_extents(exposed);
+	const uint32_t extents[4] = { (uint32_t)e->x1, (uint32_t)e->y1, (uint32_t)(e->x2 - e->x1),
+				      (uint32_t)(e->y2 - e->y1) };
 	struct client *c;
 	TAILQ_FOREACH(c, &server->clients, link) {
 		const struct sub *s;
 		if (c->closing || !(s = server_client_sub_for(c, w, VIS_NOTICE_EXPOSURE)))
 			continue;
-		bool collapse = (uint32_t)n > s->rect_limit;
-		uint32_t count = collapse ? 1 : (uint32_t)n;
-		uint32_t *words = malloc((size_t)count * 4 * sizeof *words);
-		if (!words) {
-			log_error("out of memory for an exposure notice");
-			continue;
-		}
-		for (uint32_t i = 0; i < count; i++) {
-			const pixman_box32_t *b = collapse ? ext : &boxes[i];
-			words[4 * i] = (uint32_t)b->x1;
-			words[4 * i + 1] = (uint32_t)b->y1;
-			words[4 * i + 2] = (uint32_t)(b->x2 - b->x1);
-			words[4 * i + 3] = (uint32_t)(b->y2 - b->y1);
-		}
+		bool collapse = n > s->rect_limit;
 		union vis_arg a[4];
 		a[0].q = ++c->serial;
 		a[1].u = w->id;
 		a[2].u = collapse ? VIS_EXPOSURE_COLLAPSED : 0;
-		a[3].a.words = words;
-		a[3].a.n = count;
+		a[3].a.words = collapse ? extents : words;
+		a[3].a.n = collapse ? 1 : n;
 		a[3].a.raw = NULL;
 		server_client_send(c, VIS_OP_EXPOSURE, a);
-		free(words);
 	}
+	free(words);
 }
 
 void server_flush(struct server *server)

@@ -67,6 +67,7 @@ struct server {
 	struct event *listener_retry;
 	struct vis_wtree tree;
 	struct client_list clients;
+	struct vis_idmap clients_by_id; /* window owners' connections, by ID */
 	uint32_t next_client;
 	struct client *manager;
 	uint32_t role_all_exposure; /* observers and managers with exposures of every window */
@@ -92,6 +93,9 @@ void server_notify_stack(struct server *server, struct vis_window *w, uint32_t c
 
 /* The window's daemon data, allocated on first use; NULL when memory runs out. */
 struct window_data *server_window_data(struct vis_window *w);
+
+/* A region's rectangles as x, y, w, h words (malloc'd; *count rectangles), or NULL. */
+uint32_t *server_region_words(pixman_region32_t *region, uint32_t *count);
 
 /* Starts exposure tracking of w from its current region (the tree must be computed). */
 void server_track(struct vis_window *w, struct server *server);
