@@ -14,7 +14,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -429,6 +431,69 @@ static void test_errors_and_roles(void)
 	vis_client_destroy(obs);
 }
 
+/* Little-endian 32-bit word at p. */
+static uint32_t le32(const uint8_t *p)
+{
+	return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+/*
+ * Sends raw bytes on a fresh connection and reads until the daemon hangs up: it must answer with
+ * exactly one error, of code, for request seq, then close.
+ */
+static void expect_fatal(const uint8_t *bytes, size_t len, uint32_t seq, uint32_t code, int line)
+{
+	int fd = socket(AF_UNIX, SOCK_STREAM, 0);
+	struct sockaddr_un addr = { .sun_family = AF_UNIX };
+	memcpy(addr.sun_path, sock, strlen(sock) + 1); /* mkdtemp paths are short */
+	if (fd < 0 || connect(fd, (struct sockaddr *)&addr, sizeof addr) < 0 ||
+	    write(fd, bytes, len) != (ssize_t)len)
+		fail(line, "raw connection: %s", strerror(errno));
+	uint8_t in[512];
+	size_t got = 0;
+	for (;;) {
+		struct pollfd p = { fd, POLLIN, 0 };
+		if (poll(&p, 1, 5000) != 1)
+			fail(line, "the daemon did not close the connection");
+		ssize_t r = read(fd, in + got, sizeof in - got);
+		if (r <= 0)
+			break;
+		got += (size_t)r;
+	}
+	close(fd);
+	/* Skip a hello reply; the error must be the last message. */
+	size_t at = 0;
+	while (at + 8 <= got && le32(in + at) >= 8 && at + le32(in + at) < got)
+		at += le32(in + at);
+	if (got - at < 20 || le32(in + at) != got - at || (le32(in + at + 4) & 0xffff) != 96 ||
+	    le32(in + at + 8) != seq || le32(in + at + 16) != code)
+		fail(line, "wanted an error %s for request %u, then the end; got %zu bytes",
+		     vis_error_code_name(code), seq, got);
+}
+
+/* Bytes that cannot be parsed end their connection after an error; nobody else notices. */
+static void test_fatal(void)
+{
+	current = "fatal errors";
+	struct vis_client *a = connect_to(sock, VIS_ROLE_CLIENT, NULL);
+	uint32_t w = create(a, 0, 0, 0, 10, 10, VIS_CREATE_MAP);
+	/* sync (opcode 21) before hello; an unknown opcode; a size under the header; a wrong magic;
+	 * hello then a map (opcode 4) whose payload lacks its window. */
+	static const uint8_t early[] = { 8, 0, 0, 0, 21, 0, 0, 0 };
+	static const uint8_t unknown[] = { 8, 0, 0, 0, 99, 0, 0, 0 };
+	static const uint8_t tiny[] = { 4, 0, 0, 0, 1, 0, 0, 0 };
+	static const uint8_t magic[] = { 20, 0, 0, 0, 1, 0, 0, 0, 1, 2, 3, 4, 1, 0, 0, 0, 0, 0, 0, 0 };
+	static const uint8_t truncated[] = { 20, 0, 0, 0, 1, 0, 0, 0, 'V', 'I', 'S', 'D', 1, 0,
+					     0,  0, 0, 0, 0, 0, 8, 0, 0, 0,   4,   0,   0,   0 };
+	expect_fatal(early, sizeof early, 1, VIS_ERROR_HANDSHAKE, __LINE__);
+	expect_fatal(unknown, sizeof unknown, 1, VIS_ERROR_OPCODE, __LINE__);
+	expect_fatal(tiny, sizeof tiny, 1, VIS_ERROR_MALFORMED, __LINE__);
+	expect_fatal(magic, sizeof magic, 1, VIS_ERROR_HANDSHAKE, __LINE__);
+	expect_fatal(truncated, sizeof truncated, 2, VIS_ERROR_MALFORMED, __LINE__);
+	CHECK(state_of(a, w) == VIS_VISIBILITY_UNOBSCURED, "another client noticed");
+	vis_client_destroy(a);
+}
+
 /* Waits until the observer sees exactly `want` windows (disconnects are handled asynchronously). */
 static void wait_windows(struct vis_client *obs, size_t want)
 {
@@ -729,6 +794,7 @@ int main(int argc, char **argv)
 		test_requests();
 		test_exposure_limit();
 		test_errors_and_roles();
+		test_fatal();
 		test_batch();
 		test_children();
 		test_disconnect();
