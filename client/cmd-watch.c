@@ -33,7 +33,7 @@ static void on_signal(int sig)
 static const char *change_name(uint32_t change)
 {
 	static const char *const names[] = { "create",    "destroy", "map",      "unmap",
-					     "configure", "restack", "reparent" };
+					     "configure", "restack", "reparent", "resync" };
 	return change < sizeof(names) / sizeof(names[0]) ? names[change] : "?";
 }
 
@@ -45,6 +45,8 @@ static void print_text(const struct vis_notice *n)
 	case VIS_NOTICE_KIND_VISIBILITY:
 		printf("visibility %u %s %s", n->window, vis_visibility_name(n->visibility.state),
 		       vis_visibility_name(n->visibility.previous));
+		if (n->visibility.coalesced)
+			printf(" coalesced %u", n->visibility.coalesced);
 		break;
 	case VIS_NOTICE_KIND_EXPOSURE:
 		printf("exposure %u", n->window);
@@ -54,11 +56,16 @@ static void print_text(const struct vis_notice *n)
 		}
 		if (n->exposure.flags & VIS_EXPOSURE_COLLAPSED)
 			printf(" collapsed");
+		if (n->exposure.coalesced)
+			printf(" coalesced %u", n->exposure.coalesced);
 		break;
 	case VIS_NOTICE_KIND_STACK:
 		printf("stack %s %u %u %d,%d,%u,%u %u", change_name(n->stack.change), n->window,
 		       n->stack.parent, n->stack.x, n->stack.y, n->stack.width, n->stack.height,
 		       n->stack.sibling);
+		break;
+	case VIS_NOTICE_KIND_OVERFLOW:
+		printf("overflow %u %u", n->overflow.dropped, n->overflow.resync);
 		break;
 	}
 	putchar('\n');
@@ -70,13 +77,16 @@ static void print_json(const struct vis_notice *n)
 	printf("{\"serial\":%" PRIu64 ",", n->serial);
 	switch (n->kind) {
 	case VIS_NOTICE_KIND_VISIBILITY:
-		printf("\"notice\":\"visibility\",\"window\":%u,\"state\":\"%s\",\"previous\":\"%s\"}",
+		printf("\"notice\":\"visibility\",\"window\":%u,\"state\":\"%s\",\"previous\":\"%s\","
+		       "\"coalesced\":%u}",
 		       n->window, vis_visibility_name(n->visibility.state),
-		       vis_visibility_name(n->visibility.previous));
+		       vis_visibility_name(n->visibility.previous), n->visibility.coalesced);
 		break;
 	case VIS_NOTICE_KIND_EXPOSURE:
-		printf("\"notice\":\"exposure\",\"window\":%u,\"collapsed\":%s,\"rects\":[", n->window,
-		       n->exposure.flags & VIS_EXPOSURE_COLLAPSED ? "true" : "false");
+		printf("\"notice\":\"exposure\",\"window\":%u,\"collapsed\":%s,\"coalesced\":%u,"
+		       "\"rects\":[",
+		       n->window, n->exposure.flags & VIS_EXPOSURE_COLLAPSED ? "true" : "false",
+		       n->exposure.coalesced);
 		for (uint32_t i = 0; i < n->exposure.n_rects; i++) {
 			const struct vis_rect32 *r = &n->exposure.rects[i];
 			printf("%s[%d,%d,%u,%u]", i ? "," : "", r->x, r->y, r->width, r->height);
@@ -88,6 +98,10 @@ static void print_json(const struct vis_notice *n)
 		       "\"y\":%d,\"width\":%u,\"height\":%u,\"sibling\":%u}",
 		       change_name(n->stack.change), n->window, n->stack.parent, n->stack.x,
 		       n->stack.y, n->stack.width, n->stack.height, n->stack.sibling);
+		break;
+	case VIS_NOTICE_KIND_OVERFLOW:
+		printf("\"notice\":\"overflow\",\"dropped\":%u,\"resync\":%u}", n->overflow.dropped,
+		       n->overflow.resync);
 		break;
 	}
 	putchar('\n');

@@ -378,6 +378,7 @@ static void handle_notice(struct vis_client *c, const struct vis_msg *m)
 		n.window = m->args[1].u;
 		n.visibility.state = m->args[2].u;
 		n.visibility.previous = m->args[3].u;
+		n.visibility.coalesced = m->args[4].u;
 		bad = n.visibility.state > VIS_VISIBILITY_NONE ||
 		      n.visibility.previous > VIS_VISIBILITY_NONE;
 		break;
@@ -385,7 +386,8 @@ static void handle_notice(struct vis_client *c, const struct vis_msg *m)
 		n.kind = VIS_NOTICE_KIND_EXPOSURE;
 		n.window = m->args[1].u;
 		n.exposure.flags = m->args[2].u;
-		n.exposure.n_rects = m->args[3].a.n;
+		n.exposure.coalesced = m->args[3].u;
+		n.exposure.n_rects = m->args[4].a.n;
 		bad = (n.exposure.flags & ~VIS_EXPOSURE_COLLAPSED) != 0;
 		if (bad || !n.exposure.n_rects)
 			break;
@@ -396,12 +398,17 @@ static void handle_notice(struct vis_client *c, const struct vis_msg *m)
 			return;
 		}
 		for (uint32_t i = 0; i < n.exposure.n_rects; i++) {
-			rects[i].x = (int32_t)vis_arg_word(&m->args[3], 'R', i, 0);
-			rects[i].y = (int32_t)vis_arg_word(&m->args[3], 'R', i, 1);
-			rects[i].width = vis_arg_word(&m->args[3], 'R', i, 2);
-			rects[i].height = vis_arg_word(&m->args[3], 'R', i, 3);
+			rects[i].x = (int32_t)vis_arg_word(&m->args[4], 'R', i, 0);
+			rects[i].y = (int32_t)vis_arg_word(&m->args[4], 'R', i, 1);
+			rects[i].width = vis_arg_word(&m->args[4], 'R', i, 2);
+			rects[i].height = vis_arg_word(&m->args[4], 'R', i, 3);
 		}
 		n.exposure.rects = rects;
+		break;
+	case VIS_OP_OVERFLOW:
+		n.kind = VIS_NOTICE_KIND_OVERFLOW;
+		n.overflow.dropped = m->args[1].u;
+		n.overflow.resync = m->args[2].u;
 		break;
 	default:
 		n.kind = VIS_NOTICE_KIND_STACK;
@@ -414,7 +421,7 @@ static void handle_notice(struct vis_client *c, const struct vis_msg *m)
 		n.stack.height = m->args[7].u;
 		n.stack.sibling = m->args[8].u;
 		n.stack.flags = m->args[9].u;
-		bad = n.stack.change > VIS_STACK_REPARENT;
+		bad = n.stack.change > VIS_STACK_RESYNC;
 		break;
 	}
 	if (bad)

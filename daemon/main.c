@@ -8,7 +8,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <stddef.h>
 #include <sys/file.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -17,14 +19,45 @@
 #include "vis/protocol.h"
 
 static const char usage_text[] =
-	"usage: visd [--socket PATH] [--screen WxH] [--restricted-socket PATH]\n"
-	"            [--max-request BYTES] [-v]\n"
+	"usage: visd [--socket PATH] [--screen WxH] [--restricted-socket PATH] [LIMITS] [-v]\n"
 	"  --socket PATH             listen here (default: $VISD_SOCKET, else\n"
 	"                            $XDG_RUNTIME_DIR/visd-0)\n"
 	"  --screen WxH              the screen size (default 3840x2160)\n"
 	"  --restricted-socket PATH  a second socket whose clients never get a role\n"
+	"  -v                        log debug messages too\n"
+	"limits (a request past one gets a 'limit' error):\n"
 	"  --max-request BYTES       the largest request accepted (default 65536)\n"
-	"  -v                        log debug messages too\n";
+	"  --max-clients N           connections at once (default 1024, fewer when\n"
+	"                            descriptors are short: see ulimit -n)\n"
+	"  --max-windows N           windows one connection may own (default 262144)\n"
+	"  --max-depth N             depth of the window tree (default 64)\n"
+	"  --max-subscriptions N     subscriptions per connection (default 1024)\n"
+	"  --max-pending BYTES       output waiting for one connection before its notices\n"
+	"                            are dropped for a resync (default 4194304)\n";
+
+/* The numeric options: the name, the range accepted, where the value goes. */
+struct number_option {
+	const char *name;
+	unsigned long min, max;
+	size_t offset; /* of a uint32_t in struct server_options */
+};
+
+static const struct number_option number_options[] = {
+	{ "--max-request", 64, VIS_PROTOCOL_MAX_MESSAGE, offsetof(struct server_options, max_request) },
+	{ "--max-clients", 1, 1000000, offsetof(struct server_options, max_clients) },
+	{ "--max-windows", 1, INT32_MAX, offsetof(struct server_options, max_windows) },
+	{ "--max-depth", 1, 4096, offsetof(struct server_options, max_depth) },
+	{ "--max-subscriptions", 1, 1000000, offsetof(struct server_options, max_subs) },
+	{ "--max-pending", 65536, 1u << 30, offsetof(struct server_options, max_pending) },
+};
+
+static const struct number_option *find_number_option(const char *name)
+{
+	for (size_t i = 0; i < sizeof number_options / sizeof number_options[0]; i++)
+		if (strcmp(name, number_options[i].name) == 0)
+			return &number_options[i];
+	return NULL;
+}
 
 static int usage_error(const char *fmt, const char *arg)
 {
@@ -77,6 +110,69 @@ static int take_lock(const char *path, char *lock_path, size_t len)
 	return fd;
 }
 
+/*
+ * Refuses a socket directory where another user could replace the socket: one that others may
+ * write to without the sticky bit, or owned by someone else than us or root.
+ */
+static int check_socket_dir(const char *path)
+{
+	char dir[PATH_MAX];
+	const char *slash = strrchr(path, '/');
+	if (!slash)
+		strcpy(dir, ".");
+	else if (slash == path)
+		strcpy(dir, "/");
+	else if ((size_t)(slash - path) < sizeof dir)
+		snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+	else
+		return 0; /* too long: binding will say so */
+	struct stat st;
+	if (stat(dir, &st) < 0) {
+		log_error("socket directory '%s': %s", dir, strerror(errno));
+		return -1;
+	}
+	if (!S_ISDIR(st.st_mode)) {
+		log_error("socket directory '%s' is not a directory", dir);
+		return -1;
+	}
+	if (st.st_uid != getuid() && st.st_uid != 0) {
+		log_error("socket directory '%s' belongs to uid %u, not to us (uid %u)", dir,
+			  (unsigned)st.st_uid, (unsigned)getuid());
+		return -1;
+	}
+	if ((st.st_mode & (S_IWGRP | S_IWOTH)) && !(st.st_mode & S_ISVTX)) {
+		log_error("socket directory '%s' (mode %04o) lets other users replace the socket; "
+			  "use a private directory such as $XDG_RUNTIME_DIR",
+			  dir, (unsigned)(st.st_mode & 07777));
+		return -1;
+	}
+	return 0;
+}
+
+/*
+ * Raises the descriptor limit as far as the clients need and the hard limit allows, and lowers
+ * max_clients to what the descriptors left can serve.
+ */
+static void fit_descriptors(struct server_options *opt)
+{
+	const rlim_t spare = 32; /* listeners, the lock, the event loop, the reserve, logs */
+	struct rlimit rl;
+	if (getrlimit(RLIMIT_NOFILE, &rl) < 0)
+		return;
+	rlim_t want = (rlim_t)opt->max_clients + spare;
+	if (rl.rlim_cur < want) {
+		rl.rlim_cur = rl.rlim_max == RLIM_INFINITY || rl.rlim_max > want ? want : rl.rlim_max;
+		setrlimit(RLIMIT_NOFILE, &rl);
+		getrlimit(RLIMIT_NOFILE, &rl);
+	}
+	if (rl.rlim_cur < want) {
+		uint32_t fit = rl.rlim_cur > spare + 1 ? (uint32_t)(rl.rlim_cur - spare) : 1;
+		log_warn("only %llu file descriptors (ulimit -n): serving at most %u clients, not %u",
+			 (unsigned long long)rl.rlim_cur, fit, opt->max_clients);
+		opt->max_clients = fit;
+	}
+}
+
 static void on_signal(evutil_socket_t sig, short what, void *data)
 {
 	(void)what;
@@ -91,6 +187,11 @@ int main(int argc, char **argv)
 		.screen_height = 2160,
 		.max_request = 65536,
 		.max_batch = 16u << 20,
+		.max_clients = 1024,
+		.max_windows = 262144,
+		.max_depth = 64,
+		.max_subs = 1024,
+		.max_pending = 4u << 20,
 		.allowed_uid = getuid(),
 	};
 	char default_path[PATH_MAX];
@@ -104,27 +205,30 @@ int main(int argc, char **argv)
 			log_set_level(LOG_DEBUG);
 			continue;
 		}
-		if (strcmp(a, "--socket") && strcmp(a, "--screen") && strcmp(a, "--restricted-socket") &&
-		    strcmp(a, "--max-request"))
+		const struct number_option *num = find_number_option(a);
+		if (!num && strcmp(a, "--socket") && strcmp(a, "--screen") &&
+		    strcmp(a, "--restricted-socket"))
 			return usage_error("unknown option '%s'", a);
 		if (!val || !*val)
 			return usage_error("%s needs a value", a);
 		i++;
-		if (strcmp(a, "--socket") == 0)
-			opt.socket_path = val;
-		else if (strcmp(a, "--restricted-socket") == 0)
-			opt.restricted_path = val;
-		else if (strcmp(a, "--screen") == 0) {
-			if (parse_size(val, &opt.screen_width, &opt.screen_height) < 0)
-				return usage_error("--screen '%s': want WxH, e.g. 1920x1080", val);
-		} else {
+		if (num) {
 			char *end;
 			errno = 0;
 			unsigned long n = strtoul(val, &end, 10);
-			if (errno || *end || !isdigit((unsigned char)*val) || n < 64 ||
-			    n > VIS_PROTOCOL_MAX_MESSAGE)
-				return usage_error("--max-request '%s': want 64 to 16777216 bytes", val);
-			opt.max_request = (uint32_t)n;
+			if (errno || *end || !isdigit((unsigned char)*val) || n < num->min ||
+			    n > num->max) {
+				fprintf(stderr, "visd: %s '%s': want a number from %lu to %lu\n%s", a,
+					val, num->min, num->max, usage_text);
+				return 2;
+			}
+			*(uint32_t *)((char *)&opt + num->offset) = (uint32_t)n;
+		} else if (strcmp(a, "--socket") == 0) {
+			opt.socket_path = val;
+		} else if (strcmp(a, "--restricted-socket") == 0) {
+			opt.restricted_path = val;
+		} else if (parse_size(val, &opt.screen_width, &opt.screen_height) < 0) {
+			return usage_error("--screen '%s': want WxH, e.g. 1920x1080", val);
 		}
 	}
 	if (!opt.socket_path) {
@@ -141,6 +245,10 @@ int main(int argc, char **argv)
 		}
 	}
 
+	if (check_socket_dir(opt.socket_path) < 0 ||
+	    (opt.restricted_path && check_socket_dir(opt.restricted_path) < 0))
+		return 1;
+	fit_descriptors(&opt);
 	signal(SIGPIPE, SIG_IGN);
 	umask(077); /* the socket and its lock: the owner's only */
 	char lock_path[PATH_MAX + 8], rlock_path[PATH_MAX + 8];

@@ -17,9 +17,38 @@
 static void on_read(struct bufferevent *bev, void *data);
 static void on_write(struct bufferevent *bev, void *data);
 static void on_event(struct bufferevent *bev, short what, void *data);
+static void on_resume(evutil_socket_t fd, short what, void *data);
+
+void server_refuse(struct server *server, int fd, const char *fmt, ...)
+{
+	char msg[200];
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(msg, sizeof msg, fmt, ap);
+	va_end(ap);
+	/* A flood must not flood the log too. */
+	if (server->refused++ % 1000 == 0)
+		log_warn("refusing a connection: %s (%llu so far)", msg,
+			 (unsigned long long)server->refused);
+	union vis_arg a[4] = { { .u = 1 }, { .u = VIS_OP_HELLO }, { .u = VIS_ERROR_LIMIT } };
+	a[3].s.p = msg;
+	a[3].s.len = (uint32_t)strlen(msg);
+	struct vis_buf *b = &server->scratch;
+	b->len = 0;
+	/* One small message into an empty socket buffer: it fits, or the peer is gone anyway. */
+	if (vis_msg_encode(b, VIS_OP_ERROR, a) == 0 &&
+	    send(fd, b->data, b->len, MSG_DONTWAIT | MSG_NOSIGNAL) < 0)
+		log_debug("refused connection: %s", strerror(errno));
+	close(fd);
+}
 
 void server_client_accept(struct server *server, int fd, bool restricted)
 {
+	if (server->n_clients >= server->opt.max_clients) {
+		server_refuse(server, fd, "too many clients: the limit is %u (visd --max-clients)",
+			      server->opt.max_clients);
+		return;
+	}
 	struct ucred cred;
 	socklen_t len = sizeof cred;
 	if (getsockopt(fd, SOL_SOCKET, SO_PEERCRED, &cred, &len) < 0) {
@@ -30,7 +59,8 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 	struct client *c = calloc(1, sizeof *c);
 	struct bufferevent *bev = bufferevent_socket_new(server->base, fd, BEV_OPT_CLOSE_ON_FREE);
 	struct evbuffer *batch = evbuffer_new();
-	if (!c || !bev || !batch) {
+	struct event *resume = evtimer_new(server->base, on_resume, c);
+	if (!c || !bev || !batch || !resume) {
 		log_error("refusing a connection: out of memory");
 		free(c);
 		if (bev)
@@ -39,8 +69,11 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 			close(fd);
 		if (batch)
 			evbuffer_free(batch);
+		if (resume)
+			event_free(resume);
 		return;
 	}
+	c->resume = resume;
 	c->server = server;
 	c->bev = bev;
 	c->batch = batch;
@@ -53,11 +86,21 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 		log_error("refusing a connection: out of memory");
 		bufferevent_free(bev);
 		evbuffer_free(batch);
+		event_free(resume);
 		free(c);
 		return;
 	}
+	server_output_init(c);
 	TAILQ_INSERT_TAIL(&server->clients, c, link);
+	server->n_clients++;
 	bufferevent_setcb(bev, on_read, on_write, on_event, c);
+	/*
+	 * Input stops being read past a request or two (the budget may leave some unread); the write
+	 * callback runs once the output is down to a quarter of the bound, to release what waits.
+	 */
+	uint32_t max = server->opt.max_request;
+	bufferevent_setwatermark(bev, EV_READ, 0, (max < 65536 ? 65536 : max) + 65536);
+	bufferevent_setwatermark(bev, EV_WRITE, server->opt.max_pending / 4, 0);
 	bufferevent_enable(bev, EV_READ | EV_WRITE);
 	log_debug("client %u connected (uid %u, pid %d%s)", c->id, (unsigned)cred.uid,
 		  (int)cred.pid, restricted ? ", restricted socket" : "");
@@ -87,9 +130,10 @@ static void drop_windows(struct client *c)
 		struct vis_window *v = vis_wtree_find(&server->tree, ids[i]);
 		if (!v)
 			continue; /* went with an ancestor */
-		if (v->retained)
+		if (v->retained) {
 			v->owner = 0;
-		else
+			c->n_windows--;
+		} else
 			server_destroy_window(server, v);
 	}
 	free(ids);
@@ -99,17 +143,21 @@ void server_client_free(struct client *c)
 {
 	struct server *server = c->server;
 	TAILQ_REMOVE(&server->clients, c, link);
-	vis_idmap_remove(&server->clients_by_id, c->id);
+	server->n_clients--;
 	if (server->manager == c)
 		server->manager = NULL;
 	server_unsubscribe_all(c);
 	free(c->subs);
 	drop_windows(c);
+	/* After its windows: their destruction finds the owner to count them off. */
+	vis_idmap_remove(&server->clients_by_id, c->id);
 	log_debug("client %u gone", c->id);
+	server_output_finish(c);
 	bufferevent_free(c->bev);
 	evbuffer_free(c->batch);
+	event_free(c->resume);
 	free(c);
-	server_flush(server);
+	server_schedule_flush(server);
 }
 
 /* Ends the connection once what is queued has been written. */
@@ -120,6 +168,12 @@ void server_client_close(struct client *c)
 }
 
 void server_client_send(struct client *c, uint32_t opcode, const union vis_arg *args)
+{
+	server_output_release(c); /* replies come after the notices of earlier requests */
+	server_client_write(c, opcode, args);
+}
+
+void server_client_write(struct client *c, uint32_t opcode, const union vis_arg *args)
 {
 	struct vis_buf *b = &c->server->scratch;
 	b->len = 0;
@@ -242,16 +296,31 @@ static void handle(struct client *c, uint32_t seq, const struct vis_msg *m, cons
 	}
 }
 
-/* Reads every complete request, handles it, then recomputes once for all of them. */
-static void on_read(struct bufferevent *bev, void *data)
+/* Serves c again on the next turn of the event loop, after others had theirs. */
+static void resume_next_turn(struct client *c)
 {
-	struct client *c = data;
-	struct evbuffer *in = bufferevent_get_input(bev);
-	uint32_t max = c->server->opt.max_request;
-	while (!c->closing) {
+	static const struct timeval now = { 0, 0 };
+	evtimer_add(c->resume, &now);
+}
+
+/*
+ * Runs the complete requests that have arrived, up to the budget, then leaves the recompute to the
+ * end of this turn of the event loop, so that others' requests read in the same turn share it. A
+ * connection whose output is full is not read from until it drains.
+ */
+static void serve(struct client *c)
+{
+	struct server *server = c->server;
+	struct evbuffer *in = bufferevent_get_input(c->bev);
+	uint32_t max = server->opt.max_request;
+	for (int budget = SERVER_REQUEST_BUDGET; !c->closing; budget--) {
 		size_t avail = evbuffer_get_length(in);
 		if (avail < VIS_MSG_HEADER)
 			break;
+		if (server_output_pending(c) >= server->opt.max_pending) {
+			c->read_blocked = true;
+			break;
+		}
 		const uint8_t *p = evbuffer_pullup(in, VIS_MSG_HEADER);
 		uint32_t size;
 		char why[200];
@@ -259,6 +328,10 @@ static void on_read(struct bufferevent *bev, void *data)
 		if (vis_msg_peek(p, avail, max, &size, why, sizeof why) == VIS_DECODE_OK) {
 			if (avail < size)
 				break;
+			if (!budget) {
+				resume_next_turn(c);
+				break;
+			}
 			p = evbuffer_pullup(in, size);
 		}
 		enum vis_decode r = vis_msg_decode(p, avail, max, 1, &m, why, sizeof why);
@@ -274,16 +347,40 @@ static void on_read(struct bufferevent *bev, void *data)
 		handle(c, seq, &m, p);
 		evbuffer_drain(in, size);
 	}
-	server_flush(c->server);
-	if (c->closing && !evbuffer_get_length(bufferevent_get_output(bev)))
+	server_schedule_flush(server);
+	if (c->closing && !server_output_pending(c))
 		server_client_free(c);
 }
 
-/* Frees a closing connection once its last message is out. */
+static void on_read(struct bufferevent *bev, void *data)
+{
+	(void)bev;
+	serve(data);
+}
+
+/* The budget left requests unread: their turn has come. */
+static void on_resume(evutil_socket_t fd, short what, void *data)
+{
+	(void)fd;
+	(void)what;
+	serve(data);
+}
+
+/*
+ * The output is down to a quarter of the bound (or empty): send what was held, read again if
+ * reading stopped, and free a closing connection once its last message is out.
+ */
 static void on_write(struct bufferevent *bev, void *data)
 {
+	(void)bev;
 	struct client *c = data;
-	if (c->closing && !evbuffer_get_length(bufferevent_get_output(bev)))
+	if (!c->closing)
+		server_output_release(c);
+	if (c->read_blocked && server_output_pending(c) < c->server->opt.max_pending / 2) {
+		c->read_blocked = false;
+		resume_next_turn(c);
+	}
+	if (c->closing && !server_output_pending(c))
 		server_client_free(c);
 }
 

@@ -121,6 +121,20 @@ static void do_create(struct client *c, uint32_t seq, const union vis_arg *a)
 		server_client_error(c, seq, op, VIS_ERROR_VALUE, "unknown flags %#x", a[5].u);
 		return;
 	}
+	const struct server_options *opt = &c->server->opt;
+	if (c->n_windows >= opt->max_windows) {
+		server_client_error(c, seq, op, VIS_ERROR_LIMIT,
+				    "this connection owns %u windows, the limit (visd --max-windows)",
+				    c->n_windows);
+		return;
+	}
+	if (parent->depth + 1 > opt->max_depth) {
+		server_client_error(c, seq, op, VIS_ERROR_LIMIT,
+				    "a window under %u would be %u deep, past the limit of %u "
+				    "(visd --max-depth)",
+				    parent->id, parent->depth + 1, opt->max_depth);
+		return;
+	}
 	struct vis_window *w = vis_wtree_create(&c->server->tree, parent, a[1].i, a[2].i,
 						(int32_t)a[3].u, (int32_t)a[4].u, c->id);
 	if (!w) {
@@ -129,6 +143,7 @@ static void do_create(struct client *c, uint32_t seq, const union vis_arg *a)
 		return;
 	}
 	w->retained = a[5].u & VIS_CREATE_RETAIN;
+	c->n_windows++;
 	changed(c, w, VIS_STACK_CREATE);
 	if (a[5].u & VIS_CREATE_MAP) {
 		w->mapped = true;
@@ -211,6 +226,19 @@ static void do_restack(struct client *c, uint32_t seq, const union vis_arg *a)
 	changed(c, w, VIS_STACK_RESTACK);
 }
 
+/* How many levels w's subtree holds below w. O(size of the subtree). */
+static uint32_t subtree_height(const struct vis_window *w)
+{
+	uint32_t most = w->depth;
+	const struct vis_window *end = w;
+	while (end->top)
+		end = end->top; /* the subtree's last window in pre-order */
+	for (const struct vis_window *v = w; v; v = v == end ? NULL : vis_wtree_next(v))
+		if (v->depth > most)
+			most = v->depth;
+	return most - w->depth;
+}
+
 static void do_reparent(struct client *c, uint32_t seq, const union vis_arg *a)
 {
 	uint32_t op = VIS_OP_REPARENT;
@@ -222,6 +250,14 @@ static void do_reparent(struct client *c, uint32_t seq, const union vis_arg *a)
 		server_client_error(c, seq, op, VIS_ERROR_MATCH,
 				    "window %u cannot go under itself or its descendant %u", w->id,
 				    p->id);
+		return;
+	}
+	uint32_t deepest = p->depth + 1 + subtree_height(w);
+	if (deepest > c->server->opt.max_depth) {
+		server_client_error(c, seq, op, VIS_ERROR_LIMIT,
+				    "under %u, window %u's subtree would reach depth %u, past the limit "
+				    "of %u (visd --max-depth)",
+				    p->id, w->id, deepest, c->server->opt.max_depth);
 		return;
 	}
 	vis_wtree_reparent(w, p, a[2].i, a[3].i);

@@ -77,6 +77,13 @@ void server_subscription(struct client *c, uint32_t seq, uint32_t op, const unio
 			return;
 		}
 	}
+	if (!found && c->n_subs >= server->opt.max_subs) {
+		server_client_error(c, seq, op, VIS_ERROR_LIMIT,
+				    "this connection has %zu subscriptions, the limit "
+				    "(visd --max-subscriptions)",
+				    c->n_subs);
+		return;
+	}
 	if (!found) {
 		if (c->n_subs == c->cap_subs) {
 			size_t cap = c->cap_subs ? 2 * c->cap_subs : 4;

@@ -1,5 +1,6 @@
 /* The daemon's shared state: listeners, the window tree, recomputes and the notice fan-out. */
 #include <errno.h>
+#include <fcntl.h>
 #include <event2/bufferevent.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,11 +33,33 @@ static void on_listener_retry(evutil_socket_t fd, short what, void *data)
 		evconnlistener_enable(server->restricted_listener);
 }
 
-/* accept() failed: out of descriptors must not end the daemon; pause accepting for a moment. */
+/* Holds a descriptor in reserve, to refuse connections cleanly once the others run out. */
+static void take_reserve(struct server *server)
+{
+	if (server->reserve_fd < 0)
+		server->reserve_fd = open("/dev/null", O_RDONLY | O_CLOEXEC);
+}
+
+/*
+ * accept() failed. Out of descriptors must not end the daemon: the reserve descriptor makes room to
+ * accept each waiting connection and refuse it with an error; without one, accepting pauses for
+ * 100 ms.
+ */
 static void on_accept_error(struct evconnlistener *l, void *data)
 {
 	struct server *server = data;
 	int err = EVUTIL_SOCKET_ERROR();
+	if ((err == EMFILE || err == ENFILE) && server->reserve_fd >= 0) {
+		close(server->reserve_fd);
+		server->reserve_fd = -1;
+		int fd;
+		while ((fd = accept4(evconnlistener_get_fd(l), NULL, NULL, SOCK_CLOEXEC)) >= 0)
+			server_refuse(server, fd, "the daemon is out of file descriptors (%s)",
+				      strerror(err));
+		take_reserve(server);
+		if (server->reserve_fd >= 0)
+			return;
+	}
 	log_warn("accept: %s; refusing connections for 100 ms", strerror(err));
 	evconnlistener_disable(l);
 	struct timeval delay = { 0, 100000 };
@@ -77,18 +100,35 @@ static struct evconnlistener *listen_at(struct server *server, const char *path)
 	return l;
 }
 
+/* The deferred recompute: after every request read in this turn. */
+static void on_flush(evutil_socket_t fd, short what, void *data)
+{
+	(void)fd;
+	(void)what;
+	server_flush(data);
+}
+
+void server_schedule_flush(struct server *server)
+{
+	if (server->dirty && !server->deferring)
+		event_active(server->flush_event, EV_TIMEOUT, 0);
+}
+
 int server_init(struct server *server, struct event_base *base, const struct server_options *opt)
 {
 	memset(server, 0, sizeof *server);
 	server->base = base;
 	server->opt = *opt;
 	server->next_client = 1;
+	server->reserve_fd = -1;
+	take_reserve(server);
 	TAILQ_INIT(&server->clients);
 	vis_idmap_init(&server->clients_by_id);
 	vis_buf_init(&server->scratch);
 	vis_wtree_init(&server->tree, opt->screen_width, opt->screen_height);
 	server->listener_retry = evtimer_new(base, on_listener_retry, server);
-	if (!server->listener_retry)
+	server->flush_event = event_new(base, -1, 0, on_flush, server);
+	if (!server->listener_retry || !server->flush_event)
 		return -1;
 	server->listener = listen_at(server, opt->socket_path);
 	if (!server->listener)
@@ -133,8 +173,12 @@ void server_finish(struct server *server)
 		evconnlistener_free(server->restricted_listener);
 	if (server->listener_retry)
 		event_free(server->listener_retry);
+	if (server->flush_event)
+		event_free(server->flush_event);
 	vis_wtree_finish(&server->tree);
 	vis_idmap_finish(&server->clients_by_id);
+	if (server->reserve_fd >= 0)
+		close(server->reserve_fd);
 	vis_buf_finish(&server->scratch);
 }
 
@@ -185,19 +229,11 @@ void server_track(struct vis_window *w, struct server *server)
 static void notify_visibility(struct server *server, struct vis_window *w)
 {
 	struct client *c;
-	TAILQ_FOREACH(c, &server->clients, link) {
-		if (c->closing || !server_client_sub_for(c, w, VIS_NOTICE_VISIBILITY))
-			continue;
-		union vis_arg a[4];
-		a[0].q = ++c->serial;
-		a[1].u = w->id;
-		a[2].u = w->state;
-		a[3].u = w->old_state;
-		server_client_send(c, VIS_OP_VISIBILITY, a);
-	}
+	TAILQ_FOREACH(c, &server->clients, link)
+		if (!c->closing && server_client_sub_for(c, w, VIS_NOTICE_VISIBILITY))
+			server_notice_visibility(c, w);
 }
 
-/* Sends the exposure notice of w (rectangles in window coordinates) to its subscribers. */
 uint32_t *server_region_words(pixman_region32_t *region, uint32_t *count)
 {
 	int n;
@@ -224,23 +260,11 @@ static void notify_exposure(struct server *server, struct vis_window *w, pixman_
 		log_error("out of memory for an exposure notice");
 		return;
 	}
-	const pixman_box32_t *e = pixman_region32_extents(exposed);
-	const uint32_t extents[4] = { (uint32_t)e->x1, (uint32_t)e->y1, (uint32_t)(e->x2 - e->x1),
-				      (uint32_t)(e->y2 - e->y1) };
 	struct client *c;
 	TAILQ_FOREACH(c, &server->clients, link) {
 		const struct sub *s;
-		if (c->closing || !(s = server_client_sub_for(c, w, VIS_NOTICE_EXPOSURE)))
-			continue;
-		bool collapse = n > s->rect_limit;
-		union vis_arg a[4];
-		a[0].q = ++c->serial;
-		a[1].u = w->id;
-		a[2].u = collapse ? VIS_EXPOSURE_COLLAPSED : 0;
-		a[3].a.words = collapse ? extents : words;
-		a[3].a.n = collapse ? 1 : n;
-		a[3].a.raw = NULL;
-		server_client_send(c, VIS_OP_EXPOSURE, a);
+		if (!c->closing && (s = server_client_sub_for(c, w, VIS_NOTICE_EXPOSURE)))
+			server_notice_exposure(c, s, w, exposed, words, n);
 	}
 	free(words);
 }
@@ -287,26 +311,33 @@ void server_flush(struct server *server)
 	pixman_region32_fini(&exposed);
 }
 
+void server_stack_words(const struct vis_window *w, uint32_t change, uint32_t words[9])
+{
+	words[0] = change;
+	words[1] = w->id;
+	words[2] = w->parent ? w->parent->id : 0;
+	words[3] = (uint32_t)w->x;
+	words[4] = (uint32_t)w->y;
+	words[5] = (uint32_t)w->width;
+	words[6] = (uint32_t)w->height;
+	words[7] = w->below ? w->below->id : 0;
+	words[8] = (w->mapped ? VIS_WINDOW_MAPPED : 0) |
+		   (vis_wtree_viewable(w) ? VIS_WINDOW_VIEWABLE : 0) |
+		   (w->retained ? VIS_WINDOW_RETAINED : 0);
+}
+
 void server_notify_stack(struct server *server, struct vis_window *w, uint32_t change)
 {
+	uint32_t words[9];
+	bool made = false;
 	struct client *c;
 	TAILQ_FOREACH(c, &server->clients, link) {
 		if (c->closing || !server_client_sub_for(c, w, VIS_NOTICE_STACK))
 			continue;
-		union vis_arg a[10];
-		a[0].q = ++c->serial;
-		a[1].u = change;
-		a[2].u = w->id;
-		a[3].u = w->parent ? w->parent->id : 0;
-		a[4].i = w->x;
-		a[5].i = w->y;
-		a[6].u = (uint32_t)w->width;
-		a[7].u = (uint32_t)w->height;
-		a[8].u = w->below ? w->below->id : 0;
-		a[9].u = (w->mapped ? VIS_WINDOW_MAPPED : 0) |
-			 (vis_wtree_viewable(w) ? VIS_WINDOW_VIEWABLE : 0) |
-			 (w->retained ? VIS_WINDOW_RETAINED : 0);
-		server_client_send(c, VIS_OP_STACK, a);
+		if (!made)
+			server_stack_words(w, change, words);
+		made = true;
+		server_notice_stack(c, words);
 	}
 }
 
@@ -315,6 +346,9 @@ static void window_gone(void *data, struct vis_window *w)
 {
 	struct server *server = data;
 	server_notify_stack(server, w, VIS_STACK_DESTROY);
+	struct client *owner = vis_idmap_get(&server->clients_by_id, w->owner);
+	if (owner)
+		owner->n_windows--;
 	struct window_data *d = w->data;
 	if (d && d->subs) {
 		struct client *c;

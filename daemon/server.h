@@ -18,8 +18,16 @@ struct server_options {
 	int32_t screen_width, screen_height;
 	uint32_t max_request;   /* bytes, header included */
 	uint32_t max_batch;     /* bytes held by one open batch */
+	uint32_t max_clients;   /* connections at once */
+	uint32_t max_windows;   /* windows one connection owns */
+	uint32_t max_depth;     /* window tree depth (top-level windows: 1) */
+	uint32_t max_subs;      /* subscriptions per connection */
+	uint32_t max_pending;   /* bytes waiting to be written to one connection */
 	uid_t allowed_uid;      /* peers with this uid may take roles */
 };
+
+/* Requests one connection may run per turn of the event loop before others get theirs. */
+#define SERVER_REQUEST_BUDGET 64
 
 /* A subscription: window 0 means every window the connection may see. */
 struct sub {
@@ -28,11 +36,44 @@ struct sub {
 	uint32_t rect_limit; /* exposure rectangles before collapsing to the bounding box */
 };
 
+/* A notice held for a lagging connection: the latest state and the merged exposures of a window. */
+struct held {
+	uint32_t window;
+	bool visibility, exposure;
+	uint32_t state, previous;           /* previous: what the connection was last told */
+	uint32_t visibility_count, exposure_count; /* notices folded in */
+	pixman_region32_t exposed;          /* window coordinates */
+};
+
+/* A stack notice held for a lagging connection: its words after the serial. */
+struct held_stack {
+	uint32_t words[9];
+};
+
+/*
+ * What a connection has not been sent yet (server-output.c). Below half of max_pending waiting,
+ * notices are written at once. Above, the connection lags: notices are held, one per window
+ * (stack notices in order), and go out when the output drains or before the next reply. When what
+ * waits plus what is held passes max_pending, the held notices are dropped and counted: the
+ * connection overflowed and gets an overflow notice and a resync once it drains.
+ */
+struct output {
+	bool lagging, overflowed;
+	struct held *held;
+	size_t n_held, cap_held;
+	struct vis_idmap held_index; /* window → index in held, plus 1 */
+	struct held_stack *stack;
+	size_t n_stack, cap_stack;
+	size_t held_bytes;           /* what the held notices take encoded */
+	uint32_t dropped;            /* notices lost since the overflow */
+};
+
 /*
  * One connection. Invariants: requests are numbered from 1 in arrival order (seq is the last one
  * received); serial is the last notice's number; while in_batch, requests wait in batch, each
  * prefixed with its number, until batch-commit; once closing, nothing more is read and the
- * connection ends when its output has drained.
+ * connection ends when its output has drained; read_blocked while its output is full (no
+ * requests are read until it drains).
  */
 struct client {
 	struct server *server;
@@ -40,7 +81,7 @@ struct client {
 	TAILQ_ENTRY(client) link;
 	uint32_t id;
 	uid_t uid;
-	bool restricted, hello_done, in_batch, closing;
+	bool restricted, hello_done, in_batch, closing, read_blocked;
 	uint32_t role;
 	uint32_t seq;
 	uint64_t serial;
@@ -48,6 +89,9 @@ struct client {
 	struct sub *subs;
 	size_t n_subs, cap_subs;
 	bool all_exposure; /* holds a subscription to every window with exposures */
+	uint32_t n_windows; /* windows it owns */
+	struct output out;
+	struct event *resume; /* runs the requests left over by the budget, next turn */
 };
 
 TAILQ_HEAD(client_list, client);
@@ -65,14 +109,18 @@ struct server {
 	struct server_options opt;
 	struct evconnlistener *listener, *restricted_listener;
 	struct event *listener_retry;
+	int reserve_fd; /* spent to refuse connections when descriptors run out */
 	struct vis_wtree tree;
 	struct client_list clients;
+	uint32_t n_clients;
+	uint64_t refused; /* connections refused so far */
 	struct vis_idmap clients_by_id; /* window owners' connections, by ID */
 	uint32_t next_client;
 	struct client *manager;
 	uint32_t role_all_exposure; /* observers and managers with exposures of every window */
 	bool dirty;     /* the tree changed since the last recompute */
 	bool deferring; /* replaying a batch: recompute once at its end */
+	struct event *flush_event; /* the recompute after this turn's requests */
 	struct vis_buf scratch;
 };
 
@@ -87,7 +135,11 @@ bool server_may_change(const struct client *c, const struct vis_window *w);
 
 /* Recomputes the states if the tree changed, and sends the notices that follow. */
 void server_flush(struct server *server);
+/* Recomputes once every request read in this turn of the event loop has run. */
+void server_schedule_flush(struct server *server);
 
+/* A stack notice's words after the serial: change, window, parent, geometry, sibling, flags. */
+void server_stack_words(const struct vis_window *w, uint32_t change, uint32_t words[9]);
 /* Sends a stack notice about w to the connections subscribed to it. */
 void server_notify_stack(struct server *server, struct vis_window *w, uint32_t change);
 
@@ -105,9 +157,14 @@ void server_destroy_window(struct server *server, struct vis_window *w);
 
 /* Connections: accepting, dispatch and replies (server-client.c). */
 void server_client_accept(struct server *server, int fd, bool restricted);
+/* Answers a connection's hello in advance with a limit error and closes it. */
+void server_refuse(struct server *server, int fd, const char *fmt, ...)
+	__attribute__((format(printf, 3, 4)));
 void server_client_free(struct client *c);
-/* Encodes and queues one message to c; on failure the connection is closed. */
+/* Queues a reply or error to c after what is held for it; on failure the connection is closed. */
 void server_client_send(struct client *c, uint32_t opcode, const union vis_arg *args);
+/* Encodes and queues one message to c now; on failure the connection is closed. */
+void server_client_write(struct client *c, uint32_t opcode, const union vis_arg *args);
 /* Ends the connection once what is queued has been written. */
 void server_client_close(struct client *c);
 /* Sends an error reply; fatal ones close the connection once the error is written. */
@@ -122,5 +179,18 @@ void server_subscription(struct client *c, uint32_t seq, uint32_t op, const unio
 void server_unsubscribe_all(struct client *c);
 /* Runs one decoded request. */
 void server_client_dispatch(struct client *c, uint32_t seq, const struct vis_msg *m);
+
+/* Notices and the bound on pending output (server-output.c). */
+void server_output_init(struct client *c);
+void server_output_finish(struct client *c);
+/* Bytes waiting to be written to c. */
+size_t server_output_pending(const struct client *c);
+/* Sends, holds or drops (after an overflow) a notice to c. */
+void server_notice_visibility(struct client *c, const struct vis_window *w);
+void server_notice_exposure(struct client *c, const struct sub *s, const struct vis_window *w,
+			    pixman_region32_t *exposed, const uint32_t *words, uint32_t n);
+void server_notice_stack(struct client *c, const uint32_t words[9]);
+/* Sends what is held for c (and the resync after an overflow); before replies and on drain. */
+void server_output_release(struct client *c);
 
 #endif

@@ -68,13 +68,19 @@
 	M(SYNCED, 71, REPLY, "synced", "u:seq", "Answers sync.")                                  \
 	M(ERROR, 96, REPLY, "error", "u:seq u:opcode u:code s:message",                           \
 	  "A request failed: its sequence number and opcode, the code, a reason.")                \
-	M(VISIBILITY, 128, NOTICE, "visibility", "q:serial u:window u:state u:previous",          \
-	  "A window's state changed, or it became viewable (previous 3).")                       \
-	M(EXPOSURE, 129, NOTICE, "exposure", "q:serial u:window u:flags aR:rects",                \
-	  "Newly visible rectangles, window coordinates; flags 1: collapsed to the bounding box.") \
+	M(VISIBILITY, 128, NOTICE, "visibility",                                                  \
+	  "q:serial u:window u:state u:previous u:coalesced",                                     \
+	  "A window's state changed, or it became viewable (previous 3); coalesced: how many "    \
+	  "notices this one stands for beyond itself.")                                           \
+	M(EXPOSURE, 129, NOTICE, "exposure", "q:serial u:window u:flags u:coalesced aR:rects",    \
+	  "Newly visible rectangles, window coordinates; flags 1: collapsed to the bounding box; " \
+	  "coalesced: how many notices were merged into this one.")                               \
 	M(STACK, 130, NOTICE, "stack",                                                            \
 	  "q:serial u:change u:window u:parent i:x i:y u:width u:height u:sibling u:flags",       \
-	  "The stack changed: what, which window, its new geometry, the sibling below it.")
+	  "The stack changed: what, which window, its new geometry, the sibling below it.")      \
+	M(OVERFLOW, 131, NOTICE, "overflow", "q:serial u:dropped u:resync",                        \
+	  "The connection fell too far behind: dropped notices were lost; the next resync "       \
+	  "notices restate everything its subscriptions cover.")
 
 enum vis_msg_dir {
 	VIS_DIR_REQUEST, /* client to daemon */

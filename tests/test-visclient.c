@@ -93,7 +93,7 @@ static void fake_error(struct fake *f, uint32_t seq, uint32_t opcode, uint32_t c
 
 static void fake_visibility(struct fake *f, uint32_t window, uint32_t state, uint32_t previous)
 {
-	union vis_arg a[4] = { { .q = f->serial++ }, U(window), U(state), U(previous) };
+	union vis_arg a[5] = { { .q = f->serial++ }, U(window), U(state), U(previous), U(0) };
 	fake_send(f, VIS_OP_VISIBILITY, a);
 }
 
@@ -126,7 +126,7 @@ static void serve_good(struct fake *f)
 	static const uint32_t s1[] = { 5, 0 }, s2[] = { 6, 2, 8, 1 };
 	fake_send(f, VIS_OP_STATES, (union vis_arg[]){ U(3), U(1), { .a = { NULL, s1, 1 } } });
 	static const uint32_t rects[] = { 0, 0, 10, 5, (uint32_t)-3, 5, 20, 1 };
-	fake_send(f, VIS_OP_EXPOSURE, (union vis_arg[]){ { .q = f->serial++ }, U(5), U(1),
+	fake_send(f, VIS_OP_EXPOSURE, (union vis_arg[]){ { .q = f->serial++ }, U(5), U(1), U(3),
 							  { .a = { NULL, rects, 2 } } });
 	fake_send(f, VIS_OP_STATES, (union vis_arg[]){ U(3), U(0), { .a = { NULL, s2, 2 } } });
 
@@ -200,6 +200,7 @@ static void client_good(struct vis_client *c)
 	assert(n_notices == 2 && notices[1].kind == VIS_NOTICE_KIND_EXPOSURE);
 	assert(notices[1].serial == 2 && notices[1].exposure.flags == VIS_EXPOSURE_COLLAPSED);
 	assert(notices[1].exposure.n_rects == 2 && exposure_rects[1].x == -3);
+	assert(notices[1].exposure.coalesced == 3);
 	assert(exposure_rects[1].width == 20 && exposure_rects[0].height == 5);
 
 	assert(vis_client_map(c, 9) == 4);
@@ -452,15 +453,15 @@ static size_t make_broken(struct broken *b)
 	b[n++].len = 24;
 	/* A notice whose serial skips one. */
 	b[n] = (struct broken){ .name = "serial gap", .expect = EPROTO };
-	o = header(b[n].bytes, 28, VIS_OP_VISIBILITY);
+	o = header(b[n].bytes, 32, VIS_OP_VISIBILITY);
 	vis_wire_put_u64(b[n].bytes + o, 2);
-	b[n++].len = 28;
+	b[n++].len = 32;
 	/* A notice with a state that does not exist. */
 	b[n] = (struct broken){ .name = "unknown state", .expect = EPROTO };
-	o = header(b[n].bytes, 28, VIS_OP_VISIBILITY);
+	o = header(b[n].bytes, 32, VIS_OP_VISIBILITY);
 	vis_wire_put_u64(b[n].bytes + o, 1);
 	vis_wire_put_u32(b[n].bytes + o + 12, 7);
-	b[n++].len = 28;
+	b[n++].len = 32;
 	/* A chunked reply with more = 2. */
 	b[n] = (struct broken){ .name = "more not 0 or 1", .expect = EPROTO };
 	o = header(b[n].bytes, 20, VIS_OP_STATES);

@@ -66,6 +66,7 @@ enum vis_stack_change {
 	VIS_STACK_CONFIGURE = 4, /* moved or resized */
 	VIS_STACK_RESTACK = 5,   /* raised, lowered or stacked against a sibling */
 	VIS_STACK_REPARENT = 6,
+	VIS_STACK_RESYNC = 7, /* restated after an overflow notice: the window as it is now */
 };
 
 /* Flags of a window in the tree reply. */

@@ -62,6 +62,7 @@ enum vis_notice_kind {
 	VIS_NOTICE_KIND_VISIBILITY,
 	VIS_NOTICE_KIND_EXPOSURE,
 	VIS_NOTICE_KIND_STACK,
+	VIS_NOTICE_KIND_OVERFLOW, /* the connection fell behind: a resync follows */
 };
 
 /* A notice. Pointers stay valid until the handler returns. */
@@ -72,9 +73,11 @@ struct vis_notice {
 	union {
 		struct {
 			uint32_t state, previous; /* previous VIS_VISIBILITY_NONE: newly viewable */
+			uint32_t coalesced;       /* notices this one stands for beyond itself */
 		} visibility;
 		struct {
 			uint32_t flags; /* VIS_EXPOSURE_COLLAPSED */
+			uint32_t coalesced; /* notices merged into this one beyond itself */
 			uint32_t n_rects;
 			const struct vis_rect32 *rects; /* window coordinates */
 		} exposure;
@@ -86,6 +89,10 @@ struct vis_notice {
 			uint32_t sibling; /* the sibling just below, 0 if none */
 			uint32_t flags;   /* enum vis_window_flags */
 		} stack;
+		struct {
+			uint32_t dropped; /* notices lost */
+			uint32_t resync;  /* the notices that follow and restate every subscription */
+		} overflow;               /* window is 0 */
 	};
 };
 

@@ -1,0 +1,373 @@
+/*
+ * Notices on their way to a connection, and the bound on what may wait for it. A connection that
+ * reads slowly gets its notices coalesced (the latest state of each window, the union of its
+ * exposures); one that falls further behind loses them for an overflow notice and a resync of
+ * everything it subscribed to. Serials are given as notices are written, so they stay gapless.
+ */
+#include <event2/buffer.h>
+#include <event2/bufferevent.h>
+#include <stdlib.h>
+
+#include "log.h"
+#include "server.h"
+#include "vis/protocol.h"
+
+/* Encoded sizes: header, serial, fields; an exposure adds 16 bytes a rectangle. */
+#define VISIBILITY_BYTES 36u
+#define EXPOSURE_BYTES 36u
+#define STACK_BYTES 52u
+
+void server_output_init(struct client *c)
+{
+	vis_idmap_init(&c->out.held_index);
+}
+
+/* Forgets everything held. */
+static void drop_held(struct output *o)
+{
+	for (size_t i = 0; i < o->n_held; i++)
+		pixman_region32_fini(&o->held[i].exposed);
+	o->n_held = 0;
+	o->n_stack = 0;
+	o->held_bytes = 0;
+	vis_idmap_finish(&o->held_index);
+	vis_idmap_init(&o->held_index);
+}
+
+void server_output_finish(struct client *c)
+{
+	drop_held(&c->out);
+	free(c->out.held);
+	free(c->out.stack);
+	vis_idmap_finish(&c->out.held_index);
+}
+
+size_t server_output_pending(const struct client *c)
+{
+	return evbuffer_get_length(bufferevent_get_output(c->bev));
+}
+
+/* Past the bound: what is held goes, counted, and the connection waits for its resync. */
+static void overflow(struct client *c)
+{
+	struct output *o = &c->out;
+	uint64_t lost = o->n_stack;
+	for (size_t i = 0; i < o->n_held; i++)
+		lost += o->held[i].visibility_count + o->held[i].exposure_count;
+	log_info("client %u: %zu bytes wait to be written and %zu are held, over the bound of %u; "
+		 "dropping its notices until it catches up",
+		 c->id, server_output_pending(c), o->held_bytes, c->server->opt.max_pending);
+	drop_held(o);
+	o->dropped = lost > UINT32_MAX ? UINT32_MAX : (uint32_t)lost;
+	o->overflowed = true;
+	o->lagging = false;
+}
+
+/*
+ * Whether a notice to c must not be written now: true when it was counted as dropped, or when c
+ * lags and the notice is to be held.
+ */
+static bool must_hold(struct client *c)
+{
+	struct output *o = &c->out;
+	if (o->overflowed) {
+		if (o->dropped < UINT32_MAX)
+			o->dropped++;
+		return true;
+	}
+	if (!o->lagging && server_output_pending(c) < c->server->opt.max_pending / 2)
+		return false;
+	o->lagging = true;
+	return true;
+}
+
+/* Checks the bound after holding more. */
+static void check_bound(struct client *c)
+{
+	if (server_output_pending(c) + c->out.held_bytes > c->server->opt.max_pending)
+		overflow(c);
+}
+
+/* The held entry of window w, created empty when there is none; NULL when memory runs out. */
+static struct held *held_for(struct client *c, uint32_t window)
+{
+	struct output *o = &c->out;
+	uintptr_t i = (uintptr_t)vis_idmap_get(&o->held_index, window);
+	if (i)
+		return &o->held[i - 1];
+	if (o->n_held == o->cap_held) {
+		size_t cap = o->cap_held ? 2 * o->cap_held : 16;
+		struct held *more = realloc(o->held, cap * sizeof *more);
+		if (!more)
+			return NULL;
+		o->held = more;
+		o->cap_held = cap;
+	}
+	if (vis_idmap_put(&o->held_index, window, (void *)(uintptr_t)(o->n_held + 1)) < 0)
+		return NULL;
+	struct held *h = &o->held[o->n_held++];
+	*h = (struct held){ .window = window };
+	pixman_region32_init(&h->exposed);
+	return h;
+}
+
+/* Memory ran out while holding: treat it as an overflow, which needs no memory. */
+static void hold_failed(struct client *c)
+{
+	log_error("client %u: out of memory holding notices", c->id);
+	overflow(c);
+}
+
+/* Writes one visibility notice now. */
+static void write_visibility(struct client *c, uint32_t window, uint32_t state, uint32_t previous,
+			     uint32_t coalesced)
+{
+	union vis_arg a[5];
+	a[0].q = ++c->serial;
+	a[1].u = window;
+	a[2].u = state;
+	a[3].u = previous;
+	a[4].u = coalesced;
+	server_client_write(c, VIS_OP_VISIBILITY, a);
+}
+
+/* Writes one exposure notice now: the rectangles, or their bounding box past the limit. */
+static void write_exposure(struct client *c, uint32_t window, uint32_t rect_limit,
+			   pixman_region32_t *exposed, const uint32_t *words, uint32_t n,
+			   uint32_t coalesced)
+{
+	const pixman_box32_t *e = pixman_region32_extents(exposed);
+	const uint32_t extents[4] = { (uint32_t)e->x1, (uint32_t)e->y1, (uint32_t)(e->x2 - e->x1),
+				      (uint32_t)(e->y2 - e->y1) };
+	bool collapse = n > rect_limit;
+	union vis_arg a[5];
+	a[0].q = ++c->serial;
+	a[1].u = window;
+	a[2].u = collapse ? VIS_EXPOSURE_COLLAPSED : 0;
+	a[3].u = coalesced;
+	a[4].a.words = collapse ? extents : words;
+	a[4].a.n = collapse ? 1 : n;
+	a[4].a.raw = NULL;
+	server_client_write(c, VIS_OP_EXPOSURE, a);
+}
+
+/* As write_exposure(), for a region not yet in words. */
+static void write_region(struct client *c, uint32_t window, uint32_t rect_limit,
+			 pixman_region32_t *exposed, uint32_t coalesced)
+{
+	uint32_t n;
+	uint32_t *words = server_region_words(exposed, &n);
+	if (!words) {
+		log_error("client %u: out of memory for an exposure notice", c->id);
+		server_client_close(c);
+		return;
+	}
+	write_exposure(c, window, rect_limit, exposed, words, n, coalesced);
+	free(words);
+}
+
+static void write_stack(struct client *c, const uint32_t words[9])
+{
+	union vis_arg a[10];
+	a[0].q = ++c->serial;
+	for (int i = 0; i < 9; i++)
+		a[i + 1].u = words[i];
+	server_client_write(c, VIS_OP_STACK, a);
+}
+
+void server_notice_visibility(struct client *c, const struct vis_window *w)
+{
+	if (!must_hold(c)) {
+		write_visibility(c, w->id, w->state, w->old_state, 0);
+		return;
+	}
+	if (c->out.overflowed)
+		return;
+	struct held *h = held_for(c, w->id);
+	if (!h) {
+		hold_failed(c);
+		return;
+	}
+	if (!h->visibility) {
+		h->visibility = true;
+		h->previous = w->old_state;
+		c->out.held_bytes += VISIBILITY_BYTES;
+	} else if (w->old_state == VIS_VISIBILITY_NONE) {
+		h->previous = VIS_VISIBILITY_NONE; /* it became viewable again meanwhile */
+	}
+	h->state = w->state;
+	h->visibility_count++;
+	check_bound(c);
+}
+
+/* The bytes an exposure notice of region r would take, as held (before any collapsing). */
+static size_t exposure_bytes(pixman_region32_t *r)
+{
+	return EXPOSURE_BYTES + 16u * (size_t)pixman_region32_n_rects(r);
+}
+
+void server_notice_exposure(struct client *c, const struct sub *s, const struct vis_window *w,
+			    pixman_region32_t *exposed, const uint32_t *words, uint32_t n)
+{
+	if (!must_hold(c)) {
+		write_exposure(c, w->id, s->rect_limit, exposed, words, n, 0);
+		return;
+	}
+	if (c->out.overflowed)
+		return;
+	struct held *h = held_for(c, w->id);
+	if (!h) {
+		hold_failed(c);
+		return;
+	}
+	if (h->exposure)
+		c->out.held_bytes -= exposure_bytes(&h->exposed);
+	h->exposure = true;
+	h->exposure_count++;
+	if (!pixman_region32_union(&h->exposed, &h->exposed, exposed)) {
+		hold_failed(c);
+		return;
+	}
+	c->out.held_bytes += exposure_bytes(&h->exposed);
+	check_bound(c);
+}
+
+void server_notice_stack(struct client *c, const uint32_t words[9])
+{
+	if (!must_hold(c)) {
+		write_stack(c, words);
+		return;
+	}
+	struct output *o = &c->out;
+	if (o->overflowed)
+		return;
+	if (o->n_stack == o->cap_stack) {
+		size_t cap = o->cap_stack ? 2 * o->cap_stack : 16;
+		struct held_stack *more = realloc(o->stack, cap * sizeof *more);
+		if (!more) {
+			hold_failed(c);
+			return;
+		}
+		o->stack = more;
+		o->cap_stack = cap;
+	}
+	for (int i = 0; i < 9; i++)
+		o->stack[o->n_stack].words[i] = words[i];
+	o->n_stack++;
+	o->held_bytes += STACK_BYTES;
+	check_bound(c);
+}
+
+/* The stacking position of a held window, for sending in stacking order; destroyed ones last. */
+struct held_order {
+	size_t pos;
+	struct held *h;
+};
+
+static int by_position(const void *a, const void *b)
+{
+	const struct held_order *x = a, *y = b;
+	if (x->pos != y->pos)
+		return x->pos < y->pos ? -1 : 1;
+	return x->h->window < y->h->window ? -1 : x->h->window > y->h->window;
+}
+
+/* Sends the held notices: stack notices in order, then each window's, in stacking order. */
+static void release_held(struct client *c)
+{
+	struct server *server = c->server;
+	struct output *o = &c->out;
+	for (size_t i = 0; i < o->n_stack; i++)
+		write_stack(c, o->stack[i].words);
+	struct held_order *order = malloc((o->n_held + 1) * sizeof *order);
+	if (!order) {
+		hold_failed(c);
+		return;
+	}
+	for (size_t i = 0; i < o->n_held; i++) {
+		struct vis_window *w = vis_wtree_find(&server->tree, o->held[i].window);
+		order[i].pos = w && w->state != VIS_WTREE_STATE_NONE ? w->pos : SIZE_MAX;
+		order[i].h = &o->held[i];
+	}
+	qsort(order, o->n_held, sizeof *order, by_position);
+	for (size_t i = 0; i < o->n_held && !c->closing; i++) {
+		struct held *h = order[i].h;
+		struct vis_window *w = vis_wtree_find(&server->tree, h->window);
+		if (!w)
+			continue; /* destroyed: the stack notice says so */
+		if (h->visibility && h->state != h->previous &&
+		    server_client_sub_for(c, w, VIS_NOTICE_VISIBILITY))
+			write_visibility(c, h->window, h->state, h->previous,
+					 h->visibility_count - 1);
+		const struct sub *s;
+		if (h->exposure && (s = server_client_sub_for(c, w, VIS_NOTICE_EXPOSURE)))
+			write_region(c, h->window, s->rect_limit, &h->exposed, h->exposure_count - 1);
+	}
+	free(order);
+	drop_held(o);
+	o->lagging = false;
+}
+
+/*
+ * Goes over what c's subscriptions cover, counting the resync notices, and writes them when
+ * write is true: each window in stacking order, its stack notice, its state, its visible region.
+ */
+static uint32_t resync(struct client *c, bool write)
+{
+	struct server *server = c->server;
+	uint32_t n = 0;
+	for (struct vis_window *w = server->tree.root.bottom; w && !c->closing;
+	     w = vis_wtree_next(w)) {
+		if (!server_may_see(c, w))
+			continue;
+		if (server_client_sub_for(c, w, VIS_NOTICE_STACK)) {
+			n++;
+			if (write) {
+				uint32_t words[9];
+				server_stack_words(w, VIS_STACK_RESYNC, words);
+				write_stack(c, words);
+			}
+		}
+		/* State NONE also covers windows mapped since the last recompute, which follows. */
+		if (w->state == VIS_WTREE_STATE_NONE)
+			continue;
+		if (server_client_sub_for(c, w, VIS_NOTICE_VISIBILITY)) {
+			n++;
+			if (write)
+				write_visibility(c, w->id, w->state, VIS_VISIBILITY_NONE, 0);
+		}
+		const struct sub *s = server_client_sub_for(c, w, VIS_NOTICE_EXPOSURE);
+		struct window_data *d = w->data;
+		if (s && d && d->tracked && pixman_region32_not_empty(&d->region)) {
+			n++;
+			if (write)
+				write_region(c, w->id, s->rect_limit, &d->region, 0);
+		}
+	}
+	return n;
+}
+
+/* After an overflow: the overflow notice, then every subscription restated. */
+static void send_resync(struct client *c)
+{
+	struct output *o = &c->out;
+	server_flush(c->server); /* restate the states as they are now */
+	o->overflowed = false;
+	union vis_arg a[3];
+	a[0].q = ++c->serial;
+	a[1].u = o->dropped;
+	a[2].u = resync(c, false);
+	log_info("client %u caught up: %u notices were dropped, %u restate its subscriptions",
+		 c->id, a[1].u, a[2].u);
+	o->dropped = 0;
+	server_client_write(c, VIS_OP_OVERFLOW, a);
+	resync(c, true);
+}
+
+void server_output_release(struct client *c)
+{
+	if (c->out.overflowed)
+		send_resync(c);
+	else if (c->out.lagging)
+		release_held(c);
+}
