@@ -17,7 +17,7 @@
 
 static const struct visctl_command commands[] = {
 	{ "compute", cmd_compute, NULL,
-	  "[--engine=auto|gmv|gmv-heap|region|brute] [--visible] [--time] SCENE" },
+	  "[--engine=auto|gmv|gmv-heap|region|brute] [--visible] [--time] [--svg FILE] SCENE" },
 	{ "gen", cmd_gen, NULL, "KIND N SEED [W H]" },
 	{ "bench", cmd_bench, NULL, "[OPTIONS]  (see `visctl bench --help`)" },
 	{ "create", NULL, cmd_create, "X Y W H [--parent ID] [--map] [--retain]" },
