@@ -477,7 +477,9 @@ static void full_note(const struct stack_svg *p, const struct view *v, size_t le
 	struct cbox c;
 
 	snprintf(buf, len, "Filled: the visible parts; outlined: the whole window; label: its ID, "
-		 "in its largest visible part (tooltips say more). %s", p->note);
+		 "in its largest visible part (tooltips say more).");
+	if (p->note[0])
+		append(buf, len, " %s", p->note);
 	for (size_t i = 0; i < p->n; i++) {
 		if (to_canvas(v, p->windows[i].box, &c))
 			continue;
@@ -533,7 +535,9 @@ int stack_svg_write(const struct stack_svg *p, FILE *f)
 		children += p->windows[i].parent != 0;
 	fprintf(f, "</text>\n<text x=\"%.1f\" y=\"%.1f\" font-size=\"12\" fill=\"#495057\">%zu "
 		"window%s", PAD, PAD + 32, p->n, p->n == 1 ? "" : "s");
-	if (children)
+	if (children == 1)
+		fputs(" (1 a child, drawn over its parent)", f);
+	else if (children)
 		fprintf(f, " (%zu of them children, drawn over their parents)", children);
 	fputs(", bottom to top", f);
 	if (p->has_screen)

@@ -34,6 +34,7 @@ static const struct visctl_command commands[] = {
 	{ "tree", NULL, cmd_tree, "" },
 	{ "region", NULL, cmd_region, "ID" },
 	{ "repaint", NULL, cmd_repaint, "X Y W H" },
+	{ "snapshot", NULL, cmd_snapshot, "--svg FILE" },
 	{ "watch", NULL, cmd_watch, "[--json] [--count N] [ID...]" },
 	{ "script", NULL, cmd_script, "FILE|-" },
 	{ "sync", NULL, cmd_sync, "" },
