@@ -24,7 +24,7 @@
 /* Label sizes: a label shrinks to fit its visible part, down to LABEL_MIN. */
 #define LABEL_MAX 15.0
 #define LABEL_MIN 8.0
-#define HIDDEN_LABEL_MAX 10.0 /* fully-obscured windows' labels, in their corner */
+#define HIDDEN_LABEL_MAX 12.0 /* labels of windows showing nothing, in a corner */
 #define DIGIT_W 0.64          /* a digit's advance in DejaVu Sans, in em */
 
 /* Colours by enum vis_state: distinguishable with the common colour-vision deficiencies. */
@@ -206,6 +206,7 @@ static int digits(uint32_t id)
 struct label {
 	enum { LABEL_NONE, LABEL_FITS, LABEL_SPILLS, LABEL_CORNER } kind;
 	double x, y, fs;
+	struct cbox box; /* LABEL_CORNER: the window's outline */
 };
 
 /*
@@ -218,7 +219,7 @@ static struct label place_label(const struct stack_svg *p, const struct view *v,
 {
 	double chars = digits(w->id) * DIGIT_W + 0.3, best = 0, area = 0;
 	struct cbox at = { 0 }, c;
-	struct label l = { LABEL_NONE, 0, 0, 0 };
+	struct label l = { .kind = LABEL_NONE };
 
 	for (size_t j = w->first; j < w->first + w->n_parts; j++) {
 		if (!to_canvas(v, p->parts[j], &c))
@@ -243,6 +244,7 @@ static struct label place_label(const struct stack_svg *p, const struct view *v,
 		l.kind = LABEL_CORNER;
 		l.fs = (c.y2 - c.y1) * 0.8 < HIDDEN_LABEL_MAX ? (c.y2 - c.y1) * 0.8 : HIDDEN_LABEL_MAX;
 		l.fs = l.fs > LABEL_MIN ? l.fs : LABEL_MIN;
+		l.box = c;
 		l.x = c.x1 + 3;
 		l.y = c.y1 + l.fs + 1.5;
 	} else {
@@ -313,8 +315,18 @@ static struct label *plan_labels(const struct stack_svg *p, const struct view *v
 	}
 	for (size_t i = p->n; i-- > 0;) {
 		struct label *l = &labels[i];
-		if (l->kind != LABEL_FITS && l->kind != LABEL_NONE &&
-		    !occupy(&o, l, p->windows[i].id, false)) {
+		uint32_t id = p->windows[i].id;
+		if (l->kind == LABEL_FITS || l->kind == LABEL_NONE || occupy(&o, l, id, false))
+			continue;
+		/* A corner label tries the other corners: top right, bottom left, bottom right. */
+		bool placed = false;
+		double w = digits(id) * DIGIT_W * l->fs;
+		for (int k = 1; k < 4 && l->kind == LABEL_CORNER && !placed; k++) {
+			l->x = k & 1 ? l->box.x2 - 3 - w : l->box.x1 + 3;
+			l->y = k & 2 ? l->box.y2 - 4 : l->box.y1 + l->fs + 1.5;
+			placed = occupy(&o, l, id, false);
+		}
+		if (!placed) {
 			l->kind = LABEL_NONE;
 			++*left_out;
 		}
@@ -546,17 +558,18 @@ int stack_svg_write(const struct stack_svg *p, FILE *f)
 		fputs(" (no screen: their bounding box)", f);
 	fprintf(f, 1 / v.s < 10 ? "; drawn at 1:%.2g</text>\n" : "; drawn at 1:%.0f</text>\n", 1 / v.s);
 
-	/* The drawing, clipped to the view and its margin; the screen white over grey outside. */
+	/* The drawing, clipped to the view and its margin; the screen white, grey around it. */
 	fprintf(f, "<clipPath id=\"view\"><rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" "
 		"height=\"%.1f\"/></clipPath>\n<g clip-path=\"url(#view)\">\n"
 		"<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"%s\"/>\n",
 		v.ox - PAD, v.oy - PAD, v.w + 2 * PAD, v.h + 2 * PAD,
 		v.ox - PAD, v.oy - PAD, v.w + 2 * PAD, v.h + 2 * PAD,
 		p->has_screen ? "#e9ecef" : "#f8f9fa");
-	if (p->has_screen && to_canvas(&v, (struct vis_box){ 0, 0, p->screen_w, p->screen_h }, &c))
+	bool screen = p->has_screen &&
+		      to_canvas(&v, (struct vis_box){ 0, 0, p->screen_w, p->screen_h }, &c);
+	if (screen)
 		fprintf(f, "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" "
-			"fill=\"white\" stroke=\"#343a40\" stroke-width=\"2\"/>\n",
-			c.x1, c.y1, c.x2 - c.x1, c.y2 - c.y1);
+			"fill=\"white\"/>\n", c.x1, c.y1, c.x2 - c.x1, c.y2 - c.y1);
 	/*
 	 * Fully-obscured windows have nothing to fill: their outlines go over everything, unless
 	 * there are so many that they would hide it.
@@ -568,6 +581,11 @@ int stack_svg_write(const struct stack_svg *p, FILE *f)
 	for (size_t i = 0; i < p->n && on_top; i++)
 		if (p->windows[i].state == VIS_FULLY_OBSCURED)
 			write_window(p, &v, &p->windows[i], labels != NULL, f);
+	/* The screen's edge over the windows, which would hide it. */
+	if (screen)
+		fprintf(f, "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"none\" "
+			"stroke=\"#343a40\" stroke-width=\"1.5\"/>\n", c.x1, c.y1, c.x2 - c.x1,
+			c.y2 - c.y1);
 	if (labels)
 		write_labels(p, labels, f);
 	fputs("</g>\n", f);
