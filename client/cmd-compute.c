@@ -258,6 +258,27 @@ out:
 	return ret;
 }
 
+/*
+ * Matches argv[*i] against an option with a value, given as "--NAME=VALUE" or "--NAME VALUE"
+ * (then *i moves past the value). Returns 1 with *value set, 0 when it is not that option, -1
+ * when the value is missing.
+ */
+static int option_value(int argc, char **argv, int *i, const char *name, const char **value)
+{
+	size_t len = strlen(name);
+
+	if (strncmp(argv[*i], name, len) == 0 && argv[*i][len] == '=') {
+		*value = argv[*i] + len + 1;
+		return 1;
+	}
+	if (strcmp(argv[*i], name) != 0)
+		return 0;
+	if (*i + 1 == argc)
+		return -1;
+	*value = argv[++*i];
+	return 1;
+}
+
 /* `visctl compute`: bad usage and bad scenes exit 2 with nothing on stdout, runtime failures 1. */
 int cmd_compute(int argc, char **argv)
 {
@@ -268,6 +289,7 @@ int cmd_compute(int argc, char **argv)
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
 		const char *name = NULL;
+		int r;
 
 		if (options_done || a[0] != '-' || strcmp(a, "-") == 0) {
 			if (path != NULL)
@@ -282,18 +304,12 @@ int cmd_compute(int argc, char **argv)
 			visible = true;
 		} else if (strcmp(a, "--time") == 0) {
 			timing = true;
-		} else if (strncmp(a, "--svg=", 6) == 0) {
-			svg_path = a + 6;
-		} else if (strcmp(a, "--svg") == 0) {
-			if (i + 1 == argc)
+		} else if ((r = option_value(argc, argv, &i, "--svg", &svg_path)) != 0) {
+			if (r < 0)
 				return compute_bad_usage("%s needs a FILE", a);
-			svg_path = argv[++i];
-		} else if (strncmp(a, "--engine=", 9) == 0) {
-			name = a + 9;
-		} else if (strcmp(a, "--engine") == 0) {
-			if (i + 1 == argc)
+		} else if ((r = option_value(argc, argv, &i, "--engine", &name)) != 0) {
+			if (r < 0)
 				return compute_bad_usage("%s needs an engine name", a);
-			name = argv[++i];
 		} else {
 			return compute_bad_usage("unknown option '%s'", a);
 		}
