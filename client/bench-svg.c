@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "bench.h"
+#include "svg.h"
 
 /* One colour per engine, indexed by enum vis_engine, so a plot reads the same across runs. */
 static const char *const engine_colours[VIS_ENGINE_COUNT] = {
@@ -24,21 +25,6 @@ static const char *const engine_colours[VIS_ENGINE_COUNT] = {
 #define SVG_PAD 20  /* page margin */
 #define SVG_TOP 78  /* title band */
 #define SVG_FOOT 78 /* legend band */
-
-/* Writes text with XML's special characters escaped, since the CPU model comes from outside. */
-static void svg_text(FILE *f, const char *s)
-{
-	for (; *s != '\0'; s++) {
-		if (*s == '&')
-			fputs("&amp;", f);
-		else if (*s == '<')
-			fputs("&lt;", f);
-		else if (*s == '>')
-			fputs("&gt;", f);
-		else
-			fputc(*s, f);
-	}
-}
 
 /* Labels a decade of n: 1k, 10k, 1M, … reads faster on a small axis than 10^3. */
 static const char *decade_n(char *buf, size_t len, int d)
@@ -191,11 +177,7 @@ int bench_svg_write(const struct bench *b, FILE *f)
 	if (yr[1] == yr[0])
 		yr[1]++;
 
-	fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-		"<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
-		"viewBox=\"0 0 %.0f %.0f\" "
-		"font-family=\"DejaVu Sans, Helvetica, Arial, sans-serif\">\n"
-		"<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n", w, h, w, h);
+	svg_begin(f, w, h);
 	fprintf(f, "<text x=\"%d\" y=\"34\" font-size=\"20\" font-weight=\"bold\">"
 		"visctl bench: vis_compute time against window count (log-log)</text>\n"
 		"<text x=\"%d\" y=\"58\" font-size=\"13\" fill=\"#333333\">", SVG_PAD, SVG_PAD);

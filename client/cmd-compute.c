@@ -17,6 +17,7 @@
 #include "radix.h"
 #include "gen.h"
 #include "scene.h"
+#include "stack-svg.h"
 #include "visctl.h"
 
 #define OUT_SIZE (1 << 16)
@@ -132,10 +133,12 @@ static uint32_t *order_by_id(const struct vis_scene *scene)
 static void compute_usage(FILE *f)
 {
 	fprintf(f, "usage: visctl compute [--engine=auto|gmv|gmv-heap|region|brute] [--visible] "
-		   "[--time] SCENE\n"
+		   "[--time]\n"
+		   "                      [--svg FILE] SCENE\n"
 		   "  Prints 'ID STATE' for every window in ascending ID order (with --visible, only\n"
 		   "  the IDs of windows that are not fully obscured). SCENE is a path or '-' for\n"
-		   "  stdin. --time prints compute_ms=... on stderr.\n");
+		   "  stdin. --time prints compute_ms=... on stderr. --svg also draws the scene into\n"
+		   "  FILE: every window in its state's colour, its visible parts filled.\n");
 }
 
 /* Reports a usage mistake and returns the usage exit status. */
@@ -153,9 +156,47 @@ static int compute_bad_usage(const char *fmt, ...)
 	return VISCTL_EXIT_USAGE;
 }
 
-/* Computes the scene's states and writes them out; the scene has been parsed already. */
+/*
+ * Draws the scene with its states into svg, which it closes. Returns the exit status, having
+ * said what went wrong.
+ */
+static int compute_svg(const struct vis_scene *scene, const uint8_t *states, const char *shown,
+		       FILE *svg, const char *svg_path)
+{
+	struct vis_stack stack = vis_scene_stack(scene);
+	struct stack_svg p;
+	char title[512];
+	int r = 0;
+
+	snprintf(title, sizeof(title), "visctl compute %s", shown);
+	stack_svg_init(&p, title);
+	p.has_screen = scene->has_screen;
+	p.screen_w = scene->screen_w;
+	p.screen_h = scene->screen_h;
+	for (size_t i = 0; i < scene->n && r == 0; i++)
+		r = stack_svg_add(&p, scene->ids[i], 0, vis_rect_box(scene->rects[i]), states[i]);
+	if (r < 0 || stack_svg_find_parts(&p, &stack) < 0) {
+		fprintf(stderr, "visctl compute: %s: %s\n", svg_path, strerror(errno));
+		stack_svg_finish(&p);
+		fclose(svg);
+		return VISCTL_EXIT_FAILURE;
+	}
+	r = stack_svg_write(&p, svg);
+	stack_svg_finish(&p);
+	/* A failed write of buffered data (a full disk) shows up only at fclose. */
+	if (fclose(svg) != 0 || r < 0) {
+		fprintf(stderr, "visctl compute: %s: write error: %s\n", svg_path, strerror(errno));
+		return VISCTL_EXIT_FAILURE;
+	}
+	return VISCTL_EXIT_OK;
+}
+
+/*
+ * Computes the scene's states and writes them out, then the picture when svg is not NULL; the
+ * scene has been parsed already.
+ */
 static int compute_run(const struct vis_scene *scene, enum vis_engine engine, bool visible,
-		       bool timing)
+		       bool timing, const char *shown, FILE *svg, const char *svg_path)
 {
 	struct vis_stack stack = vis_scene_stack(scene);
 	uint8_t *states = malloc(scene->n ? scene->n : 1);
@@ -204,10 +245,38 @@ static int compute_run(const struct vis_scene *scene, enum vis_engine engine, bo
 	}
 	ret = out_finish(o);
 	free(o);
+	if (svg != NULL) {
+		int r = compute_svg(scene, states, shown, svg, svg_path);
+		svg = NULL;
+		ret = ret != VISCTL_EXIT_OK ? ret : r;
+	}
 out:
+	if (svg != NULL)
+		fclose(svg);
 	free(states);
 	free(order);
 	return ret;
+}
+
+/*
+ * Matches argv[*i] against an option with a value, given as "--NAME=VALUE" or "--NAME VALUE"
+ * (then *i moves past the value). Returns 1 with *value set, 0 when it is not that option, -1
+ * when the value is missing.
+ */
+static int option_value(int argc, char **argv, int *i, const char *name, const char **value)
+{
+	size_t len = strlen(name);
+
+	if (strncmp(argv[*i], name, len) == 0 && argv[*i][len] == '=') {
+		*value = argv[*i] + len + 1;
+		return 1;
+	}
+	if (strcmp(argv[*i], name) != 0)
+		return 0;
+	if (*i + 1 == argc)
+		return -1;
+	*value = argv[++*i];
+	return 1;
 }
 
 /* `visctl compute`: bad usage and bad scenes exit 2 with nothing on stdout, runtime failures 1. */
@@ -215,11 +284,12 @@ int cmd_compute(int argc, char **argv)
 {
 	enum vis_engine engine = VIS_ENGINE_AUTO;
 	bool visible = false, timing = false, options_done = false;
-	const char *path = NULL;
+	const char *path = NULL, *svg_path = NULL;
 
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
 		const char *name = NULL;
+		int r;
 
 		if (options_done || a[0] != '-' || strcmp(a, "-") == 0) {
 			if (path != NULL)
@@ -234,12 +304,12 @@ int cmd_compute(int argc, char **argv)
 			visible = true;
 		} else if (strcmp(a, "--time") == 0) {
 			timing = true;
-		} else if (strncmp(a, "--engine=", 9) == 0) {
-			name = a + 9;
-		} else if (strcmp(a, "--engine") == 0) {
-			if (i + 1 == argc)
+		} else if ((r = option_value(argc, argv, &i, "--svg", &svg_path)) != 0) {
+			if (r < 0)
+				return compute_bad_usage("%s needs a FILE", a);
+		} else if ((r = option_value(argc, argv, &i, "--engine", &name)) != 0) {
+			if (r < 0)
 				return compute_bad_usage("%s needs an engine name", a);
-			name = argv[++i];
 		} else {
 			return compute_bad_usage("unknown option '%s'", a);
 		}
@@ -249,6 +319,8 @@ int cmd_compute(int argc, char **argv)
 	}
 	if (path == NULL)
 		return compute_bad_usage("%s", "missing SCENE");
+	if (svg_path != NULL && svg_path[0] == '\0')
+		return compute_bad_usage("%s", "empty --svg FILE");
 
 	const char *shown = strcmp(path, "-") == 0 ? "<stdin>" : path;
 	char *text;
@@ -271,7 +343,14 @@ int cmd_compute(int argc, char **argv)
 		fprintf(stderr, "%s:%zu: %s\n", shown, err.line, err.reason);
 		return VISCTL_EXIT_USAGE;
 	}
-	int ret = compute_run(&scene, engine, visible, timing);
+	/* Open the picture before computing: a bad path fails with nothing on stdout. */
+	FILE *svg = NULL;
+	if (svg_path != NULL && (svg = fopen(svg_path, "w")) == NULL) {
+		fprintf(stderr, "visctl compute: %s: cannot write: %s\n", svg_path, strerror(errno));
+		vis_scene_finish(&scene);
+		return VISCTL_EXIT_FAILURE;
+	}
+	int ret = compute_run(&scene, engine, visible, timing, shown, svg, svg_path);
 	vis_scene_finish(&scene);
 	return ret;
 }

@@ -17,7 +17,7 @@
 
 static const struct visctl_command commands[] = {
 	{ "compute", cmd_compute, NULL,
-	  "[--engine=auto|gmv|gmv-heap|region|brute] [--visible] [--time] SCENE" },
+	  "[--engine=auto|gmv|gmv-heap|region|brute] [--visible] [--time] [--svg FILE] SCENE" },
 	{ "gen", cmd_gen, NULL, "KIND N SEED [W H]" },
 	{ "bench", cmd_bench, NULL, "[OPTIONS]  (see `visctl bench --help`)" },
 	{ "create", NULL, cmd_create, "X Y W H [--parent ID] [--map] [--retain]" },
@@ -34,6 +34,7 @@ static const struct visctl_command commands[] = {
 	{ "tree", NULL, cmd_tree, "" },
 	{ "region", NULL, cmd_region, "ID" },
 	{ "repaint", NULL, cmd_repaint, "X Y W H" },
+	{ "snapshot", NULL, cmd_snapshot, "--svg FILE" },
 	{ "watch", NULL, cmd_watch, "[--json] [--count N] [ID...]" },
 	{ "script", NULL, cmd_script, "FILE|-" },
 	{ "sync", NULL, cmd_sync, "" },

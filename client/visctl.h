@@ -53,6 +53,9 @@ int cmd_repaint(struct live *l, int argc, char **argv);
 /* `visctl load` (cmd-load.c): a scene file created as windows in one batch. */
 int cmd_load(struct live *l, int argc, char **argv);
 
+/* `visctl snapshot` (cmd-snapshot.c): draws the daemon's windows into an SVG file. */
+int cmd_snapshot(struct live *l, int argc, char **argv);
+
 /* `visctl watch` (cmd-watch.c): prints notices as they come. */
 int cmd_watch(struct live *l, int argc, char **argv);
 

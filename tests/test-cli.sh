@@ -174,6 +174,9 @@ live_usage "tree argument" "tree: unexpected argument '1'" tree 1
 live_usage "sync argument" "sync: unexpected argument 'now'" sync now
 live_usage "region without ID" "region: expected ID, got 0 arguments" region
 live_usage "repaint too few" "repaint: expected X Y W H, got 3 arguments" repaint 0 0 1
+live_usage "snapshot without --svg" "snapshot: missing --svg FILE" snapshot
+live_usage "snapshot --svg without FILE" "snapshot: --svg needs a FILE" snapshot --svg
+live_usage "snapshot argument" "snapshot: unexpected argument 'x'" snapshot --svg "$T/s.svg" x
 live_usage "load without SCENE" "load: missing SCENE" load
 live_usage "load two SCENEs" "unexpected argument" load "$good" "$good"
 live_usage "load unknown option" "unknown option '--map'" load --map "$good"
@@ -206,6 +209,7 @@ expect_fail "global options without command" 2 "usage: visctl" -s "$N"
 # --- live commands without a daemon: exit 1, naming the socket --------------------------------
 expect_fail "missing socket" 1 "$N" -s "$N" sync
 expect_fail "missing socket, manager" 1 "$N" -s "$N" --role=manager states
+expect_fail "snapshot without daemon" 1 "$N" -s "$N" snapshot --svg "$T/s.svg"
 env -u VISD_SOCKET -u XDG_RUNTIME_DIR "$V" sync >"$T/out" 2>"$T/err"
 rc=$?
 if [ "$rc" -eq 1 ] && grep -qF "set VISD_SOCKET or XDG_RUNTIME_DIR" "$T/err"; then pass
@@ -247,6 +251,65 @@ if [ -w /dev/full ]; then
 	if [ "$rc" -eq 1 ] && grep -q "visctl: write error:" "$T/err"; then pass
 	else fail "write error to /dev/full (status $rc)"; fi
 fi
+
+# --- pictures: compute --svg ------------------------------------------------------------------
+# valid_svg FILE: well-formed XML (xmllint where installed; else the document's outline).
+valid_svg() {
+	if command -v xmllint >/dev/null 2>&1; then
+		xmllint --noout "$1" 2>"$T/err"
+		return
+	fi
+	head -n 1 "$1" | grep -q '^<?xml ' && grep -q '^<svg xmlns="http://www.w3.org/2000/svg"' "$1" &&
+		[ "$(tail -n 1 "$1")" = '</svg>' ] &&
+		[ "$(grep -c '<g[ >]' "$1")" -eq "$(grep -c '</g>' "$1")" ]
+}
+
+# The states on stdout are exactly those without --svg; the picture names every window.
+run compute --svg "$T/good.svg" "$good"
+if [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = "$(printf "$states")" ] && [ ! -s "$T/err" ]; then pass
+else fail "compute --svg: status $rc or different output"; fi
+if valid_svg "$T/good.svg"; then pass; else fail "compute --svg: not well-formed"; fi
+# Window 9 lies far off the 100x100 screen: the note under the legend names it.
+if grep -q '<title>5: 0,0 10×10, partially-obscured</title>' "$T/good.svg" &&
+	grep -q '<title>2: 5,5 10×10, unobscured</title>' "$T/good.svg" &&
+	grep -q 'Outside the picture: 9\.' "$T/good.svg"; then pass
+else fail "compute --svg: windows missing from the picture"; fi
+expect_out "--svg=FILE, --visible" '2\n5\n' compute --visible --svg="$T/good2.svg" "$good"
+
+f=$(scene desk.scene 'screen 1000 600\nwindow 10 0 0 400 300\nwindow 12 250 150 50 50\nwindow 11 200 100 400 300\nwindow 13 700 300 200 200\nwindow 14 -100 500 300 200\n')
+run compute --svg "$T/desk.svg" "$f"
+ids_ok=true
+for id in 10 11 12 13 14; do
+	grep -q "<title>$id: " "$T/desk.svg" && grep -q ">$id</text>" "$T/desk.svg" || ids_ok=false
+done
+if [ "$rc" -eq 0 ] && valid_svg "$T/desk.svg" && $ids_ok; then pass
+else fail "compute --svg: a label or tooltip is missing (status $rc)"; fi
+# Window 12 is fully obscured: a dashed outline, no fill.
+if grep -q '<rect class="f" ' "$T/desk.svg" && [ "$(grep -c '<path class="v' "$T/desk.svg")" -eq 4 ]
+then pass; else fail "compute --svg: fills or outlines"; fi
+
+expect_fail "--svg unwritable" 1 "visctl compute: $T/nodir/x.svg: cannot write: No such file or directory" \
+	compute --svg "$T/nodir/x.svg" "$good"
+expect_fail "--svg without FILE" 2 "--svg needs a FILE" compute "$good" --svg
+expect_fail "--svg empty" 2 "empty --svg FILE" compute --svg= "$good"
+if [ -w /dev/full ]; then
+	"$V" compute --svg /dev/full "$good" >/dev/null 2>"$T/err"
+	rc=$?
+	if [ "$rc" -eq 1 ] && grep -qF "visctl compute: /dev/full: write error:" "$T/err"; then pass
+	else fail "--svg to /dev/full (status $rc)"; fi
+fi
+
+# Huge scenes still give a valid file, without labels; fragmented ones without fills.
+"$V" gen random 6000 1 >"$T/big.scene"
+run compute --svg "$T/big.svg" "$T/big.scene"
+if [ "$rc" -eq 0 ] && valid_svg "$T/big.svg" && grep -q '<!-- 6000 windows: no labels' "$T/big.svg" &&
+	! grep -q '<text class="l' "$T/big.svg"; then pass
+else fail "compute --svg on 6000 windows (status $rc)"; fi
+"$V" gen grid 3000 1 >"$T/grid.scene"
+run compute --svg "$T/grid.svg" "$T/grid.scene"
+if [ "$rc" -eq 0 ] && valid_svg "$T/grid.svg" && grep -q 'Visible parts not drawn' "$T/grid.svg" &&
+	! grep -q '<path class="v' "$T/grid.svg"; then pass
+else fail "compute --svg on the 3000-window grid (status $rc)"; fi
 
 # --- generated scenes: determinism and every engine agreeing with the brute force -------------
 for kind in random uniform grid cascade tiles nested; do

@@ -64,6 +64,36 @@ v map 999999 2>"$dir/err"
 "$visctl" -s "$dir/nothing" states 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "$dir/nothing" "$dir/err" || fail "no daemon: $(cat "$dir/err")"
 
+# snapshot --svg: every window the observer sees, children at their absolute place, each in the
+# state the daemon gives it; a client draws only its own.
+"$visctl" gen random 30 7 >"$dir/scene"
+v load --retain "$dir/scene" >"$dir/map" || fail "load for snapshot"
+parent=$(v --role manager create 100 100 400 300 --map --retain) &&
+	child=$(v --role manager create 10 20 50 40 --parent "$parent" --map --retain) ||
+	fail "create for snapshot"
+v --role observer snapshot --svg "$dir/snap.svg" 2>"$dir/err" || fail "snapshot: $(cat "$dir/err")"
+if command -v xmllint >/dev/null; then
+	xmllint --noout "$dir/snap.svg" || fail "snapshot: not well-formed"
+else
+	[ "$(tail -n 1 "$dir/snap.svg")" = '</svg>' ] || fail "snapshot: no </svg> at the end"
+fi
+v --role observer states >"$dir/states"
+[ "$(wc -l <"$dir/states")" -eq 32 ] || fail "snapshot: $(wc -l <"$dir/states") windows, not 32"
+while read -r id state; do
+	grep -qE "^<g><title>$id( \(child of [0-9]+\))?: .*, $state</title>$" "$dir/snap.svg" ||
+		fail "snapshot: window $id ($state) is not drawn as such"
+done <"$dir/states"
+grep -qF "<title>$child (child of $parent): 110,120 50×40, unobscured</title>" "$dir/snap.svg" ||
+	fail "snapshot: the child is not at its absolute place"
+printf 'create 5 5 20 20 --map\nsnapshot --svg %s\n' "$dir/own.svg" | v script - >/dev/null ||
+	fail "snapshot in a script"
+[ "$(grep -c '<title>' "$dir/own.svg")" -eq 1 ] || fail "a client's snapshot shows others' windows"
+v --role observer snapshot --svg "$dir/nodir/x.svg" 2>"$dir/err"
+[ $? -eq 1 ] && grep -qF "snapshot: $dir/nodir/x.svg: cannot write" "$dir/err" ||
+	fail "snapshot to an unwritable path: $(cat "$dir/err")"
+{ cut -d' ' -f2 "$dir/map"; echo "$parent"; } | sed 's/^/destroy /' >"$dir/clear"
+v --role manager script "$dir/clear" || fail "clearing the snapshot's windows"
+
 # watch: notices as lines, and as JSON. A probe window tells when watch has subscribed.
 await_line() { # FILE PATTERN: waits up to 10 s for a line
 	for _ in $(seq 200); do grep -qE "$2" "$1" 2>/dev/null && return 0; sleep 0.05; done
