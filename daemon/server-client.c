@@ -313,6 +313,7 @@ static void serve(struct client *c)
 	struct server *server = c->server;
 	struct evbuffer *in = bufferevent_get_input(c->bev);
 	uint32_t max = server->opt.max_request;
+	uint64_t recomputes = server->recomputes;
 	for (int budget = SERVER_REQUEST_BUDGET; !c->closing; budget--) {
 		size_t avail = evbuffer_get_length(in);
 		if (avail < VIS_MSG_HEADER)
@@ -328,7 +329,7 @@ static void serve(struct client *c)
 		if (vis_msg_peek(p, avail, max, &size, why, sizeof why) == VIS_DECODE_OK) {
 			if (avail < size)
 				break;
-			if (!budget) {
+			if (!budget || server->recomputes != recomputes) {
 				resume_next_turn(c);
 				break;
 			}

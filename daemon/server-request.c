@@ -59,7 +59,7 @@ static bool size_ok(struct client *c, uint32_t seq, uint32_t op, uint32_t w, uin
 static void changed(struct client *c, struct vis_window *w, uint32_t change)
 {
 	server_notify_stack(c->server, w, change);
-	c->server->dirty = true;
+	server_damage(c->server, w);
 }
 
 static void do_hello(struct client *c, uint32_t seq, const union vis_arg *a)
@@ -187,12 +187,13 @@ static void do_configure(struct client *c, uint32_t seq, uint32_t op, const unio
 	struct vis_window *w = changeable_arg(c, seq, op, a[0].u);
 	if (!w)
 		return;
+	if (op == VIS_OP_RESIZE && !size_ok(c, seq, op, a[1].u, a[2].u))
+		return;
+	server_damage(c->server, w); /* where it was */
 	if (op == VIS_OP_MOVE) {
 		w->x = a[1].i;
 		w->y = a[2].i;
 	} else {
-		if (!size_ok(c, seq, op, a[1].u, a[2].u))
-			return;
 		w->width = (int32_t)a[1].u;
 		w->height = (int32_t)a[2].u;
 		/* As X with ForgetGravity: a resized window's contents are gone, all of it is exposed. */
@@ -260,6 +261,7 @@ static void do_reparent(struct client *c, uint32_t seq, const union vis_arg *a)
 				    p->id, w->id, deepest, c->server->opt.max_depth);
 		return;
 	}
+	server_damage(c->server, w); /* where it was */
 	vis_wtree_reparent(w, p, a[2].i, a[3].i);
 	changed(c, w, VIS_STACK_REPARENT);
 }

@@ -100,6 +100,41 @@ static struct evconnlistener *listen_at(struct server *server, const char *path)
 	return l;
 }
 
+void server_damage(struct server *server, const struct vis_window *w)
+{
+	server->dirty = true;
+	if (server->damage_all)
+		return;
+	if (server->n_damage == SERVER_DAMAGE_BOXES) {
+		server->damage_all = true;
+		return;
+	}
+	/* Children are clipped by their parent: its box covers the subtree. */
+	struct vis_box b = { w->x, w->y, (int64_t)w->x + w->width, (int64_t)w->y + w->height };
+	for (const struct vis_window *p = w->parent; p && p->parent; p = p->parent) {
+		b.x1 += p->x;
+		b.x2 += p->x;
+		b.y1 += p->y;
+		b.y2 += p->y;
+	}
+	server->damage[server->n_damage++] = b;
+}
+
+/*
+ * Whether w's visible region may have changed since the last recompute: a pixel that it gained or
+ * lost lies in its new clip box and in the box of some change (its own, an ancestor's, or that of
+ * a window that covered or uncovered it), or else its state changed.
+ */
+static bool maybe_exposed(const struct server *server, const struct vis_window *w)
+{
+	if (server->damage_all || w->state != w->old_state)
+		return true;
+	for (size_t i = 0; i < server->n_damage; i++)
+		if (!vis_box_empty(vis_box_intersect(server->damage[i], w->clip)))
+			return true;
+	return false;
+}
+
 /* The deferred recompute: after every request read in this turn. */
 static void on_flush(evutil_socket_t fd, short what, void *data)
 {
@@ -278,6 +313,7 @@ void server_flush(struct server *server)
 		return;
 	}
 	server->dirty = false;
+	server->recomputes++;
 	pixman_region32_t now, exposed;
 	pixman_region32_init(&now);
 	pixman_region32_init(&exposed);
@@ -297,6 +333,8 @@ void server_flush(struct server *server)
 			continue;
 		}
 		/* A window first tracked now was created since the last recompute: it showed nothing. */
+		if (d->tracked && !maybe_exposed(server, w))
+			continue;
 		d->tracked = true;
 		if (vis_wtree_visible_region(&server->tree, w, &now) < 0) {
 			log_error("out of memory for a visible region");
@@ -309,6 +347,8 @@ void server_flush(struct server *server)
 	}
 	pixman_region32_fini(&now);
 	pixman_region32_fini(&exposed);
+	server->n_damage = 0;
+	server->damage_all = false;
 }
 
 void server_stack_words(const struct vis_window *w, uint32_t change, uint32_t words[9])
@@ -364,6 +404,7 @@ static void window_gone(void *data, struct vis_window *w)
 
 void server_destroy_window(struct server *server, struct vis_window *w)
 {
+	server_damage(server, w);
 	vis_wtree_destroy(&server->tree, w, window_gone, server);
 	server->dirty = true;
 }

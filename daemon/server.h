@@ -26,7 +26,13 @@ struct server_options {
 	uid_t allowed_uid;      /* peers with this uid may take roles */
 };
 
-/* Requests one connection may run per turn of the event loop before others get theirs. */
+/* Changes remembered one by one between recomputes before every window counts as damaged. */
+#define SERVER_DAMAGE_BOXES 64
+
+/*
+ * Requests one connection may run per turn of the event loop before others get theirs; a request
+ * that made the daemon recompute (a query or sync after a change) ends the turn too.
+ */
 #define SERVER_REQUEST_BUDGET 64
 
 /* A subscription: window 0 means every window the connection may see. */
@@ -119,6 +125,12 @@ struct server {
 	struct client *manager;
 	uint32_t role_all_exposure; /* observers and managers with exposures of every window */
 	bool dirty;     /* the tree changed since the last recompute */
+	uint64_t recomputes;
+	/* Where the tree changed since the last recompute (absolute boxes), for exposures; past
+	 * SERVER_DAMAGE_BOXES changes, everywhere. */
+	struct vis_box damage[SERVER_DAMAGE_BOXES];
+	size_t n_damage;
+	bool damage_all;
 	bool deferring; /* replaying a batch: recompute once at its end */
 	struct event *flush_event; /* the recompute after this turn's requests */
 	struct vis_buf scratch;
@@ -135,6 +147,11 @@ bool server_may_change(const struct client *c, const struct vis_window *w);
 
 /* Recomputes the states if the tree changed, and sends the notices that follow. */
 void server_flush(struct server *server);
+/*
+ * Marks the tree changed where w and its subtree lie (absolute coordinates), so that the windows
+ * there get their exposures recomputed. Called before and after a change moves w.
+ */
+void server_damage(struct server *server, const struct vis_window *w);
 /* Recomputes once every request read in this turn of the event loop has run. */
 void server_schedule_flush(struct server *server);
 
