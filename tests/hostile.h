@@ -1,0 +1,41 @@
+/*
+ * The hostile suite's shared state (test-hostile.c, hostile-access.c): one visd, and an innocent
+ * client whose windows have known states that no hostile client may change.
+ */
+#ifndef VIS_TESTS_HOSTILE_H
+#define VIS_TESTS_HOSTILE_H
+
+#include "harness.h"
+
+#define HOSTILE_WINDOWS 5
+
+extern struct harness_daemon hostile_visd;
+extern struct harness_conn hostile_innocent;
+extern uint32_t hostile_win[HOSTILE_WINDOWS]; /* the innocent's windows */
+
+/*
+ * Fails unless the daemon is alive and clean, the hostile connections are freed and their windows
+ * gone, the innocent's windows and states are as they were, and a new connection is served.
+ */
+void hostile_check_unaffected(void);
+
+/*
+ * A well-formed request's words with harmless values: the window fields name own (sibling:
+ * sibling), parents the screen, positions right of the innocent's windows. Every request of the
+ * table has only 32-bit fields; a new field type or name fails here so that the cases stay
+ * complete. Returns the number of words.
+ */
+size_t hostile_request_words(const struct vis_msg_type *t, uint32_t own, uint32_t sibling,
+			     uint32_t *words);
+/* Whether a field names a window: window, parent, sibling. */
+bool hostile_is_window_field(const char *name);
+
+/* Expects hello asking for the observer and then the manager role on path to be refused. */
+void hostile_expect_no_role(const char *path, const char *reason);
+
+/* The access cases (hostile-access.c). */
+void hostile_access_window_ids(void);
+void hostile_access_isolation(void);
+void hostile_access_other_uid(void);
+
+#endif
