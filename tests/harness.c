@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
@@ -111,6 +112,9 @@ void harness_start(struct harness_daemon *d, const char *visd, const char *const
 		if (dup2(log, 2) < 0)
 			_exit(127);
 		closefrom(3); /* connections the test holds must not outlive it in the daemon */
+		struct rlimit rl = { (rlim_t)d->nofile, (rlim_t)d->nofile };
+		if (d->nofile && setrlimit(RLIMIT_NOFILE, &rl) < 0)
+			_exit(127);
 		execv(visd, (char *const *)argv);
 		perror(visd);
 		_exit(127);

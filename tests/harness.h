@@ -24,6 +24,7 @@ struct harness_daemon {
 	char sock[96];	/* dir/sock */
 	char rsock[96]; /* dir/restricted, the --restricted-socket */
 	char log[96];	/* dir/stderr: what the daemon wrote to stderr */
+	int nofile;	/* set before harness_start: the daemon's descriptor limit (0: ours) */
 };
 
 /*

@@ -131,6 +131,23 @@ v --role manager destroy "$probe" || fail "destroy probe"
 [ $? -eq 2 ] || fail "visd --screen 0x5 was accepted"
 env -u VISD_SOCKET -u XDG_RUNTIME_DIR "$visd" 2>"$dir/err"
 [ $? -eq 2 ] && grep -q "VISD_SOCKET" "$dir/err" || fail "no socket path: $(cat "$dir/err")"
+for opt in "--max-clients 0" "--max-depth 4097" "--max-pending 100" "--max-windows x" "--max-request"; do
+	# shellcheck disable=SC2086
+	"$visd" --socket "$dir/x" $opt 2>"$dir/err"
+	[ $? -eq 2 ] && grep -q -- "${opt%% *}" "$dir/err" || fail "visd $opt: $(cat "$dir/err")"
+done
+# A directory where another user could replace the socket is refused; a sticky one is not.
+mkdir -m 777 "$dir/open"
+chmod 777 "$dir/open"
+"$visd" --socket "$dir/open/s" 2>"$dir/err"
+[ $? -eq 1 ] && grep -q "lets other users replace" "$dir/err" || fail "open dir: $(cat "$dir/err")"
+chmod 1777 "$dir/open"
+"$visd" --socket "$dir/open/s" 2>"$dir/err" &
+spid=$!
+for _ in $(seq 100); do [ -S "$dir/open/s" ] && break; sleep 0.05; done
+[ -S "$dir/open/s" ] || fail "a sticky directory was refused: $(cat "$dir/err")"
+kill $spid
+wait $spid || fail "visd in a sticky directory exited $?"
 mode=$(stat -c %a "$sock")
 [ $((8#$mode & 8#077)) -eq 0 ] || fail "the socket is open to others: mode $mode"
 

@@ -1,0 +1,447 @@
+/*
+ * visd's limits, slow readers and fairness, against a real daemon: every configurable limit
+ * refuses with a `limit` error and the connection carries on; a descriptor shortage and a
+ * connection flood are refused cleanly and the daemon recovers; a subscriber that stops reading
+ * gets coalesced notices, or an overflow notice and a resync, with gapless serials and the right
+ * final states; a client flooding requests does not starve an interactive one.
+ *
+ * usage: test-limits VISD
+ */
+#undef NDEBUG
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/prctl.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "harness.h"
+#include "vis/protocol.h"
+
+static const char *visd;
+
+/*
+ * Connects and says hello for role client, tolerating a connection refused (and closed) before the
+ * hello is written: true when the daemon accepted, false when it refused with a limit error.
+ */
+static bool try_hello(struct harness_conn *c, const char *sock)
+{
+	uint8_t hello[VIS_MSG_HEADER + 12];
+	size_t len = harness_build(hello, VIS_OP_HELLO,
+				   (const uint32_t[]){ VIS_PROTOCOL_MAGIC, VIS_PROTOCOL_VERSION, 0 }, 3);
+	harness_open(c, sock);
+	harness_send(c, hello, len);
+	c->seq = 1;
+	struct vis_msg r;
+	harness_next_reply(c, &r, NULL);
+	if (r.type->opcode == VIS_OP_HELLO_REPLY)
+		return true;
+	CHECK(r.type->opcode == VIS_OP_ERROR && r.args[0].u == 1 && r.args[1].u == VIS_OP_HELLO &&
+		      r.args[2].u == VIS_ERROR_LIMIT,
+	      "wanted hello-reply or a limit error, got %s", r.type->name);
+	CHECK(harness_recv(c, 5000, &r) == 0, "a refused connection stayed open");
+	harness_close(c);
+	return false;
+}
+
+/* What the daemon wrote to stderr so far. */
+static const char *read_log(const struct harness_daemon *d)
+{
+	static char text[1 << 16];
+	FILE *f = fopen(d->log, "r");
+	CHECK(f, "cannot read %s", d->log);
+	text[fread(text, 1, sizeof text - 1, f)] = 0;
+	fclose(f);
+	return text;
+}
+
+/* Expects a limit error naming the option for request seq, on a connection that stays. */
+static void expect_limit(struct harness_conn *c, uint32_t seq, uint32_t op, const char *option)
+{
+	harness_expect_error(c, seq, op, VIS_ERROR_LIMIT, option, false);
+	harness_sync(c, NULL);
+}
+
+static void test_configured_limits(void)
+{
+	struct harness_daemon d = { 0 };
+	harness_start(&d, visd,
+		      (const char *[]){ "--max-clients", "4", "--max-windows", "4", "--max-depth",
+					"2", "--max-subscriptions", "2", NULL });
+	struct harness_conn m, c;
+	harness_open(&m, d.sock);
+	harness_hello(&m, VIS_ROLE_MANAGER);
+	harness_open(&c, d.sock);
+	harness_hello(&c, VIS_ROLE_CLIENT);
+
+	harness_context("windows per connection");
+	uint32_t w[4];
+	for (int i = 0; i < 4; i++)
+		w[i] = harness_create(&c, 0, 10 * i, 0, 5, 5, VIS_CREATE_MAP);
+	uint32_t seq = harness_req(&c, VIS_OP_CREATE, 0, 0, 0, 5, 5, 0);
+	expect_limit(&c, seq, VIS_OP_CREATE, "--max-windows");
+	harness_req(&c, VIS_OP_DESTROY, w[3]);
+	w[3] = harness_create(&c, 0, 0, 0, 5, 5, 0); /* room again */
+
+	harness_context("tree depth");
+	uint32_t a = harness_create(&m, 0, 0, 0, 50, 50, VIS_CREATE_MAP);
+	uint32_t b = harness_create(&m, a, 1, 1, 10, 10, VIS_CREATE_MAP);
+	uint32_t x = harness_create(&m, 0, 60, 0, 50, 50, VIS_CREATE_MAP);
+	seq = harness_req(&m, VIS_OP_CREATE, b, 0, 0, 2, 2, 0);
+	expect_limit(&m, seq, VIS_OP_CREATE, "--max-depth");
+	seq = harness_req(&m, VIS_OP_REPARENT, a, x, 0, 0);
+	expect_limit(&m, seq, VIS_OP_REPARENT, "--max-depth");
+	harness_req(&m, VIS_OP_REPARENT, b, x, 0, 0); /* b alone fits under x */
+	harness_sync(&m, NULL);
+	size_t n;
+	struct harness_node *tree = harness_get_tree(&m, &n);
+	bool moved = false;
+	for (size_t i = 0; i < n; i++)
+		moved |= tree[i].window == b && tree[i].parent == x;
+	CHECK(moved, "window %u was not reparented under %u", b, x);
+	free(tree);
+
+	harness_context("subscriptions");
+	harness_req(&c, VIS_OP_SUBSCRIBE, w[0], VIS_NOTICE_VISIBILITY, 0);
+	harness_req(&c, VIS_OP_SUBSCRIBE, w[1], VIS_NOTICE_VISIBILITY, 0);
+	harness_req(&c, VIS_OP_SUBSCRIBE, w[1], VIS_NOTICE_ALL, 0); /* replaces: no new one */
+	seq = harness_req(&c, VIS_OP_SUBSCRIBE, 0, VIS_NOTICE_VISIBILITY, 0);
+	expect_limit(&c, seq, VIS_OP_SUBSCRIBE, "--max-subscriptions");
+
+	harness_context("clients");
+	struct harness_conn more[2], extra;
+	for (int i = 0; i < 2; i++) {
+		harness_open(&more[i], d.sock);
+		harness_hello(&more[i], VIS_ROLE_CLIENT);
+	}
+	CHECK(!try_hello(&extra, d.sock), "a fifth client was accepted");
+	CHECK(strstr(read_log(&d), "--max-clients"), "the refusal is not logged");
+	harness_close(&more[1]);
+	/* The daemon frees the slot when it sees the hang-up: retry until it has. */
+	for (int tries = 0; !try_hello(&extra, d.sock); tries++) {
+		CHECK(tries < 100, "a freed client slot was never reused");
+		usleep(10000);
+	}
+	harness_sync(&extra, NULL);
+	harness_sync(&c, NULL);
+	harness_close(&extra);
+	harness_close(&more[0]);
+	harness_close(&c);
+	harness_close(&m);
+	harness_stop(&d);
+}
+
+/* A daemon with few descriptors: a flood is refused cleanly, and it serves again afterwards. */
+static void test_descriptor_shortage(void)
+{
+	harness_context("descriptor shortage");
+	struct harness_daemon d = { .nofile = 48 };
+	harness_start(&d, visd, NULL);
+	enum { FLOOD = 100 };
+	static struct harness_conn conn[FLOOD];
+	static bool accepted[FLOOD];
+	int served = 0;
+	for (int i = 0; i < FLOOD; i++)
+		served += accepted[i] = try_hello(&conn[i], d.sock);
+	CHECK(served == 16, "48 descriptors should serve 16 clients; served %d", served);
+	harness_check_alive(&d);
+	for (int i = 0; i < FLOOD; i++)
+		if (accepted[i])
+			harness_close(&conn[i]);
+	struct harness_conn c;
+	for (int tries = 0; !try_hello(&c, d.sock); tries++) {
+		CHECK(tries < 100, "the daemon did not recover after the flood");
+		usleep(10000);
+	}
+	harness_create(&c, 0, 0, 0, 10, 10, VIS_CREATE_MAP);
+	harness_close(&c);
+	harness_stop(&d);
+}
+
+/* What a subscriber makes of its notices: the last state of each window, and what it saw. */
+struct view {
+	uint32_t *state; /* by window ID; 3 unknown or not viewable */
+	bool *exists;    /* by window ID, from stack notices */
+	size_t cap;
+	uint64_t serial;
+	uint32_t coalesced, overflows, resync_left, dropped;
+};
+
+static void view_init(struct view *v, size_t cap)
+{
+	*v = (struct view){ .cap = cap };
+	v->state = malloc(cap * sizeof *v->state);
+	v->exists = calloc(cap, sizeof *v->exists);
+	CHECK(v->state && v->exists, "out of memory");
+	for (size_t i = 0; i < cap; i++)
+		v->state[i] = VIS_VISIBILITY_NONE;
+}
+
+/* Applies one message if it is a notice; false for replies. */
+static bool view_apply(struct view *v, const struct vis_msg *m)
+{
+	if (m->type->dir != VIS_DIR_NOTICE)
+		return false;
+	const union vis_arg *a = m->args;
+	CHECK(a[0].q == v->serial + 1, "notice %s with serial %llu after %llu", m->type->name,
+	      (unsigned long long)a[0].q, (unsigned long long)v->serial);
+	v->serial = a[0].q;
+	if (v->resync_left)
+		v->resync_left--;
+	switch (m->type->opcode) {
+	case VIS_OP_VISIBILITY:
+		CHECK(a[1].u < v->cap, "window %u", a[1].u);
+		v->state[a[1].u] = a[2].u;
+		v->coalesced += a[4].u;
+		break;
+	case VIS_OP_EXPOSURE:
+		v->coalesced += a[3].u;
+		break;
+	case VIS_OP_STACK:
+		CHECK(a[2].u < v->cap, "window %u", a[2].u);
+		v->exists[a[2].u] = a[1].u != VIS_STACK_DESTROY;
+		if (!(a[9].u & VIS_WINDOW_VIEWABLE))
+			v->state[a[2].u] = VIS_VISIBILITY_NONE;
+		break;
+	case VIS_OP_OVERFLOW:
+		CHECK(!v->resync_left, "an overflow notice inside a resync");
+		v->overflows++;
+		v->dropped += a[1].u;
+		v->resync_left = a[2].u;
+		/* Everything is restated: forget what we knew. */
+		for (size_t i = 0; i < v->cap; i++) {
+			v->state[i] = VIS_VISIBILITY_NONE;
+			v->exists[i] = false;
+		}
+		break;
+	}
+	return true;
+}
+
+/* Reads everything up to the reply of a sync, then checks the view against the daemon. */
+static void view_check(struct view *v, struct harness_conn *o, bool stack)
+{
+	uint32_t seq = harness_req(o, VIS_OP_SYNC);
+	struct vis_msg m;
+	for (;;) {
+		CHECK(harness_recv(o, 20000, &m) > 0, "no synced from the slow reader's sync");
+		if (!view_apply(v, &m)) {
+			CHECK(m.type->opcode == VIS_OP_SYNCED && m.args[0].u == seq, "got %s",
+			      m.type->name);
+			break;
+		}
+	}
+	CHECK(!v->resync_left, "%u resync notices missing", v->resync_left);
+	size_t n;
+	struct harness_state *s = harness_get_states(o, &n);
+	size_t viewable = 0;
+	for (size_t i = 0; i < v->cap; i++)
+		viewable += v->state[i] != VIS_VISIBILITY_NONE;
+	CHECK(viewable == n, "the subscriber knows %zu viewable windows, the daemon %zu", viewable,
+	      n);
+	for (size_t i = 0; i < n; i++)
+		CHECK(s[i].window < v->cap && v->state[s[i].window] == s[i].state,
+		      "window %u: the subscriber says %u, the daemon %u", s[i].window,
+		      s[i].window < v->cap ? v->state[s[i].window] : 9, s[i].state);
+	free(s);
+	if (stack) {
+		struct harness_node *t = harness_get_tree(o, &n);
+		size_t known = 0;
+		for (size_t i = 0; i < v->cap; i++)
+			known += v->exists[i];
+		CHECK(known == n, "the subscriber knows %zu windows, the daemon %zu", known, n);
+		for (size_t i = 0; i < n; i++)
+			CHECK(t[i].window < v->cap && v->exists[t[i].window],
+			      "window %u unknown to the subscriber", t[i].window);
+		free(t);
+	}
+}
+
+/*
+ * A subscriber stops reading while a manager sweeps a cover across a grid of windows: every
+ * sweep changes most states. Then it reads everything and must agree with the daemon.
+ */
+static void run_slow_reader(uint32_t mask, int sweeps, struct view *v)
+{
+	struct harness_daemon d = { 0 };
+	harness_start(&d, visd, (const char *[]){ "--max-pending", "65536", NULL });
+	struct harness_conn m, o;
+	harness_open(&m, d.sock);
+	harness_hello(&m, VIS_ROLE_MANAGER);
+	harness_open(&o, d.sock);
+	harness_hello(&o, VIS_ROLE_OBSERVER);
+	harness_req(&o, VIS_OP_SUBSCRIBE, 0, mask, 0);
+	harness_sync(&o, NULL);
+	enum { SIDE = 12 };
+	for (int i = 0; i < SIDE * SIDE; i++)
+		harness_create(&m, 0, 20 * (i % SIDE), 20 * (i / SIDE), 20, 20, VIS_CREATE_MAP);
+	uint32_t cover = harness_create(&m, 0, 0, 0, 70, 70, VIS_CREATE_MAP);
+	view_init(v, 1024);
+	for (int s = 0; s < sweeps; s++)
+		for (int k = 0; k < 40; k++) {
+			harness_req(&m, VIS_OP_MOVE, cover, (uint32_t)(6 * k - 20),
+				    (uint32_t)(5 * k + s % 7));
+			harness_sync(&m, NULL); /* one recompute a move */
+		}
+	harness_check_alive(&d);
+	view_check(v, &o, mask & VIS_NOTICE_STACK);
+	harness_close(&o);
+	harness_close(&m);
+	harness_stop(&d);
+}
+
+static void test_slow_readers(void)
+{
+	struct view v;
+	harness_context("slow reader: coalescing");
+	run_slow_reader(VIS_NOTICE_VISIBILITY | VIS_NOTICE_EXPOSURE, 60, &v);
+	CHECK(v.coalesced > 0 && !v.overflows,
+	      "a lagging subscriber of states: %u coalesced, %u overflows", v.coalesced,
+	      v.overflows);
+	printf("slow reader of states: %llu notices, standing for %u more\n",
+	       (unsigned long long)v.serial, v.coalesced);
+	free(v.state);
+	free(v.exists);
+
+	harness_context("slow reader: overflow");
+	run_slow_reader(VIS_NOTICE_ALL, 60, &v);
+	CHECK(v.overflows > 0 && v.dropped > 0, "a stalled stack subscriber never overflowed");
+	printf("slow reader of everything: %llu notices, %u overflows dropping %u\n",
+	       (unsigned long long)v.serial, v.overflows, v.dropped);
+	free(v.state);
+	free(v.exists);
+}
+
+static double now_us(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_MONOTONIC, &t);
+	return t.tv_sec * 1e6 + t.tv_nsec / 1e3;
+}
+
+static int by_value(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+	return (x > y) - (x < y);
+}
+
+/* The median time from an interactive client's move to the visibility notice it causes. */
+static double interactive_median(struct harness_conn *c, uint32_t w, int rounds)
+{
+	double *t = malloc(rounds * sizeof *t);
+	CHECK(t, "out of memory");
+	for (int i = 0; i < rounds; i++) {
+		double start = now_us();
+		/* On the screen (unobscured) or half off it (partially obscured): a notice each time. */
+		harness_req(c, VIS_OP_MOVE, w, (uint32_t)(i % 2 ? 5 : -5), 5);
+		struct vis_msg m;
+		do
+			CHECK(harness_recv(c, 20000, &m) > 0, "no visibility notice");
+		while (m.type->opcode != VIS_OP_VISIBILITY);
+		t[i] = now_us() - start;
+	}
+	qsort(t, rounds, sizeof *t, by_value);
+	double median = t[rounds / 2];
+	free(t);
+	return median;
+}
+
+/* A client pipelines changes to its 1,000 windows as fast as it can write, until killed. */
+static pid_t start_flooder(const char *sock)
+{
+	fflush(NULL);
+	pid_t pid = fork();
+	CHECK(pid >= 0, "fork: %s", strerror(errno));
+	if (pid)
+		return pid;
+	prctl(PR_SET_PDEATHSIG, SIGKILL); /* a failing test must not leave it behind */
+	struct harness_conn f;
+	harness_open(&f, sock);
+	harness_hello(&f, VIS_ROLE_CLIENT);
+	enum { N = 1000 };
+	uint32_t first = harness_create(&f, 0, 0, 0, 100, 100, VIS_CREATE_MAP);
+	for (int i = 1; i < N; i++)
+		harness_create(&f, 0, i * 37 % 3000, i * 53 % 1800, 300, 200, VIS_CREATE_MAP);
+	/* Moves, and a sync now and then as a script would: each sync forces a recompute. */
+	uint8_t burst[16 * 20];
+	for (unsigned k = 0;; k++) {
+		size_t len = 0;
+		for (int i = 0; i < 15; i++, k++)
+			len += harness_build(burst + len, VIS_OP_MOVE,
+					     (const uint32_t[]){ first + k % N, k * 7 % 3500,
+								 k * 11 % 2000 },
+					     3);
+		len += harness_build(burst + len, VIS_OP_SYNC, NULL, 0);
+		if (write(f.fd, burst, len) < 0)
+			_exit(0);
+		/* Its replies are read, or its output fills and the daemon stops reading it. */
+		char drain[4096];
+		while (recv(f.fd, drain, sizeof drain, MSG_DONTWAIT) > 0)
+			;
+	}
+}
+
+static void test_fairness(void)
+{
+	harness_context("fairness");
+	struct harness_daemon d = { 0 };
+	harness_start(&d, visd, NULL);
+	pid_t flooder = start_flooder(d.sock);
+	struct harness_conn c;
+	harness_open(&c, d.sock);
+	harness_hello(&c, VIS_ROLE_CLIENT);
+	/* Wait for the flooder's windows, so that both measurements recompute the same stack. */
+	struct harness_conn o;
+	harness_open(&o, d.sock);
+	harness_hello(&o, VIS_ROLE_OBSERVER);
+	for (int tries = 0;; tries++) {
+		size_t n;
+		free(harness_get_tree(&o, &n));
+		if (n >= 1000)
+			break;
+		CHECK(tries < 2000, "the flooder never created its windows");
+		usleep(5000);
+	}
+	harness_close(&o);
+	kill(flooder, SIGSTOP);
+	usleep(100000); /* what it had sent is done */
+	uint32_t w = harness_create(&c, 0, 5, 5, 50, 50, VIS_CREATE_MAP);
+	harness_req(&c, VIS_OP_SUBSCRIBE, w, VIS_NOTICE_VISIBILITY, 0);
+	harness_sync(&c, NULL);
+	double alone = interactive_median(&c, w, 200);
+	kill(flooder, SIGCONT);
+	usleep(100000);
+	double flooded = interactive_median(&c, w, 200);
+	kill(flooder, SIGKILL);
+	waitpid(flooder, NULL, 0);
+	printf("interactive move -> notice, median: %.0f us alone, %.0f us beside a flooder\n",
+	       alone, flooded);
+	/* 2x, plus 200 us for the scheduling of two processes on two cores. */
+	CHECK(flooded <= 2 * alone + 200, "the flooder slowed an interactive client from %.0f to "
+					  "%.0f us",
+	      alone, flooded);
+	harness_check_alive(&d);
+	harness_close(&c);
+	harness_stop(&d);
+}
+
+int main(int argc, char **argv)
+{
+	if (argc != 2) {
+		fprintf(stderr, "usage: test-limits VISD\n");
+		return 2;
+	}
+	visd = argv[1];
+	signal(SIGPIPE, SIG_IGN);
+	test_configured_limits();
+	test_descriptor_shortage();
+	test_slow_readers();
+	test_fairness();
+	printf("limits: every limit refuses cleanly; slow readers catch up right; the flooder "
+	       "starves no one\n");
+	return 0;
+}
