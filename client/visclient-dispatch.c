@@ -113,6 +113,8 @@ static int handshake_errno(uint32_t code)
 		return EBUSY;
 	case VIS_ERROR_HANDSHAKE:
 		return EPROTONOSUPPORT;
+	case VIS_ERROR_LIMIT:
+		return EAGAIN; /* too many clients, or the daemon is out of descriptors: try later */
 	default:
 		return ECONNREFUSED;
 	}

@@ -107,7 +107,15 @@ int vis_client_flush(struct vis_client *c)
 			ret = 1;
 			break;
 		} else if (errno != EINTR) {
-			vis_client_fail(c, errno, "writing to the daemon: %s", strerror(errno));
+			int err = errno;
+			/* A daemon that refused us said why before it closed: read that first. */
+			if (err == EPIPE || err == ECONNRESET) {
+				while (read_some(c) > 0)
+					;
+				vis_client_process(c);
+			}
+			if (!c->error)
+				vis_client_fail(c, err, "writing to the daemon: %s", strerror(err));
 			ret = -1;
 			break;
 		}

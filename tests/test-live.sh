@@ -148,6 +148,18 @@ for _ in $(seq 100); do [ -S "$dir/open/s" ] && break; sleep 0.05; done
 [ -S "$dir/open/s" ] || fail "a sticky directory was refused: $(cat "$dir/err")"
 kill $spid
 wait $spid || fail "visd in a sticky directory exited $?"
+# A client past --max-clients hears why, even when its hello meets a closed socket.
+"$visd" --socket "$dir/lim" --max-clients 1 2>/dev/null &
+lpid=$!
+for _ in $(seq 100); do [ -S "$dir/lim" ] && break; sleep 0.05; done
+"$visctl" -s "$dir/lim" watch >/dev/null &
+wpid=$!
+sleep 0.3
+"$visctl" -s "$dir/lim" states 2>"$dir/err"
+[ $? -eq 1 ] && grep -q "limit: too many clients.*--max-clients" "$dir/err" ||
+	fail "past --max-clients: $(cat "$dir/err")"
+kill $wpid $lpid
+wait $lpid || fail "visd --max-clients 1 exited $?"
 mode=$(stat -c %a "$sock")
 [ $((8#$mode & 8#077)) -eq 0 ] || fail "the socket is open to others: mode $mode"
 

@@ -118,7 +118,8 @@ VIS_EXPORT int vis_client_default_socket(char *buf, size_t len);
  * Connects to the daemon at path (NULL: the default socket) and performs the handshake, asking for
  * role (enum vis_role). Synchronous. Returns a connection, or NULL only when memory runs out;
  * check vis_client_error() before use. A refused handshake leaves EACCES (role not allowed),
- * EBUSY (the manager role is taken), EPROTONOSUPPORT (version) or ECONNREFUSED, and the daemon's
+ * EBUSY (the manager role is taken), EPROTONOSUPPORT (version), EAGAIN (the daemon serves as many
+ * clients as it may, or is out of descriptors: try later) or ECONNREFUSED, and the daemon's
  * error in vis_client_last_error().
  */
 VIS_EXPORT struct vis_client *vis_client_connect(const char *path, uint32_t role);
