@@ -120,19 +120,41 @@ void server_damage(struct server *server, const struct vis_window *w)
 	server->damage[server->n_damage++] = b;
 }
 
+/* A box in pixman's 32-bit coordinates: clamped, as the screen lies well inside them. */
+static pixman_box32_t clamp_box(struct vis_box b)
+{
+	const int64_t lo = INT32_MIN, hi = INT32_MAX;
+	return (pixman_box32_t){ (int32_t)(b.x1 < lo ? lo : b.x1 > hi ? hi : b.x1),
+				 (int32_t)(b.y1 < lo ? lo : b.y1 > hi ? hi : b.y1),
+				 (int32_t)(b.x2 < lo ? lo : b.x2 > hi ? hi : b.x2),
+				 (int32_t)(b.y2 < lo ? lo : b.y2 > hi ? hi : b.y2) };
+}
+
 /*
  * Whether w's visible region may have changed since the last recompute: a pixel that it gained or
  * lost lies in its new clip box and in the box of some change (its own, an ancestor's, or that of
- * a window that covered or uncovered it), or else its state changed.
+ * a window that covered or uncovered it), or else its state changed. damage: the union of the
+ * changes' boxes, or NULL for everywhere.
  */
-static bool maybe_exposed(const struct server *server, const struct vis_window *w)
+static bool maybe_exposed(pixman_region32_t *damage, const struct vis_window *w)
 {
-	if (server->damage_all || w->state != w->old_state)
+	if (!damage || w->state != w->old_state)
 		return true;
+	if (vis_box_empty(w->clip))
+		return false;
+	pixman_box32_t b = clamp_box(w->clip);
+	return pixman_region32_contains_rectangle(damage, &b) != PIXMAN_REGION_OUT;
+}
+
+/* The union of the damage boxes; false when there are too many (everywhere is damaged). */
+static bool damage_region(struct server *server, pixman_region32_t *out)
+{
+	pixman_box32_t boxes[SERVER_DAMAGE_BOXES];
+	if (server->damage_all)
+		return false;
 	for (size_t i = 0; i < server->n_damage; i++)
-		if (!vis_box_empty(vis_box_intersect(server->damage[i], w->clip)))
-			return true;
-	return false;
+		boxes[i] = clamp_box(server->damage[i]);
+	return pixman_region32_init_rects(out, boxes, (int)server->n_damage);
 }
 
 /* The deferred recompute: after every request read in this turn. */
@@ -314,9 +336,10 @@ void server_flush(struct server *server)
 	}
 	server->dirty = false;
 	server->recomputes++;
-	pixman_region32_t now, exposed;
+	pixman_region32_t now, exposed, damage;
 	pixman_region32_init(&now);
 	pixman_region32_init(&exposed);
+	bool damaged = damage_region(server, &damage);
 	for (struct vis_window *w = server->tree.root.bottom; w; w = vis_wtree_next(w)) {
 		if (w->state != w->old_state && w->state != VIS_WTREE_STATE_NONE)
 			notify_visibility(server, w);
@@ -333,7 +356,7 @@ void server_flush(struct server *server)
 			continue;
 		}
 		/* A window first tracked now was created since the last recompute: it showed nothing. */
-		if (d->tracked && !maybe_exposed(server, w))
+		if (d->tracked && !maybe_exposed(damaged ? &damage : NULL, w))
 			continue;
 		d->tracked = true;
 		if (vis_wtree_visible_region(&server->tree, w, &now) < 0) {
@@ -347,6 +370,8 @@ void server_flush(struct server *server)
 	}
 	pixman_region32_fini(&now);
 	pixman_region32_fini(&exposed);
+	if (damaged)
+		pixman_region32_fini(&damage);
 	server->n_damage = 0;
 	server->damage_all = false;
 }

@@ -27,7 +27,7 @@ struct server_options {
 };
 
 /* Changes remembered one by one between recomputes before every window counts as damaged. */
-#define SERVER_DAMAGE_BOXES 64
+#define SERVER_DAMAGE_BOXES 1024
 
 /*
  * Requests one connection may run per turn of the event loop before others get theirs; a request

@@ -19,7 +19,7 @@
 #include "harness.h"
 #include "vis/protocol.h"
 
-enum { BACKGROUND = 1000, MAX_CLIENTS = 64, MAX_SAMPLES = 4096 };
+enum { BACKGROUND = 1000, MAX_CLIENTS = 50, MAX_SAMPLES = 4096 };
 
 static double now_s(void)
 {
@@ -53,7 +53,7 @@ static int by_value(const void *a, const void *b)
 /* An active client: its window, where it is, and when its last move went. */
 struct active {
 	struct harness_conn conn;
-	uint32_t window;
+	uint32_t window, y;
 	bool left;
 	double sent;
 };
@@ -62,7 +62,7 @@ static void send_move(struct active *a)
 {
 	a->left = !a->left;
 	/* Half off the screen, or on it: the state flips between partially obscured and not. */
-	harness_req(&a->conn, VIS_OP_MOVE, a->window, (uint32_t)(a->left ? -5 : 5), 0);
+	harness_req(&a->conn, VIS_OP_MOVE, a->window, (uint32_t)(a->left ? -5 : 5), a->y);
 	a->sent = now_s();
 }
 
@@ -104,7 +104,9 @@ int main(int argc, char **argv)
 		struct active *a = &act[i];
 		harness_open(&a->conn, d.sock);
 		harness_hello(&a->conn, VIS_ROLE_CLIENT);
-		a->window = harness_create(&a->conn, 0, 5, 40 * i, 400, 30, VIS_CREATE_MAP);
+		/* Apart from each other, so that every move changes the mover's state. */
+		a->y = 40 * (uint32_t)i;
+		a->window = harness_create(&a->conn, 0, 5, (int32_t)a->y, 400, 30, VIS_CREATE_MAP);
 		harness_req(&a->conn, VIS_OP_SUBSCRIBE, a->window, VIS_NOTICE_VISIBILITY, 0);
 		harness_sync(&a->conn, NULL);
 	}
