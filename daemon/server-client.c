@@ -242,9 +242,18 @@ static void commit_batch(struct client *c)
 		p = evbuffer_pullup(c->batch, 4 + (ssize_t)size);
 		struct vis_msg m;
 		char why[200];
-		if (vis_msg_decode(p + 4, size, size, 1, &m, why, sizeof why) != VIS_DECODE_OK)
+		if (vis_msg_decode(p + 4, size, size, 1, &m, why, sizeof why) != VIS_DECODE_OK) {
 			log_error("client %u: a held request no longer decodes: %s", c->id, why);
-		else if (m.type->opcode == VIS_OP_BATCH_BEGIN)
+		} else if (server_output_pending(c) >
+			   (size_t)server->opt.max_pending + server->opt.max_batch) {
+			/* Replies are never dropped and a batch cannot wait for the output to drain:
+			 * its replies may pass the bound by what the batch may hold, no more. */
+			server_client_error(c, seq, m.type->opcode, VIS_ERROR_LIMIT,
+					    "the batch's replies take over %zu bytes; closing the "
+					    "connection",
+					    (size_t)server->opt.max_pending + server->opt.max_batch);
+			server_client_close(c);
+		} else if (m.type->opcode == VIS_OP_BATCH_BEGIN)
 			server_client_error(c, seq, VIS_OP_BATCH_BEGIN, VIS_ERROR_STATE,
 					    "batch-begin inside a batch");
 		else

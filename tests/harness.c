@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -109,7 +110,8 @@ void harness_start(struct harness_daemon *d, const char *visd, const char *const
 	d->pid = fork();
 	CHECK(d->pid >= 0, "fork: %s", strerror(errno));
 	if (d->pid == 0) {
-		if (dup2(log, 2) < 0)
+		/* Nothing on our stdout, and no daemon left behind if the test dies. */
+		if (dup2(log, 1) < 0 || dup2(log, 2) < 0 || prctl(PR_SET_PDEATHSIG, SIGKILL) < 0)
 			_exit(127);
 		closefrom(3); /* connections the test holds must not outlive it in the daemon */
 		struct rlimit rl = { (rlim_t)d->nofile, (rlim_t)d->nofile };
