@@ -118,6 +118,17 @@ static void hold_failed(struct client *c)
 	overflow(c);
 }
 
+/* The held entry of window for a notice to hold, or NULL when the notice is dropped instead. */
+static struct held *held_entry(struct client *c, uint32_t window)
+{
+	if (c->out.overflowed)
+		return NULL;
+	struct held *h = held_for(c, window);
+	if (!h)
+		hold_failed(c);
+	return h;
+}
+
 /* Writes one visibility notice now. */
 static void write_visibility(struct client *c, uint32_t window, uint32_t state, uint32_t previous,
 			     uint32_t coalesced)
@@ -181,13 +192,9 @@ void server_notice_visibility(struct client *c, const struct vis_window *w)
 		write_visibility(c, w->id, w->state, w->old_state, 0);
 		return;
 	}
-	if (c->out.overflowed)
+	struct held *h = held_entry(c, w->id);
+	if (!h)
 		return;
-	struct held *h = held_for(c, w->id);
-	if (!h) {
-		hold_failed(c);
-		return;
-	}
 	if (!h->visibility) {
 		h->visibility = true;
 		h->previous = w->old_state;
@@ -213,13 +220,9 @@ void server_notice_exposure(struct client *c, const struct sub *s, const struct 
 		write_exposure(c, w->id, s->rect_limit, exposed, words, n, 0);
 		return;
 	}
-	if (c->out.overflowed)
+	struct held *h = held_entry(c, w->id);
+	if (!h)
 		return;
-	struct held *h = held_for(c, w->id);
-	if (!h) {
-		hold_failed(c);
-		return;
-	}
 	if (h->exposure)
 		c->out.held_bytes -= exposure_bytes(&h->exposed);
 	h->exposure = true;
