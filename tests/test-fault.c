@@ -3,16 +3,20 @@
  * keep working. Hostile clients run random sessions (windows, children, retained windows,
  * subscriptions, batches, queries, the odd malformed message) and never read their replies; a
  * quarter are forked processes sent SIGKILL after a random delay, the others connections this
- * process cuts at a random byte of their session. Meanwhile three surviving clients create, move,
- * resize, restack, map and unmap their windows, each keeping a model of them.
+ * process cuts at a random byte of their session, some after lingering unread. Meanwhile three
+ * surviving clients create, move, resize, restack, map and unmap their windows, each keeping a
+ * model of them, and an observer of every window reads only at quiet points: with the smallest
+ * bound on pending output, it lags and overflows. Another such observer is cut at each quiet
+ * point, lagging or overflowed, and renewed.
  *
  * At quiet points (every 500 hostile clients and at the end) every hostile client is gone and
  * the daemon must be back to its descriptors of the start; a manager reads the tree, which must
  * hold the survivors' windows exactly as their models say plus only retained, childless top-level
  * windows of the dead; every window's state must be the brute-force engine's on that stack, and
- * so must get-states and the survivors' last visibility notices. The retained leftovers are then
- * destroyed. At the end the daemon must exit with status 0 and no sanitizer report (under ASan:
- * no leak, no use-after-free).
+ * so must get-states, the survivors' last visibility notices and the stalled observer's once it
+ * has caught up (its serials without gaps through overflows and resyncs). The retained leftovers
+ * are then destroyed. At the end the daemon must exit with status 0 and no sanitizer report
+ * (under ASan: no leak, no use-after-free).
  *
  * Usage: test-fault VISD [--clients N] [--seed S]  (CI: 1,000 clients; long form: 10,000)
  */
@@ -32,13 +36,13 @@
 #include "vis/protocol.h"
 #include "wire.h"
 
-#define SCREEN_W	 400
-#define SCREEN_H	 300
-#define SURVIVORS	 3
+#define SCREEN_W         400
+#define SCREEN_H         300
+#define SURVIVORS        3
 #define SURVIVOR_WINDOWS 8
-#define AT_ONCE		 24   /* hostile clients alive at a time */
-#define QUIET_EVERY	 500  /* hostile clients between two full checks */
-#define SESSION_MAX	 2048 /* bytes of an in-process hostile session */
+#define AT_ONCE          24   /* hostile clients alive at a time */
+#define QUIET_EVERY      500  /* hostile clients between two full checks */
+#define SESSION_MAX      2048 /* bytes of an in-process hostile session */
 
 static struct harness_daemon d;
 static struct harness_conn mgr;
@@ -54,26 +58,49 @@ struct model_window {
 	bool mapped;
 };
 
+/* What a connection's notices told it: each window's last state, and the serials. */
+struct told {
+	uint8_t *state; /* by window ID: the state of the last visibility notice, 3 before any */
+	size_t n;
+	uint64_t serial; /* the last notice's */
+	int overflows;
+};
+
 struct survivor {
 	struct harness_conn c;
 	struct model_window w[SURVIVOR_WINDOWS];
 	size_t n;
 	int ops;
-	uint8_t *notified; /* by window ID: the state of the last visibility notice, 3 before any */
-	size_t n_notified;
+	struct told told;
 };
 
 static struct survivor surv[SURVIVORS];
+
+/* An observer of every window that reads only at quiet points: it lags and overflows. */
+static struct {
+	struct harness_conn c;
+	struct told told;
+} stalled;
+
+/* Another that never reads, cut at each quiet point while it lags or overflows, then renewed. */
+static struct harness_conn doomed;
+
+static void doomed_start(void)
+{
+	harness_open_as(&doomed, d.sock, VIS_ROLE_OBSERVER);
+	harness_req(&doomed, VIS_OP_SUBSCRIBE, VIS_WINDOW_ALL, VIS_NOTICE_ALL, 0);
+}
 
 /* A hostile client: an in-process connection with its session, or a forked process. */
 struct hostile {
 	bool used;
 	struct vis_rng rng; /* its own: a client's choices do not depend on the others' timing */
-	pid_t pid;	    /* > 0: forked */
+	pid_t pid;          /* > 0: forked */
 	long long deadline_us;
 	int fd;
 	uint8_t *session;
 	size_t len, sent, cut;
+	int linger; /* steps to stay, unread, once the session is cut */
 };
 
 static struct hostile hostiles[AT_ONCE];
@@ -228,6 +255,7 @@ static void hostile_start(struct hostile *s, uint64_t seed, int i)
 	for (int k = (int)vis_rng_below(rng, 40); k > 0 && s->len + 64 <= SESSION_MAX; k--)
 		s->len += random_request(&h, s->session + s->len);
 	s->cut = (size_t)vis_rng_below(rng, s->len + 1);
+	s->linger = vis_rng_below(rng, 4) ? 0 : (int)vis_rng_below(rng, 400);
 	s->fd = harness_connect(d.sock);
 	CHECK(s->fd >= 0, "connect: %s", strerror(errno));
 	stats.cut++;
@@ -262,26 +290,36 @@ static void hostile_step(struct hostile *s)
 		s->sent += (size_t)w;
 	else if (w < 0 && errno != EAGAIN)
 		s->sent = s->cut; /* the daemon hung up after a malformed message */
-	if (s->sent == s->cut)
+	if (s->sent == s->cut && s->linger-- <= 0)
 		hostile_end(s);
 }
 
-/* A survivor's visibility notices: the last state of each of its windows. */
+/* Records a notice: serials without gaps, overflows counted, the last state of each window. */
 static void on_notice(void *data, const struct vis_msg *m)
 {
-	struct survivor *s = data;
+	struct told *t = data;
+	CHECK(m->args[0].q == t->serial + 1, "notice serial %llu after %llu",
+	      (unsigned long long)m->args[0].q, (unsigned long long)t->serial);
+	t->serial++;
+	t->overflows += m->type->opcode == VIS_OP_OVERFLOW;
 	uint32_t id = m->args[1].u;
 	if (m->type->opcode != VIS_OP_VISIBILITY)
 		return;
-	if (id >= s->n_notified) {
+	if (id >= t->n) {
 		size_t n = 2 * (size_t)id + 64;
-		uint8_t *more = realloc(s->notified, n);
+		uint8_t *more = realloc(t->state, n);
 		CHECK(more, "out of memory");
-		memset(more + s->n_notified, VIS_VISIBILITY_NONE, n - s->n_notified);
-		s->notified = more;
-		s->n_notified = n;
+		memset(more + t->n, VIS_VISIBILITY_NONE, n - t->n);
+		t->state = more;
+		t->n = n;
 	}
-	s->notified[id] = (uint8_t)m->args[2].u;
+	t->state[id] = (uint8_t)m->args[2].u;
+}
+
+/* The state the last notice told of window id. */
+static uint32_t told_state(const struct told *t, uint32_t id)
+{
+	return id < t->n ? t->state[id] : VIS_VISIBILITY_NONE;
 }
 
 /* Moves model window k of s to index to (after removing it). */
@@ -365,6 +403,15 @@ static struct survivor *owner_of(uint32_t id, size_t *index)
 	return NULL;
 }
 
+/* The state get-tree gave window id. */
+static uint32_t tree_state(const struct harness_node *t, size_t n, uint32_t id)
+{
+	for (size_t i = 0; i < n; i++)
+		if (t[i].window == id)
+			return t[i].state;
+	harness_fail(__FILE__, __LINE__, "window %u is not in the tree", id);
+}
+
 /*
  * The full check, with every hostile client gone: the tree against the survivors' models, every
  * state against the brute force on the stack, get-states and last notices against the states;
@@ -373,7 +420,8 @@ static struct survivor *owner_of(uint32_t id, size_t *index)
 static void quiet_check(int base_fds, int done)
 {
 	harness_context("quiet point after %d hostile clients", done);
-	harness_wait_fds(&d, base_fds);
+	harness_close(&doomed);
+	harness_wait_fds(&d, base_fds - 1);
 	harness_check_alive(&d);
 	for (size_t i = 0; i < SURVIVORS; i++)
 		harness_sync(&surv[i].c, NULL);
@@ -427,39 +475,32 @@ static void quiet_check(int base_fds, int done)
 	size_t ns;
 	struct harness_state *st = harness_get_states(&mgr, &ns);
 	size_t viewable = 0;
-	for (size_t i = 0; i < n; i++) {
-		if (t[i].state == VIS_VISIBILITY_NONE)
-			continue;
-		size_t k = 0;
-		while (k < ns && st[k].window != t[i].window)
-			k++;
-		CHECK(k < ns && st[k].state == t[i].state,
-		      "get-states disagrees with get-tree on window %u", t[i].window);
-		viewable++;
-	}
+	for (size_t i = 0; i < n; i++)
+		viewable += t[i].state != VIS_VISIBILITY_NONE;
 	CHECK(ns == viewable, "get-states has %zu windows, get-tree %zu viewable", ns, viewable);
+	for (size_t k = 0; k < ns; k++)
+		CHECK(tree_state(t, n, st[k].window) == st[k].state,
+		      "get-states disagrees with get-tree on window %u", st[k].window);
 	free(st);
 	for (size_t i = 0; i < SURVIVORS; i++) {
 		st = harness_get_states(&surv[i].c, &ns);
 		for (size_t j = 0; j < ns; j++) {
 			size_t at;
-			struct survivor *s = owner_of(st[j].window, &at);
-			CHECK(s == &surv[i], "survivor %zu sees window %u", i, st[j].window);
-			for (size_t q = 0; q < n; q++)
-				if (t[q].window == st[j].window)
-					CHECK(t[q].state == st[j].state &&
-						      st[j].window < s->n_notified &&
-						      s->notified[st[j].window] == st[j].state,
-					      "survivor %zu: window %u is %u, the tree says %u, "
-					      "its last "
-					      "notice %u",
-					      i, st[j].window, st[j].state, t[q].state,
-					      st[j].window < s->n_notified
-						      ? s->notified[st[j].window]
-						      : 3);
+			uint32_t id = st[j].window, want = tree_state(t, n, id);
+			CHECK(owner_of(id, &at) == &surv[i], "survivor %zu sees window %u", i, id);
+			CHECK(st[j].state == want && told_state(&surv[i].told, id) == want,
+			      "survivor %zu: window %u is %u, the tree says %u, the last notice %u",
+			      i, id, st[j].state, want, told_state(&surv[i].told, id));
 		}
 		free(st);
 	}
+	/* The stalled observer, behind since the last quiet point, catches up. */
+	harness_sync(&stalled.c, NULL);
+	for (size_t i = 0; i < n; i++)
+		CHECK(t[i].state == VIS_VISIBILITY_NONE ||
+			      told_state(&stalled.told, t[i].window) == t[i].state,
+		      "the stalled observer was last told window %u is %u; it is %u", t[i].window,
+		      told_state(&stalled.told, t[i].window), t[i].state);
 	for (size_t i = 0; i < n; i++) {
 		size_t at;
 		if (!owner_of(t[i].window, &at))
@@ -467,6 +508,7 @@ static void quiet_check(int base_fds, int done)
 		max_id = t[i].window > max_id ? t[i].window : max_id;
 	}
 	harness_sync(&mgr, NULL);
+	doomed_start();
 	free(t);
 	free(rects);
 	free(want);
@@ -506,20 +548,26 @@ int main(int argc, char **argv)
 	signal(SIGPIPE, SIG_IGN);
 	harness_seed(seed);
 	long long start = now_us();
-	harness_start(&d, argv[1], (const char *const[]){ "--screen", "400x300", NULL });
+	/* The smallest bound on pending output, so that the stalled observer overflows. */
+	harness_start(
+		&d, argv[1],
+		(const char *const[]){ "--screen", "400x300", "--max-pending", "65536", NULL });
 	harness_context("set-up");
 	struct vis_rng rng = { seed };
-	harness_open(&mgr, d.sock);
-	harness_hello(&mgr, VIS_ROLE_MANAGER);
+	harness_open_as(&mgr, d.sock, VIS_ROLE_MANAGER);
+	harness_open_as(&stalled.c, d.sock, VIS_ROLE_OBSERVER);
+	stalled.c.on_notice = on_notice;
+	stalled.c.notice_data = &stalled.told;
+	harness_req(&stalled.c, VIS_OP_SUBSCRIBE, VIS_WINDOW_ALL, VIS_NOTICE_ALL, 0);
 	for (size_t i = 0; i < SURVIVORS; i++) {
-		harness_open(&surv[i].c, d.sock);
-		harness_hello(&surv[i].c, VIS_ROLE_CLIENT);
+		harness_open_as(&surv[i].c, d.sock, VIS_ROLE_CLIENT);
 		surv[i].c.on_notice = on_notice;
-		surv[i].c.notice_data = &surv[i];
+		surv[i].c.notice_data = &surv[i].told;
 		harness_req(&surv[i].c, VIS_OP_SUBSCRIBE, VIS_WINDOW_ALL, VIS_NOTICE_VISIBILITY, 0);
 		for (int k = 0; k < 4; k++)
 			survivor_step(&surv[i], &rng);
 	}
+	doomed_start();
 	int base_fds = harness_count_fds(&d);
 	long rss_start = rss_kib();
 	int started = 0, alive = 0, next_quiet = QUIET_EVERY < clients ? QUIET_EVERY : clients;
@@ -545,9 +593,12 @@ int main(int argc, char **argv)
 	harness_context("shutdown");
 	for (size_t i = 0; i < SURVIVORS; i++) {
 		harness_close(&surv[i].c);
-		free(surv[i].notified);
+		free(surv[i].told.state);
 	}
-	harness_wait_fds(&d, base_fds - SURVIVORS);
+	harness_close(&stalled.c);
+	free(stalled.told.state);
+	harness_close(&doomed);
+	harness_wait_fds(&d, base_fds - SURVIVORS - 2);
 	size_t n;
 	free(harness_get_tree(&mgr, &n));
 	CHECK(n == 0, "%zu windows are left after every client went", n);
@@ -564,10 +615,13 @@ int main(int argc, char **argv)
 	printf("fault: seed %llu: %d hostile clients (%d killed processes, %d cut connections; "
 	       "visd "
 	       "accepted %u connections and made %u windows) died mid-session while %d survivors "
-	       "made %d changes; %d full checks of the states against the brute force, %d retained "
-	       "leftovers; visd's RSS %ld KiB before, %ld after; %.1f s\n",
+	       "made %d changes and an observer that read only at quiet points overflowed %d "
+	       "times; "
+	       "%d full checks of the states against the brute force, %d retained leftovers; "
+	       "visd's "
+	       "RSS %ld KiB before, %ld after; %.1f s\n",
 	       (unsigned long long)seed, stats.forked + stats.cut, stats.forked, stats.cut, last.id,
-	       last_window, SURVIVORS, survivor_ops, stats.checks, stats.orphans, rss_start,
-	       rss_end, (double)(now_us() - start) / 1e6);
+	       last_window, SURVIVORS, survivor_ops, stalled.told.overflows, stats.checks,
+	       stats.orphans, rss_start, rss_end, (double)(now_us() - start) / 1e6);
 	return 0;
 }
