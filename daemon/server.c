@@ -52,8 +52,10 @@ static void on_accept_error(struct evconnlistener *l, void *data)
 	if ((err == EMFILE || err == ENFILE) && server->reserve_fd >= 0) {
 		close(server->reserve_fd);
 		server->reserve_fd = -1;
-		int fd;
-		while ((fd = accept4(evconnlistener_get_fd(l), NULL, NULL, SOCK_CLOEXEC)) >= 0)
+		int fd, n = 0;
+		/* At most a backlog's worth a call: a flood must not hold the event loop. */
+		while (n++ < 64 &&
+		       (fd = accept4(evconnlistener_get_fd(l), NULL, NULL, SOCK_CLOEXEC)) >= 0)
 			server_refuse(server, fd, "the daemon is out of file descriptors (%s)",
 				      strerror(err));
 		take_reserve(server);
