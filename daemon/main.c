@@ -121,7 +121,7 @@ int main(int argc, char **argv)
 			char *end;
 			errno = 0;
 			unsigned long n = strtoul(val, &end, 10);
-			if (errno || *end || !isdigit((unsigned char)*val) || n < 64 ||
+			if (errno || *end || !isdigit((unsigned char)*val) || n < VIS_PROTOCOL_MIN_MAX_REQUEST ||
 			    n > VIS_PROTOCOL_MAX_MESSAGE)
 				return usage_error("--max-request '%s': want 64 to 16777216 bytes", val);
 			opt.max_request = (uint32_t)n;
