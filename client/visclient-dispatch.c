@@ -275,12 +275,18 @@ static void call_done(struct vis_pending *p, uint32_t window, uint32_t state)
 	free(p->items);
 }
 
-/* Handles the hello-reply: the handshake's answers, checked before the connection is usable. */
+/*
+ * Handles the hello-reply: the handshake's answers, checked before the connection is usable. A
+ * request limit no daemon can have would fail every later request with EMSGSIZE (or, at 0, lift
+ * the limit): it breaks the connection instead.
+ */
 static void handle_hello(struct vis_client *c, const struct vis_msg *m)
 {
-	if (m->args[1].u != VIS_PROTOCOL_VERSION || m->args[3].u > VIS_ROLE_MANAGER) {
-		vis_client_fail(c, EPROTO, "hello-reply with version %u and role %u", m->args[1].u,
-		     m->args[3].u);
+	uint32_t max = m->args[6].u;
+	if (m->args[1].u != VIS_PROTOCOL_VERSION || m->args[3].u > VIS_ROLE_MANAGER ||
+	    max < VIS_PROTOCOL_MIN_MAX_REQUEST || max > VIS_PROTOCOL_MAX_MESSAGE) {
+		vis_client_fail(c, EPROTO, "hello-reply with version %u, role %u, max_request %u",
+		     m->args[1].u, m->args[3].u, max);
 		return;
 	}
 	struct vis_pending p = pop(c);
@@ -289,7 +295,7 @@ static void handle_hello(struct vis_client *c, const struct vis_msg *m)
 	c->role = m->args[3].u;
 	c->screen_width = m->args[4].u;
 	c->screen_height = m->args[5].u;
-	c->max_request = m->args[6].u;
+	c->max_request = max;
 	c->connected = 1;
 }
 

@@ -110,6 +110,21 @@ int vis_client_wait(struct vis_client *c, const int *done);
  */
 int vis_client_refuse_in_batch(const struct vis_client *c);
 
+/*
+ * Makes a connection around fd, a connected stream socket, that has sent nothing yet: the caller
+ * sends hello (vis_client_hello) and reads the reply like any other. The connection owns fd from
+ * then on. For the tests and the fuzzer, which play the daemon's side over a socketpair: what is
+ * read from fd goes through the same read and dispatch path as on a connection to visd. NULL when
+ * memory runs out.
+ */
+struct vis_client *vis_client_adopt(int fd);
+
+/*
+ * Queues the handshake asking for role; the reply makes the connection usable (or fails it).
+ * Returns the request number (1), or 0 on a connection error.
+ */
+uint32_t vis_client_hello(struct vis_client *c, uint32_t role);
+
 /* How many protocol errors the connection has received, to tell whether a sync saw new ones. */
 unsigned long vis_client_error_count(const struct vis_client *c);
 

@@ -272,25 +272,38 @@ static void connect_socket(struct vis_client *c, const char *path, uint32_t role
 		vis_client_fail(c, errno, "cannot connect to %s: %s", path, strerror(errno));
 		return;
 	}
+	if (vis_client_hello(c, role))
+		vis_client_wait(c, &c->connected);
+}
+
+uint32_t vis_client_hello(struct vis_client *c, uint32_t role)
+{
 	union vis_arg args[3] = { { .u = VIS_PROTOCOL_MAGIC },
 				  { .u = VIS_PROTOCOL_VERSION },
 				  { .u = role } };
 	struct vis_pending p = { .kind = VIS_REPLY_HELLO };
-	if (vis_client_send(c, VIS_OP_HELLO, args, &p))
-		vis_client_wait(c, &c->connected);
+	return vis_client_send(c, VIS_OP_HELLO, args, &p);
 }
 
-struct vis_client *vis_client_connect(const char *path, uint32_t role)
+struct vis_client *vis_client_adopt(int fd)
 {
 	struct vis_client *c = calloc(1, sizeof(*c));
 	if (!c)
 		return NULL;
-	c->fd = -1;
+	c->fd = fd;
 	c->next_seq = 1;
 	c->next_serial = 1;
 	vis_buf_init(&c->out);
 	vis_buf_init(&c->in);
-	connect_socket(c, path, role);
+	return c;
+}
+
+struct vis_client *vis_client_connect(const char *path, uint32_t role)
+{
+	/* No socket yet: connect_socket opens it. */
+	struct vis_client *c = vis_client_adopt(-1);
+	if (c)
+		connect_socket(c, path, role);
 	return c;
 }
 

@@ -43,7 +43,8 @@ struct number_option {
 };
 
 static const struct number_option number_options[] = {
-	{ "--max-request", 64, VIS_PROTOCOL_MAX_MESSAGE, offsetof(struct server_options, max_request) },
+	{ "--max-request", VIS_PROTOCOL_MIN_MAX_REQUEST, VIS_PROTOCOL_MAX_MESSAGE,
+	  offsetof(struct server_options, max_request) },
 	{ "--max-clients", 1, 1000000, offsetof(struct server_options, max_clients) },
 	{ "--max-windows", 1, INT32_MAX, offsetof(struct server_options, max_windows) },
 	{ "--max-depth", 1, 4096, offsetof(struct server_options, max_depth) },

@@ -332,12 +332,16 @@ static void client_refused(struct vis_client *c)
 	assert(vis_client_last_error(c, &e) == 1 && e.code == VIS_ERROR_ACCESS && e.seq == 1);
 }
 
-/* A hello-reply of another version. */
-static void serve_bad_version(struct fake *f)
+/* The hello-reply serve_bad_hello sends: one that no daemon sends. */
+static const uint32_t *bad_hello;
+
+static void serve_bad_hello(struct fake *f)
 {
+	union vis_arg a[7];
+	for (int i = 0; i < 7; i++)
+		a[i].u = bad_hello[i];
 	fake_read(f, VIS_OP_HELLO);
-	fake_send(f, VIS_OP_HELLO_REPLY,
-		  (union vis_arg[]){ U(1), U(2), U(7), U(0), U(100), U(200), U(65536) });
+	fake_send(f, VIS_OP_HELLO_REPLY, a);
 	fake_linger(f);
 }
 
@@ -489,7 +493,20 @@ int main(void)
 	test_no_socket(dir);
 	run(dir, serve_good, client_good, VIS_ROLE_CLIENT);
 	run(dir, serve_refused, client_refused, VIS_ROLE_MANAGER);
-	run(dir, serve_bad_version, client_eproto, VIS_ROLE_CLIENT);
+	/* Hello-replies with another version, a role that does not exist, a request limit under
+	 * the protocol's least (every request would fail with EMSGSIZE), none at all, one over the
+	 * largest message: the handshake fails. */
+	static const uint32_t bad_hellos[][7] = {
+		{ 1, 2, 7, 0, 100, 200, 65536 },
+		{ 1, VIS_PROTOCOL_VERSION, 7, 3, 100, 200, 65536 },
+		{ 1, VIS_PROTOCOL_VERSION, 7, 0, 100, 200, 3 },
+		{ 1, VIS_PROTOCOL_VERSION, 7, 0, 100, 200, 0 },
+		{ 1, VIS_PROTOCOL_VERSION, 7, 0, 100, 200, VIS_PROTOCOL_MAX_MESSAGE + 4 },
+	};
+	for (size_t i = 0; i < sizeof(bad_hellos) / sizeof(bad_hellos[0]); i++) {
+		bad_hello = bad_hellos[i];
+		run(dir, serve_bad_hello, client_eproto, VIS_ROLE_CLIENT);
+	}
 	run(dir, serve_hangup, client_hangup, VIS_ROLE_CLIENT);
 
 	struct broken cases[20];

@@ -2,15 +2,17 @@
 # The two set-up commands of the README:
 #   tools/dev.sh demo   install what is missing, build (release), run the main job
 #   tools/dev.sh test   install what is missing, build, run every suite, then again under ASan+UBSan
+#   tools/dev.sh install [PACKAGE...]   install what is missing of these Debian packages (default:
+#                       the build's), as the other tools do (tools/fuzz.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 PACKAGES=(gcc meson ninja-build pkg-config libpixman-1-dev libevent-dev libxcb1-dev xvfb libxml2-utils)
 
-# Installs the Debian packages that are missing, asking apt only when something is.
+# Installs the Debian packages given that are missing, asking apt only when something is.
 install_missing() {
 	local missing=()
-	for p in "${PACKAGES[@]}"; do
+	for p in "$@"; do
 		dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' ||
 			missing+=("$p")
 	done
@@ -102,15 +104,20 @@ run_tests() {
 
 case "${1:-}" in
 demo)
-	install_missing
+	install_missing "${PACKAGES[@]}"
 	demo
 	;;
 test)
-	install_missing
+	install_missing "${PACKAGES[@]}"
 	run_tests
 	;;
+install)
+	shift
+	[ $# -gt 0 ] || set -- "${PACKAGES[@]}"
+	install_missing "$@"
+	;;
 *)
-	echo "usage: tools/dev.sh demo|test" >&2
+	echo "usage: tools/dev.sh demo|test|install [PACKAGE...]" >&2
 	exit 2
 	;;
 esac

@@ -11,6 +11,11 @@
 
 /* Every message, either way, is at most this many bytes, header included. */
 #define VIS_PROTOCOL_MAX_MESSAGE (16u << 20)
+/*
+ * The largest request a daemon accepts (hello-reply's max_request) is at least this many bytes,
+ * room for every request of fixed size, and at most VIS_PROTOCOL_MAX_MESSAGE.
+ */
+#define VIS_PROTOCOL_MIN_MAX_REQUEST 64u
 
 /* A window's visibility, numbered as X11's VisibilityNotify states. */
 enum vis_visibility {
