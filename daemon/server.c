@@ -110,14 +110,7 @@ void server_damage(struct server *server, const struct vis_window *w)
 		return;
 	}
 	/* Children are clipped by their parent: its box covers the subtree. */
-	struct vis_box b = { w->x, w->y, (int64_t)w->x + w->width, (int64_t)w->y + w->height };
-	for (const struct vis_window *p = w->parent; p && p->parent; p = p->parent) {
-		b.x1 += p->x;
-		b.x2 += p->x;
-		b.y1 += p->y;
-		b.y2 += p->y;
-	}
-	server->damage[server->n_damage++] = b;
+	server->damage[server->n_damage++] = vis_wtree_box(w);
 }
 
 /*

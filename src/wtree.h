@@ -93,6 +93,16 @@ void vis_wtree_reparent(struct vis_window *window, struct vis_window *parent, in
  */
 struct vis_window *vis_wtree_next(const struct vis_window *w);
 
+/* As vis_wtree_next(), staying inside top's subtree (top: its first window; NULL: the whole
+ * tree): NULL past its last window. O(depth) at worst. */
+struct vis_window *vis_wtree_next_within(const struct vis_window *w, const struct vis_window *top);
+
+/*
+ * The window's box in screen coordinates from its own and its ancestors' positions, viewable or
+ * not: its subtree's pixels lie inside it, as children are clipped to their parent. O(depth).
+ */
+struct vis_box vis_wtree_box(const struct vis_window *window);
+
 /* Whether the window and all its ancestors are mapped. O(depth). */
 bool vis_wtree_viewable(const struct vis_window *window);
 
