@@ -2,9 +2,83 @@
 #include <errno.h>
 #include <pixman.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "engine.h"
 #include "wtree.h"
+
+/*
+ * The scratch of one recompute. The arrays indexed by position in the order (n entries, n ≥ the
+ * viewable windows) copy what the passes after flattening read, so that those passes stream
+ * through memory instead of visiting windows: only flattening visits every window, and only the
+ * windows whose state changes are visited again. affected lists the positions of the windows
+ * whose states are recomputed, bottom to top (all of them, for now); hidden, the windows that are
+ * not viewable but whose state or old_state is not "none", the only ones outside the order whose
+ * states change.
+ */
+struct work {
+	struct vis_box *clips;  /* per position: the window's clip */
+	uint32_t *depths;       /* per position: its depth */
+	uint8_t *flags;         /* per position: CUT | CHILDREN | PARENT */
+	uint8_t *last;          /* per position: its state from the last recompute */
+	uint8_t *old;           /* per position: its old_state before this recompute, to undo */
+	uint8_t *raw;           /* per position: the state before the box rule (X's comparison) */
+	uint8_t *level;         /* per position: the result of one depth's sweep */
+	struct vis_rect *rects; /* the engine's input */
+	size_t *index;          /* each input rectangle's position */
+	uint8_t *states;        /* the engine's output */
+	size_t *affected, n_affected;
+	struct vis_window **hidden;
+	size_t n_hidden;
+};
+
+enum {
+	CUT = 1,      /* its clip is not its box: it is never unobscured */
+	CHILDREN = 2, /* it has viewable children with pixels that can be seen */
+	PARENT = 4,   /* affected, with children: its own sweep without its depth's children */
+};
+
+static void work_free(struct work *wk)
+{
+	free(wk->clips);
+	free(wk->depths);
+	free(wk->flags);
+	free(wk->last);
+	free(wk->old);
+	free(wk->raw);
+	free(wk->level);
+	free(wk->rects);
+	free(wk->index);
+	free(wk->states);
+	free(wk->affected);
+	free(wk->hidden);
+}
+
+/* Allocates the scratch for up to count windows; 0, or -1 with ENOMEM. */
+static int work_init(struct work *wk, size_t count)
+{
+	size_t n = count ? count : 1;
+	*wk = (struct work){
+		.clips = malloc(n * sizeof *wk->clips),
+		.depths = malloc(n * sizeof *wk->depths),
+		.flags = malloc(n),
+		.last = malloc(n),
+		.old = malloc(n),
+		.raw = malloc(n),
+		.level = malloc(n),
+		.rects = malloc(n * sizeof *wk->rects),
+		.index = malloc(n * sizeof *wk->index),
+		.states = malloc(n),
+		.affected = malloc(n * sizeof *wk->affected),
+		.hidden = malloc(n * sizeof *wk->hidden),
+	};
+	if (wk->clips && wk->depths && wk->flags && wk->last && wk->old && wk->raw && wk->level &&
+	    wk->rects && wk->index && wk->states && wk->affected && wk->hidden)
+		return 0;
+	work_free(wk);
+	errno = ENOMEM;
+	return -1;
+}
 
 /* The pre-order successor of w among viewable windows: unmapped subtrees are skipped. */
 static struct vis_window *next_viewable(struct vis_window *w)
@@ -17,10 +91,23 @@ static struct vis_window *next_viewable(struct vis_window *w)
 	return NULL;
 }
 
-/* Lists the viewable windows in pre-order, with their absolute and clipped boxes. */
-static int flatten(struct vis_wtree *tree)
+static bool box_equal(struct vis_box a, struct vis_box b)
 {
-	tree->n_order = 0;
+	return a.x1 == b.x1 && a.y1 == b.y1 && a.x2 == b.x2 && a.y2 == b.y2;
+}
+
+static bool meets(struct vis_box a, struct vis_box b)
+{
+	return !vis_box_empty(vis_box_intersect(a, b));
+}
+
+/*
+ * Lists the viewable windows in pre-order with their absolute and clipped boxes, and fills the
+ * per-position arrays of wk; moves each one's state to old_state (wk->old keeps what it replaces);
+ * lists the hidden windows of wk, and every viewable window as affected.
+ */
+static int flatten(struct vis_wtree *tree, struct work *wk)
+{
 	if (tree->cap_order < tree->count) {
 		struct vis_window **order = realloc(tree->order, tree->count * sizeof *order);
 		if (!order)
@@ -28,27 +115,46 @@ static int flatten(struct vis_wtree *tree)
 		tree->order = order;
 		tree->cap_order = tree->count;
 	}
+	size_t n = 0;
+	wk->n_hidden = 0;
 	for (struct vis_window *w = tree->root.bottom; w; w = next_viewable(w)) {
-		if (!w->mapped)
+		if (!w->mapped) {
+			for (struct vis_window *v = w; v; v = vis_wtree_next_within(v, w))
+				if (v->state != VIS_WTREE_STATE_NONE ||
+				    v->old_state != VIS_WTREE_STATE_NONE)
+					wk->hidden[wk->n_hidden++] = v;
 			continue;
+		}
 		const struct vis_window *p = w->parent;
-		w->box = (struct vis_box){ p->box.x1 + w->x, p->box.y1 + w->y, 0, 0 };
-		w->box.x2 = w->box.x1 + w->width;
-		w->box.y2 = w->box.y1 + w->height;
-		w->clip = vis_box_intersect(w->box, p->clip);
-		w->pos = tree->n_order;
-		tree->order[tree->n_order++] = w;
+		struct vis_box box = { p->box.x1 + w->x, p->box.y1 + w->y, 0, 0 };
+		box.x2 = box.x1 + w->width;
+		box.y2 = box.y1 + w->height;
+		struct vis_box clip = vis_box_intersect(box, p->clip);
+		uint8_t last = w->state;
+		w->box = box;
+		w->clip = clip;
+		w->pos = n;
+		wk->old[n] = w->old_state;
+		w->old_state = last;
+		wk->last[n] = last;
+		wk->clips[n] = clip;
+		wk->depths[n] = w->depth;
+		wk->flags[n] = box_equal(box, clip) ? 0 : CUT;
+		wk->affected[n] = n;
+		/* The parent, viewable, is already in the order. */
+		if (p->parent && !vis_box_empty(clip))
+			wk->flags[p->pos] |= CHILDREN;
+		tree->order[n++] = w;
 	}
+	tree->n_order = wk->n_affected = n;
 	return 0;
 }
 
-/* Whether a viewable window has a viewable child with pixels that can be seen. */
-static bool covers_children(const struct vis_window *w)
+/* Puts old_state back as it was before flatten(). */
+static void unflatten(struct vis_wtree *tree, const struct work *wk)
 {
-	for (const struct vis_window *c = w->bottom; c; c = c->above)
-		if (c->mapped && !vis_box_empty(c->clip))
-			return true;
-	return false;
+	for (size_t i = 0; i < tree->n_order; i++)
+		tree->order[i]->old_state = wk->old[i];
 }
 
 static struct vis_rect box_rect(struct vis_box b)
@@ -58,90 +164,113 @@ static struct vis_rect box_rect(struct vis_box b)
 }
 
 /*
- * Runs the default engine over the viewable windows with pixels to show and depth ≤ max_depth
- * (0: any), each clipped to its box and to within; writes each one's state to state_of[pos].
+ * Runs the default engine over the windows of wk at positions first … n − 1 with pixels inside
+ * within and depth ≤ max_depth (0: any), each clipped to within; writes each one's state to
+ * state_of[pos] (fully obscured for the others, and those below first).
  */
-static int sweep(const struct vis_wtree *tree, uint32_t max_depth, struct vis_box within,
-		 struct vis_rect *rects, size_t *index, uint8_t *states, uint8_t *state_of)
+static int sweep(struct work *wk, size_t first, size_t n, uint32_t max_depth,
+		 struct vis_box within, uint8_t *state_of)
 {
-	size_t n = 0;
-	for (size_t i = 0; i < tree->n_order; i++) {
-		const struct vis_window *w = tree->order[i];
-		state_of[i] = VIS_FULLY_OBSCURED;
-		if (!w)
+	size_t m = 0;
+	memset(state_of, VIS_FULLY_OBSCURED, n);
+	for (size_t i = first; i < n; i++) {
+		struct vis_box c = vis_box_intersect(wk->clips[i], within);
+		if (vis_box_empty(c) || (max_depth && wk->depths[i] > max_depth))
 			continue;
-		struct vis_box c = vis_box_intersect(w->clip, within);
-		if (vis_box_empty(c) || (max_depth && w->depth > max_depth))
-			continue;
-		rects[n] = box_rect(c);
-		index[n++] = i;
+		wk->rects[m] = box_rect(c);
+		wk->index[m++] = i;
 	}
-	struct vis_stack stack = { rects, n, false, 0, 0 };
-	if (vis_compute(VIS_ENGINE_AUTO, &stack, states) < 0)
+	struct vis_stack stack = { wk->rects, m, false, 0, 0 };
+	if (vis_compute(VIS_ENGINE_AUTO, &stack, wk->states) < 0)
 		return -1;
-	for (size_t k = 0; k < n; k++)
-		state_of[index[k]] = states[k];
+	for (size_t k = 0; k < m; k++)
+		state_of[wk->index[k]] = wk->states[k];
+	return 0;
+}
+
+/*
+ * The position of the highest top-level window whose clip holds within, or 0. Every window below
+ * it is fully obscured inside within (it is none of their descendants); as desktops tend to have
+ * such a window near the top, the engines need only the windows from there up.
+ */
+static size_t cover(const struct work *wk, size_t n, struct vis_box within)
+{
+	if (vis_box_empty(within))
+		return n;
+	for (size_t i = n; i-- > 0;)
+		if (wk->depths[i] == 1 && vis_box_contains(wk->clips[i], within))
+			return i;
+	return 0;
+}
+
+/*
+ * Sets wk->raw of every affected window to its state before the box rule, as its pixels inside
+ * within (a box inside the screen) alone would have it: fully obscured with none there.
+ * A window without visible children takes the sweep over all windows; one with them, the sweep
+ * over the windows at its depth or less, which leaves its descendants out.
+ */
+static int classify(const struct vis_wtree *tree, struct vis_box within, struct work *wk)
+{
+	size_t n = tree->n_order, first = cover(wk, n, within);
+	if (sweep(wk, first, n, 0, within, wk->raw) < 0)
+		return -1;
+	for (size_t a = 0; a < wk->n_affected; a++) {
+		size_t i = wk->affected[a];
+		if (i >= first && (wk->flags[i] & CHILDREN) && meets(wk->clips[i], within))
+			wk->flags[i] |= PARENT;
+	}
+	for (uint32_t depth_done = 0;;) {
+		uint32_t next = 0;
+		for (size_t a = 0; a < wk->n_affected; a++) {
+			size_t i = wk->affected[a];
+			uint32_t d = wk->depths[i];
+			if ((wk->flags[i] & PARENT) && d > depth_done && (!next || d < next))
+				next = d;
+		}
+		if (!next)
+			break;
+		if (sweep(wk, first, n, next, within, wk->level) < 0)
+			return -1;
+		for (size_t a = 0; a < wk->n_affected; a++) {
+			size_t i = wk->affected[a];
+			if ((wk->flags[i] & PARENT) && wk->depths[i] == next)
+				wk->raw[i] = wk->level[i];
+		}
+		depth_done = next;
+	}
 	return 0;
 }
 
 int vis_wtree_compute(struct vis_wtree *tree)
 {
-	if (flatten(tree) < 0)
+	struct work wk;
+	if (work_init(&wk, tree->count) < 0)
 		return -1;
-	size_t n = tree->n_order;
-	struct vis_rect *rects = malloc((n ? n : 1) * sizeof *rects);
-	size_t *index = malloc((n ? n : 1) * sizeof *index);
-	uint8_t *states = malloc(n ? n : 1), *all = malloc(n ? n : 1), *level = malloc(n ? n : 1);
-	bool *parent = malloc((n ? n : 1) * sizeof *parent);
 	int ret = -1;
-	if (!rects || !index || !states || !all || !level || !parent)
+	if (flatten(tree, &wk) < 0)
 		goto out;
-	/* Everything lies inside the screen: clip to it, and nothing else clips. */
-	struct vis_box screen = tree->root.clip;
-	if (sweep(tree, 0, screen, rects, index, states, all) < 0)
+	if (classify(tree, tree->root.clip, &wk) < 0) {
+		unflatten(tree, &wk);
 		goto out;
-	/* Windows with children: one sweep per depth, without the deeper windows. */
-	uint32_t depth_done = 0;
-	for (size_t i = 0; i < n; i++)
-		parent[i] = covers_children(tree->order[i]);
-	for (;;) {
-		uint32_t next = 0;
-		for (size_t i = 0; i < n; i++) {
-			uint32_t d = tree->order[i]->depth;
-			if (parent[i] && d > depth_done && (!next || d < next))
-				next = d;
-		}
-		if (!next)
-			break;
-		if (sweep(tree, next, screen, rects, index, states, level) < 0)
-			goto out;
-		for (size_t i = 0; i < n; i++)
-			if (parent[i] && tree->order[i]->depth == next)
-				all[i] = level[i];
-		depth_done = next;
 	}
-
-	/* Every window, viewable or not, moves its state to old_state: unviewable ones have none. */
-	for (struct vis_window *w = tree->root.bottom; w; w = vis_wtree_next(w)) {
+	/* Every window, viewable or not, moved its state to old_state: unviewable ones have none. */
+	for (size_t i = 0; i < wk.n_hidden; i++) {
+		struct vis_window *w = wk.hidden[i];
 		w->old_state = w->state;
 		w->state = VIS_WTREE_STATE_NONE;
 	}
-	for (size_t i = 0; i < n; i++) {
-		struct vis_window *w = tree->order[i];
-		uint8_t s = all[i];
+	for (size_t a = 0; a < wk.n_affected; a++) {
+		size_t i = wk.affected[a];
+		uint8_t s = wk.raw[i];
 		/* A window the clip cuts into is never unobscured, as X compares the whole window. */
-		if (s == VIS_UNOBSCURED && !vis_box_contains(w->clip, w->box))
+		if (s == VIS_UNOBSCURED && (wk.flags[i] & CUT))
 			s = VIS_PARTIALLY_OBSCURED;
-		w->state = s;
+		if (s != wk.last[i])
+			tree->order[i]->state = s;
 	}
 	ret = 0;
 out:
-	free(rects);
-	free(index);
-	free(states);
-	free(all);
-	free(level);
-	free(parent);
+	work_free(&wk);
 	return ret;
 }
 
@@ -197,20 +326,18 @@ long vis_wtree_repaint(const struct vis_wtree *tree, struct vis_box damage,
 		       struct vis_window **out)
 {
 	size_t n = tree->n_order;
-	struct vis_rect *rects = malloc((n ? n : 1) * sizeof *rects);
-	size_t *index = malloc((n ? n : 1) * sizeof *index);
-	uint8_t *states = malloc(n ? n : 1), *state_of = malloc(n ? n : 1);
+	struct work wk;
+	if (work_init(&wk, n) < 0)
+		return -1;
+	for (size_t i = 0; i < n; i++)
+		wk.clips[i] = tree->order[i] ? tree->order[i]->clip : (struct vis_box){ 0, 0, 0, 0 };
 	long count = -1;
-	if (rects && index && states && state_of &&
-	    sweep(tree, 0, damage, rects, index, states, state_of) == 0) {
+	if (sweep(&wk, 0, n, 0, damage, wk.raw) == 0) {
 		count = 0;
 		for (size_t i = 0; i < n; i++)
-			if (state_of[i] != VIS_FULLY_OBSCURED)
+			if (wk.raw[i] != VIS_FULLY_OBSCURED)
 				out[count++] = tree->order[i];
 	}
-	free(rects);
-	free(index);
-	free(states);
-	free(state_of);
+	work_free(&wk);
 	return count;
 }

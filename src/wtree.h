@@ -115,7 +115,9 @@ bool vis_wtree_viewable(const struct vis_window *window);
  * O((1 + D) · n log n) with the sweep, where D is the number of depths holding a viewable window
  * with viewable children: the sweep over the flattened tree (pre-order, each window clipped to
  * its ancestors) is exact for windows without children; one over the windows at depth ≤ d is
- * exact for those at depth d, whose descendants it leaves out.
+ * exact for those at depth d, whose descendants it leaves out. The sweeps start at the highest
+ * top-level window that covers the screen, if any: the windows below it are fully obscured, so a
+ * desktop with a maximized window near the top costs O(n) and the sweep over the windows above.
  */
 int vis_wtree_compute(struct vis_wtree *tree);
 
