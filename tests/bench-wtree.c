@@ -1,11 +1,13 @@
 /*
  * The cost of one recompute of the window tree after a single move, as the daemon pays it after
  * a client's move: a generated scene as top-level windows on the 3840×2160 screen, then random
- * moves, each followed by a recompute that is timed alone. Prints the median, the 99th percentile
- * and the mean per move. Not a test: run it from a release build,
+ * moves, each followed by a recompute that is timed alone, in full (vis_wtree_compute) and from
+ * the move's damage (vis_wtree_compute_damaged, the window's box before and after). Prints the
+ * median, the 99th percentile and the mean per move. Not a test: run it from a release build,
  *   build-release/tests/bench-wtree [--kinds K,…] [--sizes N,…] [--moves M] [--seed S]
  * or `meson test -C build-release --benchmark`.
  */
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,8 +34,8 @@ static int cmp_double(const void *a, const void *b)
 }
 
 /* Times `moves` recomputes, each after one move; fills the sorted times (µs). */
-static int run(const struct vis_scene *scene, enum who who, size_t moves, uint64_t seed,
-	       double *us)
+static int run(const struct vis_scene *scene, enum who who, bool damaged, size_t moves,
+	       uint64_t seed, double *us)
 {
 	struct vis_wtree tree;
 	vis_wtree_init(&tree, VIS_GEN_SCREEN_W, VIS_GEN_SCREEN_H);
@@ -60,10 +62,14 @@ static int run(const struct vis_scene *scene, enum who who, size_t moves, uint64
 			dx = -dx;
 		if ((dy > 0 && w->y > INT32_MAX - dy) || (dy < 0 && w->y < INT32_MIN - dy))
 			dy = -dy;
+		struct vis_box damage[2];
+		damage[0] = vis_wtree_box(w);
 		w->x += dx;
 		w->y += dy;
+		damage[1] = vis_wtree_box(w);
 		double t0 = now_us();
-		int rc = vis_wtree_compute(&tree);
+		int rc = damaged ? vis_wtree_compute_damaged(&tree, damage, 2)
+				 : vis_wtree_compute(&tree);
 		us[k] = now_us() - t0;
 		if (rc < 0)
 			return -1;
@@ -115,7 +121,7 @@ int main(int argc, char **argv)
 		return 1;
 	printf("one recompute after one move (µs): median / p99 / mean; seed %llu, %zu moves\n",
 	       (unsigned long long)seed, moves);
-	printf("%-8s %7s  %-4s  %26s\n", "kind", "n", "move", "full");
+	printf("%-8s %7s  %-4s  %26s  %26s\n", "kind", "n", "move", "full", "damaged");
 	for (char *k; (k = next_item(&kinds));) {
 		enum vis_gen_kind kind;
 		if (vis_gen_kind_from_name(k, &kind) < 0) {
@@ -132,14 +138,17 @@ int main(int argc, char **argv)
 			if (n == 0 || vis_gen(&scene, kind, n, seed, 0, 0) < 0)
 				return 1;
 			for (int who = ANY; who <= TOP; who++) {
-				if (run(&scene, (enum who)who, moves, seed, us) < 0)
-					return 1;
-				double sum = 0;
-				for (size_t i = 0; i < moves; i++)
-					sum += us[i];
-				printf("%-8s %7zu  %-4s  %8.1f / %6.1f / %6.1f\n", k, n,
-				       who == TOP ? "top" : "any", us[moves / 2],
-				       us[moves * 99 / 100], sum / (double)moves);
+				printf("%-8s %7zu  %-4s", k, n, who == TOP ? "top" : "any");
+				for (int damaged = 0; damaged <= 1; damaged++) {
+					if (run(&scene, (enum who)who, damaged, moves, seed, us) < 0)
+						return 1;
+					double sum = 0;
+					for (size_t i = 0; i < moves; i++)
+						sum += us[i];
+					printf("  %8.1f / %6.1f / %6.1f", us[moves / 2],
+					       us[moves * 99 / 100], sum / (double)moves);
+				}
+				printf("\n");
 			}
 			vis_scene_finish(&scene);
 		}
