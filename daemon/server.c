@@ -301,7 +301,11 @@ void server_flush(struct server *server)
 {
 	if (!server->dirty || server->deferring)
 		return;
-	if (vis_wtree_compute(&server->tree) < 0) {
+	/* Only the states the changes can have changed, unless there were too many to remember. */
+	int rc = server->damage_all ? vis_wtree_compute(&server->tree)
+				    : vis_wtree_compute_damaged(&server->tree, server->damage,
+								server->n_damage);
+	if (rc < 0) {
 		log_error("recompute: out of memory; states stay as they were");
 		return;
 	}
