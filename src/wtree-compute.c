@@ -431,8 +431,10 @@ static int compute(struct vis_wtree *tree, const struct vis_box *damage, size_t 
 	if (work_init(&wk, tree->count) < 0)
 		return -1;
 	struct vis_box screen = tree->root.clip, bounds = { 0, 0, 0, 0 };
-	if (tree->stale)
+	if (tree->stale) {
 		damage = NULL; /* the last states do not go with the boxes */
+		n_damage = 0;
+	}
 	for (size_t k = 0; damage && k < n_damage; k++)
 		if (meets(damage[k], screen))
 			bounds = box_hull(bounds, vis_box_intersect(damage[k], screen));
