@@ -8,27 +8,31 @@
 #include "wtree.h"
 
 /*
- * The scratch of one recompute. The arrays indexed by position in the order (n entries, n ≥ the
- * viewable windows) copy what the passes after flattening read, so that those passes stream
- * through memory instead of visiting windows: only flattening visits every window, and only the
- * windows whose state changes are visited again. affected lists the positions of the windows
- * whose states are recomputed, bottom to top; hidden, the windows that are not viewable but whose
- * state or old_state is not "none", the only ones outside the order whose states change.
+ * The scratch of a recompute, kept in the tree from one recompute to the next: the arrays are
+ * carved out of one block, allocated again only when the tree outgrows it. The arrays indexed by
+ * position in the order (cap ≥ the viewable windows) copy what the passes after flattening read,
+ * so that those passes stream through memory instead of visiting windows: only flattening visits
+ * every window, and only the windows whose state changes are visited again. affected lists the
+ * positions of the windows whose states are recomputed, bottom to top; hidden, the windows that
+ * are not viewable but whose state or old_state is not "none", the only ones outside the order
+ * whose states change.
  */
-struct work {
+struct vis_wtree_work {
+	void *block;
+	size_t cap;
 	struct vis_box *clips;  /* per position: the window's clip */
+	size_t *index;          /* each input rectangle's position */
+	size_t *affected, n_affected;
+	struct vis_window **hidden;
+	size_t n_hidden;
+	struct vis_rect *rects; /* the engine's input (cap + 4: a lookup adds up to 4 boxes) */
 	uint32_t *depths;       /* per position: its depth */
 	uint8_t *flags;         /* per position: CHANGED | CUT | CHILDREN | PARENT | SCAN */
 	uint8_t *last;          /* per position: its state from the last recompute */
 	uint8_t *old;           /* per position: its old_state before this recompute, to undo */
 	uint8_t *raw;           /* per position: the state before the box rule (X's comparison) */
 	uint8_t *level;         /* per position: the result of one depth's sweep */
-	struct vis_rect *rects; /* the engine's input (n + 4: a lookup adds up to 4 boxes) */
-	size_t *index;          /* each input rectangle's position */
-	uint8_t *states;        /* the engine's output (n + 4 entries) */
-	size_t *affected, n_affected;
-	struct vis_window **hidden;
-	size_t n_hidden;
+	uint8_t *states;        /* the engine's output (cap + 4) */
 };
 
 enum {
@@ -50,46 +54,53 @@ enum {
  */
 #define SCAN_VISITS_PER_WINDOW 4
 
-static void work_free(struct work *wk)
+/*
+ * Makes room in wk for count windows, keeping its block when it is large enough and doubling it
+ * at least otherwise. 0, or -1 with ENOMEM (wk is then as it was).
+ */
+static int work_reserve(struct vis_wtree_work *wk, size_t count)
 {
-	free(wk->clips);
-	free(wk->depths);
-	free(wk->flags);
-	free(wk->last);
-	free(wk->old);
-	free(wk->raw);
-	free(wk->level);
-	free(wk->rects);
-	free(wk->index);
-	free(wk->states);
-	free(wk->affected);
-	free(wk->hidden);
+	if (wk->block && count <= wk->cap)
+		return 0;
+	size_t n = count > 2 * wk->cap ? count : 2 * wk->cap;
+	n = n ? n : 1;
+	/* Widest first, so that every array is aligned: the sizes above rects are multiples of 8. */
+	size_t per = sizeof *wk->clips + sizeof *wk->index + sizeof *wk->affected +
+		     sizeof *wk->hidden + sizeof *wk->rects + sizeof *wk->depths + 6;
+	size_t extra = 4 * (sizeof *wk->rects + 1);
+	char *b = n <= (SIZE_MAX - extra) / per ? malloc(n * per + extra) : NULL;
+	if (!b) {
+		errno = ENOMEM;
+		return -1;
+	}
+	free(wk->block);
+	wk->block = b;
+	wk->cap = n;
+	wk->clips = (struct vis_box *)(void *)b;
+	b += n * sizeof *wk->clips;
+	wk->index = (size_t *)(void *)b;
+	b += n * sizeof *wk->index;
+	wk->affected = (size_t *)(void *)b;
+	b += n * sizeof *wk->affected;
+	wk->hidden = (struct vis_window **)(void *)b;
+	b += n * sizeof *wk->hidden;
+	wk->rects = (struct vis_rect *)(void *)b;
+	b += (n + 4) * sizeof *wk->rects;
+	wk->depths = (uint32_t *)(void *)b;
+	b += n * sizeof *wk->depths;
+	uint8_t **bytes[] = { &wk->flags, &wk->last, &wk->old, &wk->raw, &wk->level, &wk->states };
+	for (size_t k = 0; k < sizeof bytes / sizeof *bytes; k++) {
+		*bytes[k] = (uint8_t *)b;
+		b += n;
+	}
+	return 0;
 }
 
-/* Allocates the scratch for up to count windows; 0, or -1 with ENOMEM. */
-static int work_init(struct work *wk, size_t count)
+void vis_wtree_work_destroy(struct vis_wtree_work *work)
 {
-	size_t n = count ? count : 1;
-	*wk = (struct work){
-		.clips = malloc(n * sizeof *wk->clips),
-		.depths = malloc(n * sizeof *wk->depths),
-		.flags = malloc(n),
-		.last = malloc(n),
-		.old = malloc(n),
-		.raw = malloc(n),
-		.level = malloc(n),
-		.rects = malloc((n + 4) * sizeof *wk->rects),
-		.index = malloc(n * sizeof *wk->index),
-		.states = malloc(n + 4),
-		.affected = malloc(n * sizeof *wk->affected),
-		.hidden = malloc(n * sizeof *wk->hidden),
-	};
-	if (wk->clips && wk->depths && wk->flags && wk->last && wk->old && wk->raw && wk->level &&
-	    wk->rects && wk->index && wk->states && wk->affected && wk->hidden)
-		return 0;
-	work_free(wk);
-	errno = ENOMEM;
-	return -1;
+	if (work)
+		free(work->block);
+	free(work);
 }
 
 /* The pre-order successor of w among viewable windows: unmapped subtrees are skipped. */
@@ -131,7 +142,7 @@ static struct vis_box box_hull(struct vis_box a, struct vis_box b)
  * "none" exactly when the last recompute found it viewable and set its boxes); lists the hidden
  * windows of wk.
  */
-static int flatten(struct vis_wtree *tree, struct work *wk)
+static int flatten(struct vis_wtree *tree, struct vis_wtree_work *wk)
 {
 	if (tree->cap_order < tree->count) {
 		struct vis_window **order = realloc(tree->order, tree->count * sizeof *order);
@@ -177,7 +188,7 @@ static int flatten(struct vis_wtree *tree, struct work *wk)
 }
 
 /* Puts old_state back as it was before flatten(). */
-static void unflatten(struct vis_wtree *tree, const struct work *wk)
+static void unflatten(struct vis_wtree *tree, const struct vis_wtree_work *wk)
 {
 	for (size_t i = 0; i < tree->n_order; i++)
 		tree->order[i]->old_state = wk->old[i];
@@ -194,7 +205,7 @@ static struct vis_rect box_rect(struct vis_box b)
  * within and depth ≤ max_depth (0: any), each clipped to within; writes each one's state to
  * state_of[pos] (fully obscured for the others, and those below first).
  */
-static int sweep(struct work *wk, size_t first, size_t n, uint32_t max_depth,
+static int sweep(struct vis_wtree_work *wk, size_t first, size_t n, uint32_t max_depth,
 		 struct vis_box within, uint8_t *state_of)
 {
 	size_t m = 0;
@@ -219,7 +230,7 @@ static int sweep(struct work *wk, size_t first, size_t n, uint32_t max_depth,
  * it is fully obscured inside within (it is none of their descendants); as desktops tend to have
  * such a window near the top, the engines need only the windows from there up.
  */
-static size_t cover(const struct work *wk, size_t n, struct vis_box within)
+static size_t cover(const struct vis_wtree_work *wk, size_t n, struct vis_box within)
 {
 	if (vis_box_empty(within))
 		return n;
@@ -237,7 +248,7 @@ static size_t cover(const struct work *wk, size_t n, struct vis_box within)
  * nothing changed elsewhere, so they stay fully obscured (most windows of a desktop).
  */
 static void select_affected(const struct vis_wtree *tree, const struct vis_box *damage,
-			    size_t n_damage, struct vis_box bounds, struct work *wk)
+			    size_t n_damage, struct vis_box bounds, struct vis_wtree_work *wk)
 {
 	size_t n = tree->n_order, k = 0, first = damage ? cover(wk, n, bounds) : 0;
 	/*
@@ -265,7 +276,7 @@ static void select_affected(const struct vis_wtree *tree, const struct vis_box *
  * A window without visible children takes the sweep over all windows; one with them, the sweep
  * over the windows at its depth or less, which leaves its descendants out.
  */
-static int classify(const struct vis_wtree *tree, struct vis_box within, struct work *wk)
+static int classify(const struct vis_wtree *tree, struct vis_box within, struct vis_wtree_work *wk)
 {
 	size_t n = tree->n_order, first = cover(wk, n, within);
 	if (sweep(wk, first, n, 0, within, wk->raw) < 0)
@@ -303,7 +314,7 @@ static int classify(const struct vis_wtree *tree, struct vis_box within, struct 
  * last partially obscured but past the lookup budget; those within it are flagged SCAN).
  */
 static struct vis_box select_within(const struct vis_wtree *tree, struct vis_box bounds,
-				    struct work *wk)
+				    struct vis_wtree_work *wk)
 {
 	size_t n = tree->n_order;
 	struct vis_box within = bounds;
@@ -350,7 +361,7 @@ static uint8_t combine(uint8_t inside, uint8_t outside)
  * that meet them. Returns the state, or -1 with ENOMEM. O(windows above) besides the engine.
  */
 static int outside_state(size_t n, size_t i, struct vis_box within, uint8_t inside,
-			 struct work *wk)
+			 struct vis_wtree_work *wk)
 {
 	if (inside == VIS_PARTIALLY_OBSCURED)
 		return inside;
@@ -406,7 +417,7 @@ static int outside_state(size_t n, size_t i, struct vis_box within, uint8_t insi
  * which; one last partially obscured is looked up (SCAN). The others, new, moved or past the
  * budget, lie in within (or have no pixels). 0, or -1 with ENOMEM.
  */
-static int complete(const struct vis_wtree *tree, struct vis_box within, struct work *wk)
+static int complete(const struct vis_wtree *tree, struct vis_box within, struct vis_wtree_work *wk)
 {
 	for (size_t a = 0; a < wk->n_affected; a++) {
 		size_t i = wk->affected[a];
@@ -427,8 +438,12 @@ static int complete(const struct vis_wtree *tree, struct vis_box within, struct 
  */
 static int compute(struct vis_wtree *tree, const struct vis_box *damage, size_t n_damage)
 {
-	struct work wk;
-	if (work_init(&wk, tree->count) < 0)
+	if (!tree->work && !(tree->work = calloc(1, sizeof *tree->work))) {
+		errno = ENOMEM;
+		return -1;
+	}
+	struct vis_wtree_work *wk = tree->work;
+	if (work_reserve(wk, tree->count) < 0)
 		return -1;
 	struct vis_box screen = tree->root.clip, bounds = { 0, 0, 0, 0 };
 	if (tree->stale) {
@@ -438,36 +453,32 @@ static int compute(struct vis_wtree *tree, const struct vis_box *damage, size_t 
 	for (size_t k = 0; damage && k < n_damage; k++)
 		if (meets(damage[k], screen))
 			bounds = box_hull(bounds, vis_box_intersect(damage[k], screen));
-	int ret = -1;
-	if (flatten(tree, &wk) < 0)
-		goto out;
+	if (flatten(tree, wk) < 0)
+		return -1;
 	tree->stale = true; /* until the states go with the new boxes */
-	select_affected(tree, damage, n_damage, bounds, &wk);
-	struct vis_box within = damage ? select_within(tree, bounds, &wk) : screen;
-	if (classify(tree, within, &wk) < 0 || (damage && complete(tree, within, &wk) < 0)) {
-		unflatten(tree, &wk);
-		goto out;
+	select_affected(tree, damage, n_damage, bounds, wk);
+	struct vis_box within = damage ? select_within(tree, bounds, wk) : screen;
+	if (classify(tree, within, wk) < 0 || (damage && complete(tree, within, wk) < 0)) {
+		unflatten(tree, wk);
+		return -1;
 	}
 	/* Every window, viewable or not, moved its state to old_state: unviewable ones have none. */
-	for (size_t i = 0; i < wk.n_hidden; i++) {
-		struct vis_window *w = wk.hidden[i];
+	for (size_t i = 0; i < wk->n_hidden; i++) {
+		struct vis_window *w = wk->hidden[i];
 		w->old_state = w->state;
 		w->state = VIS_WTREE_STATE_NONE;
 	}
-	for (size_t a = 0; a < wk.n_affected; a++) {
-		size_t i = wk.affected[a];
-		uint8_t s = wk.raw[i];
+	for (size_t a = 0; a < wk->n_affected; a++) {
+		size_t i = wk->affected[a];
+		uint8_t s = wk->raw[i];
 		/* A window the clip cuts into is never unobscured, as X compares the whole window. */
-		if (s == VIS_UNOBSCURED && (wk.flags[i] & CUT))
+		if (s == VIS_UNOBSCURED && (wk->flags[i] & CUT))
 			s = VIS_PARTIALLY_OBSCURED;
-		if (s != wk.last[i])
+		if (s != wk->last[i])
 			tree->order[i]->state = s;
 	}
 	tree->stale = false;
-	ret = 0;
-out:
-	work_free(&wk);
-	return ret;
+	return 0;
 }
 
 int vis_wtree_compute(struct vis_wtree *tree)
@@ -533,8 +544,8 @@ long vis_wtree_repaint(const struct vis_wtree *tree, struct vis_box damage,
 		       struct vis_window **out)
 {
 	size_t n = tree->n_order;
-	struct work wk;
-	if (work_init(&wk, n) < 0)
+	struct vis_wtree_work wk = { 0 };
+	if (work_reserve(&wk, n) < 0)
 		return -1;
 	for (size_t i = 0; i < n; i++)
 		wk.clips[i] = tree->order[i] ? tree->order[i]->clip : (struct vis_box){ 0, 0, 0, 0 };
@@ -545,6 +556,6 @@ long vis_wtree_repaint(const struct vis_wtree *tree, struct vis_box damage,
 			if (wk.raw[i] != VIS_FULLY_OBSCURED)
 				out[count++] = tree->order[i];
 	}
-	work_free(&wk);
+	free(wk.block);
 	return count;
 }

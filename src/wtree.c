@@ -21,6 +21,7 @@ void vis_wtree_finish(struct vis_wtree *tree)
 		vis_wtree_destroy(tree, tree->root.top, NULL, NULL);
 	vis_idmap_finish(&tree->ids);
 	free(tree->order);
+	vis_wtree_work_destroy(tree->work);
 }
 
 struct vis_window *vis_wtree_find(const struct vis_wtree *tree, uint32_t id)

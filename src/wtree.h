@@ -36,6 +36,8 @@ struct vis_window {
 
 #define VIS_WTREE_STATE_NONE 3
 
+struct vis_wtree_work;
+
 struct vis_wtree {
 	struct vis_window root; /* the screen; id 0 */
 	struct vis_idmap ids;
@@ -48,6 +50,7 @@ struct vis_wtree {
 	/* A recompute failed after it had rewritten the boxes: the states no longer go with them,
 	 * so the next recompute must be a full one. */
 	bool stale;
+	struct vis_wtree_work *work; /* the recomputes' scratch (wtree-compute.c), or NULL */
 };
 
 /* Sets up an empty tree over a screen of width × height (≥ 1). O(1). */
@@ -55,6 +58,9 @@ void vis_wtree_init(struct vis_wtree *tree, int32_t width, int32_t height);
 
 /* Frees every window (not their data). O(n). */
 void vis_wtree_finish(struct vis_wtree *tree);
+
+/* Frees the recomputes' scratch, for vis_wtree_finish(); NULL is a no-op. */
+void vis_wtree_work_destroy(struct vis_wtree_work *work);
 
 /* The window with this ID, or NULL (the root is not found: its ID 0 means "the screen"). */
 struct vis_window *vis_wtree_find(const struct vis_wtree *tree, uint32_t id);
