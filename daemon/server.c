@@ -112,14 +112,7 @@ void server_damage(struct server *server, const struct vis_window *w)
 		return;
 	}
 	/* Children are clipped by their parent: its box covers the subtree. */
-	struct vis_box b = { w->x, w->y, (int64_t)w->x + w->width, (int64_t)w->y + w->height };
-	for (const struct vis_window *p = w->parent; p && p->parent; p = p->parent) {
-		b.x1 += p->x;
-		b.x2 += p->x;
-		b.y1 += p->y;
-		b.y2 += p->y;
-	}
-	server->damage[server->n_damage++] = b;
+	server->damage[server->n_damage++] = vis_wtree_box(w);
 }
 
 /* A box in pixman's 32-bit coordinates: clamped, as the screen lies well inside them. */
@@ -332,7 +325,11 @@ void server_flush(struct server *server)
 {
 	if (!server->dirty || server->deferring)
 		return;
-	if (vis_wtree_compute(&server->tree) < 0) {
+	/* Only the states the changes can have changed, unless there were too many to remember. */
+	int rc = server->damage_all ? vis_wtree_compute(&server->tree)
+				    : vis_wtree_compute_damaged(&server->tree, server->damage,
+								server->n_damage);
+	if (rc < 0) {
 		log_error("recompute: out of memory; states stay as they were");
 		return;
 	}

@@ -21,6 +21,7 @@ void vis_wtree_finish(struct vis_wtree *tree)
 		vis_wtree_destroy(tree, tree->root.top, NULL, NULL);
 	vis_idmap_finish(&tree->ids);
 	free(tree->order);
+	vis_wtree_work_destroy(tree->work);
 }
 
 struct vis_window *vis_wtree_find(const struct vis_wtree *tree, uint32_t id)
@@ -148,8 +149,7 @@ bool vis_wtree_is_ancestor(const struct vis_window *a, const struct vis_window *
 	return false;
 }
 
-/* The pre-order successor of w, staying inside top's subtree (NULL: the whole tree). */
-static struct vis_window *next_within(const struct vis_window *w, const struct vis_window *top)
+struct vis_window *vis_wtree_next_within(const struct vis_window *w, const struct vis_window *top)
 {
 	if (w->bottom)
 		return w->bottom;
@@ -165,13 +165,26 @@ void vis_wtree_reparent(struct vis_window *window, struct vis_window *parent, in
 	link_above(window, parent, parent->top);
 	window->x = x;
 	window->y = y;
-	for (struct vis_window *v = window; v; v = next_within(v, window))
+	for (struct vis_window *v = window; v; v = vis_wtree_next_within(v, window))
 		v->depth = v->parent->depth + 1;
 }
 
 struct vis_window *vis_wtree_next(const struct vis_window *w)
 {
-	return next_within(w, NULL);
+	return vis_wtree_next_within(w, NULL);
+}
+
+struct vis_box vis_wtree_box(const struct vis_window *window)
+{
+	struct vis_box b = { window->x, window->y, (int64_t)window->x + window->width,
+			     (int64_t)window->y + window->height };
+	for (const struct vis_window *p = window->parent; p && p->parent; p = p->parent) {
+		b.x1 += p->x;
+		b.x2 += p->x;
+		b.y1 += p->y;
+		b.y2 += p->y;
+	}
+	return b;
 }
 
 bool vis_wtree_viewable(const struct vis_window *window)

@@ -36,6 +36,8 @@ struct vis_window {
 
 #define VIS_WTREE_STATE_NONE 3
 
+struct vis_wtree_work;
+
 struct vis_wtree {
 	struct vis_window root; /* the screen; id 0 */
 	struct vis_idmap ids;
@@ -45,6 +47,10 @@ struct vis_wtree {
 	 * since leave NULL behind. */
 	struct vis_window **order;
 	size_t n_order, cap_order;
+	/* A recompute failed after it had rewritten the boxes: the states no longer go with them,
+	 * so the next recompute must be a full one. */
+	bool stale;
+	struct vis_wtree_work *work; /* the recomputes' scratch (wtree-compute.c), or NULL */
 };
 
 /* Sets up an empty tree over a screen of width × height (≥ 1). O(1). */
@@ -52,6 +58,9 @@ void vis_wtree_init(struct vis_wtree *tree, int32_t width, int32_t height);
 
 /* Frees every window (not their data). O(n). */
 void vis_wtree_finish(struct vis_wtree *tree);
+
+/* Frees the recomputes' scratch, for vis_wtree_finish(); NULL is a no-op. */
+void vis_wtree_work_destroy(struct vis_wtree_work *work);
 
 /* The window with this ID, or NULL (the root is not found: its ID 0 means "the screen"). */
 struct vis_window *vis_wtree_find(const struct vis_wtree *tree, uint32_t id);
@@ -93,6 +102,16 @@ void vis_wtree_reparent(struct vis_window *window, struct vis_window *parent, in
  */
 struct vis_window *vis_wtree_next(const struct vis_window *w);
 
+/* As vis_wtree_next(), staying inside top's subtree (top: its first window; NULL: the whole
+ * tree): NULL past its last window. O(depth) at worst. */
+struct vis_window *vis_wtree_next_within(const struct vis_window *w, const struct vis_window *top);
+
+/*
+ * The window's box in screen coordinates from its own and its ancestors' positions, viewable or
+ * not: its subtree's pixels lie inside it, as children are clipped to their parent. O(depth).
+ */
+struct vis_box vis_wtree_box(const struct vis_window *window);
+
 /* Whether the window and all its ancestors are mapped. O(depth). */
 bool vis_wtree_viewable(const struct vis_window *window);
 
@@ -105,9 +124,47 @@ bool vis_wtree_viewable(const struct vis_window *window);
  * O((1 + D) · n log n) with the sweep, where D is the number of depths holding a viewable window
  * with viewable children: the sweep over the flattened tree (pre-order, each window clipped to
  * its ancestors) is exact for windows without children; one over the windows at depth ≤ d is
- * exact for those at depth d, whose descendants it leaves out.
+ * exact for those at depth d, whose descendants it leaves out. The sweeps start at the highest
+ * top-level window that covers the screen, if any: the windows below it are fully obscured, so a
+ * desktop with a maximized window near the top costs O(n) and the sweep over the windows above.
  */
 int vis_wtree_compute(struct vis_wtree *tree);
+
+/*
+ * As vis_wtree_compute(), with the same result, knowing where the tree changed since the last
+ * recompute: damage[0 … n_damage − 1] holds, for every change (creating, mapping, unmapping,
+ * moving, resizing, restacking, reparenting or destroying a window), the changed window's box as
+ * vis_wtree_box() gives it just before and just after the change (once when the two are equal).
+ *
+ * The rule: only the viewable windows new to the order (created, mapped, or under an ancestor
+ * newly mapped), or whose box or clip moved, or whose clip meets a damage box have their states
+ * recomputed; every other window keeps its state. It is exact: a change of window c changes
+ * clips, viewability, stacking order and ancestry only inside c's subtree and between it and
+ * other windows, and c's subtree lies in c's box before and after the change. So on every pixel
+ * outside the damage, the windows that cover it, their order and their ancestry are those of the
+ * last recompute, and a window whose clip stayed and misses the damage has the same pixels
+ * covered. Of those that meet it, the ones last fully obscured below a top-level window whose
+ * clip holds all the damage stay fully obscured (most windows of a desktop) and are left out too.
+ *
+ * How: the windows recomputed are classified inside one box, within, by the sweeps of
+ * vis_wtree_compute() over the windows that meet it, each clipped to it (and over the depths of
+ * those of them with children only). within is the hull of the damage on the screen and of the
+ * clips of the new and moved windows. Outside within, a window's pixels are covered as at the
+ * last recompute: one last unobscured or fully obscured was so there too; for one last partially
+ * obscured, the windows above it are looked up (a box test each, the engine when none settles
+ * it) within a budget of 4 visits per viewable window in all, highest windows first, past which
+ * their clips join within instead. A window's state is its state inside within if it is the same
+ * outside, else partially obscured.
+ *
+ * Returns 0, or -1 with errno ENOMEM (states are then unchanged, and the next recompute is full).
+ * O(n · d) for flattening and the damage tests (n viewable windows, d damage boxes; past 4 boxes
+ * their hull is tested first), O(n) for the lookups with the engine over at most 4n boxes, and the
+ * sweeps over the m windows that meet within: O(n · d + (1 + D) · m log m + n log n) at worst.
+ * As within grows towards the screen, this becomes vis_wtree_compute(): no separate fall-back to
+ * it is needed, and the worst case stays within a constant of it, but for the damage tests.
+ */
+int vis_wtree_compute_damaged(struct vis_wtree *tree, const struct vis_box *damage,
+			      size_t n_damage);
 
 /*
  * The window's own visible pixels (not covered by any later window in pre-order, descendants

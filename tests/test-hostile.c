@@ -597,7 +597,7 @@ int main(int argc, char **argv)
 	setup();
 	test_lengths(hostile_visd.sock, 65536);
 	hostile_check_unaffected();
-	struct harness_daemon small;
+	struct harness_daemon small = { 0 };
 	harness_start(&small, argv[1], (const char *const[]){ "--max-request", "64", NULL });
 	test_lengths(small.sock, 64);
 	harness_stop(&small);

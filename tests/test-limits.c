@@ -329,15 +329,17 @@ static int by_value(const void *a, const void *b)
 	return (x > y) - (x < y);
 }
 
-/* The median time from an interactive client's move to the visibility notice it causes. */
+/*
+ * The median time from an interactive client's move to the visibility notice it causes: its window
+ * goes back and forth between 5, 5 and off the screen (fully obscured), changing state each time.
+ */
 static double interactive_median(struct harness_conn *c, uint32_t w, int rounds)
 {
 	double *t = malloc(rounds * sizeof *t);
 	CHECK(t, "out of memory");
 	for (int i = 0; i < rounds; i++) {
 		double start = now_us();
-		/* On the screen (unobscured) or half off it (partially obscured): a notice each time. */
-		harness_req(c, VIS_OP_MOVE, w, (uint32_t)(i % 2 ? 5 : -5), 5);
+		harness_req(c, VIS_OP_MOVE, w, (uint32_t)(i % 2 ? 5 : -5000), 5);
 		struct vis_msg m;
 		do
 			CHECK(harness_recv(c, 20000, &m) > 0, "no visibility notice");
@@ -409,7 +411,15 @@ static void test_fairness(void)
 	harness_close(&o);
 	kill(flooder, SIGSTOP);
 	usleep(100000); /* what it had sent is done */
-	uint32_t w = harness_create(&c, 0, 5, 5, 50, 50, VIS_CREATE_MAP);
+	/*
+	 * The daemon recomputes only what a change can affect: a small window's move would cost far
+	 * less than the flooder's turns, whose scattered moves recompute about everything. So the
+	 * interactive window spans the screen below the flooder's windows, and its moves on and off
+	 * the screen recompute everything too. Partially obscured on it: no window of the flooder's
+	 * reaches x = 3800.
+	 */
+	uint32_t w = harness_create(&c, 0, 5, 5, 3830, 2150, VIS_CREATE_MAP);
+	harness_req(&c, VIS_OP_LOWER, w);
 	harness_req(&c, VIS_OP_SUBSCRIBE, w, VIS_NOTICE_VISIBILITY, 0);
 	harness_sync(&c, NULL);
 	double alone = interactive_median(&c, w, 200);

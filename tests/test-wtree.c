@@ -3,19 +3,22 @@
 #undef NDEBUG
 #include <assert.h>
 #include <pixman.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "rng.h"
+#include "stack.h"
 #include "wtree.h"
 
 #define SW 16
 #define SH 12
 #define MAXW 14
+#define CAP 400 /* windows a tree may hold */
 
 static struct vis_wtree tree;
-static struct vis_window *wins[MAXW * 4];
+static struct vis_window *wins[CAP];
 static int nwins;
 
 /* Whether pixel (px, py) of the screen is inside w and every ancestor of it, and the screen. */
@@ -109,7 +112,7 @@ static void check(uint64_t seed)
 		}
 	}
 	/* Repaint of the whole screen: the windows showing own pixels. */
-	struct vis_window *out[MAXW * 4];
+	struct vis_window *out[CAP];
 	long n = vis_wtree_repaint(&tree, (struct vis_box){ 2, 1, SW - 3, SH - 2 }, out);
 	assert(n >= 0);
 	long k = 0;
@@ -127,85 +130,456 @@ static void check(uint64_t seed)
 	assert(k == n);
 }
 
-static struct vis_window *pick(struct vis_rng *r)
+/*
+ * The incremental recompute against the full one: a twin tree gets every edit the tree gets, with
+ * the damage recorded as the daemon records it, and is recomputed with
+ * vis_wtree_compute_damaged(); after each batch of edits both must agree on every window.
+ */
+static struct vis_wtree twin;
+static struct vis_window *twins[CAP];
+static struct vis_box damage[64];
+static size_t n_damage;
+static bool damage_all; /* past 64 boxes, as the daemon: a full recompute */
+static uint64_t incremental_runs, affected_states;
+
+/*
+ * The kinds of random trees: small ones on a small screen, checked pixel by pixel against X's
+ * rules; the same with coordinates near the 32-bit limits and screens up to INT32_MAX wide; and
+ * crowds of hundreds of small windows, most of them partially obscured. The last two are only
+ * compared with the full recompute.
+ */
+static enum family { SMALL, EXTREME, CROWD } family;
+static const char *const family_names[] = { "", " (extreme)", " (crowd)" };
+
+/* The daemon's damage: the window's box in screen coordinates, before and after each change. */
+static void damage_of(const struct vis_window *w)
+{
+	if (n_damage == sizeof damage / sizeof *damage)
+		damage_all = true;
+	else
+		damage[n_damage++] = vis_wtree_box(w);
+}
+
+/*
+ * Leaves the twin as a recompute that runs out of memory after flattening leaves it: the boxes and
+ * the order new, every state and old_state as they were, the tree stale (and the damage kept, as
+ * the daemon keeps it). The next recompute must be a full one, whatever the damage says.
+ */
+static void fail_recompute(void)
+{
+	static uint8_t states[CAP][2];
+	for (int i = 0; i < nwins; i++)
+		if (twins[i]) {
+			states[i][0] = twins[i]->state;
+			states[i][1] = twins[i]->old_state;
+		}
+	assert(vis_wtree_compute_damaged(&twin, damage, n_damage) == 0);
+	for (int i = 0; i < nwins; i++)
+		if (twins[i]) {
+			twins[i]->state = states[i][0];
+			twins[i]->old_state = states[i][1];
+		}
+	twin.stale = true;
+}
+
+/*
+ * Recomputes the twin from the damage and compares every window and the order with the tree's;
+ * now and then after a failed recompute.
+ */
+static void compare(uint64_t seed, const char *what)
+{
+	if (incremental_runs % 13 == 5 && !damage_all)
+		fail_recompute();
+	if (damage_all)
+		assert(vis_wtree_compute(&twin) == 0);
+	else
+		assert(vis_wtree_compute_damaged(&twin, damage, n_damage) == 0);
+	incremental_runs += !damage_all;
+	n_damage = 0;
+	damage_all = false;
+	assert(twin.n_order == tree.n_order);
+	for (size_t i = 0; i < tree.n_order; i++)
+		assert(twin.order[i]->id == tree.order[i]->id && twin.order[i]->pos == i);
+	for (int i = 0; i < nwins; i++) {
+		const struct vis_window *a = wins[i], *b = twins[i];
+		assert(!a == !b);
+		if (!a)
+			continue;
+		affected_states += b->state != b->old_state;
+		if (a->state != b->state || a->old_state != b->old_state) {
+			fprintf(stderr, "seed %llu%s, after %s: window %u (depth %u) is %d (was %d) "
+					"incrementally, %d (was %d) in full\n",
+				(unsigned long long)seed, family_names[family], what, a->id,
+				a->depth, b->state, b->old_state, a->state, a->old_state);
+			exit(1);
+		}
+	}
+}
+
+/* Computes the tree in full (checked against X's rules if small), the twin incrementally. */
+static void check_both(uint64_t seed, const char *what)
+{
+	if (family != SMALL)
+		assert(vis_wtree_compute(&tree) == 0);
+	else
+		check(seed);
+	compare(seed, what);
+}
+
+/* A live window's index, picked at random; -1 when none is left. */
+static int pick(struct vis_rng *r)
 {
 	int live = 0;
 	for (int i = 0; i < nwins; i++)
 		live += wins[i] != NULL;
 	if (!live)
-		return NULL;
+		return -1;
 	int k = (int)vis_rng_below(r, (uint64_t)live);
 	for (int i = 0; i < nwins; i++)
 		if (wins[i] && k-- == 0)
-			return wins[i];
-	return NULL;
+			return i;
+	return -1;
+}
+
+static int index_of(const struct vis_window *w)
+{
+	for (int i = 0; i < nwins; i++)
+		if (wins[i] == w)
+			return i;
+	return -1;
 }
 
 static void forget(void *data, struct vis_window *w)
 {
-	(void)data;
+	struct vis_window **list = data;
 	for (int i = 0; i < nwins; i++)
-		if (wins[i] == w)
-			wins[i] = NULL;
+		if (list[i] == w)
+			list[i] = NULL;
+}
+
+/* Coordinates that make trouble: the 32-bit limits, zero, one, and a few around the screen. */
+static int32_t extreme_coord(struct vis_rng *r)
+{
+	static const int32_t values[] = { INT32_MIN, INT32_MIN + 1, -INT32_MAX / 2, -2, -1, 0, 1, 2,
+					  5, SW - 1, SW, INT32_MAX / 2, INT32_MAX - 1, INT32_MAX };
+	return values[vis_rng_below(r, sizeof values / sizeof *values)];
+}
+
+static int32_t extreme_size(struct vis_rng *r)
+{
+	static const int32_t values[] = { 1, 2, 3, SW, INT32_MAX / 2, INT32_MAX - 1, INT32_MAX };
+	return values[vis_rng_below(r, sizeof values / sizeof *values)];
+}
+
+/* A random geometry: small, on and around the screen, or extreme. */
+static void geometry(struct vis_rng *r, int32_t g[4])
+{
+	if (family == EXTREME && vis_rng_below(r, 4)) {
+		g[0] = extreme_coord(r);
+		g[1] = extreme_coord(r);
+		g[2] = extreme_size(r);
+		g[3] = extreme_size(r);
+		return;
+	}
+	if (family == CROWD) {
+		g[0] = (int32_t)vis_rng_below(r, 72) - 8;
+		g[1] = (int32_t)vis_rng_below(r, 56) - 8;
+		g[2] = 4 + (int32_t)vis_rng_below(r, 36);
+		g[3] = 3 + (int32_t)vis_rng_below(r, 27);
+		return;
+	}
+	g[0] = (int32_t)vis_rng_below(r, 20) - 4;
+	g[1] = (int32_t)vis_rng_below(r, 16) - 4;
+	g[2] = 1 + (int32_t)vis_rng_below(r, 12);
+	g[3] = 1 + (int32_t)vis_rng_below(r, 10);
+}
+
+/* Creates a window under parent index p (-1: the screen) in both trees, with its damage. */
+static void create(int p, const int32_t g[4], bool mapped)
+{
+	assert(nwins < CAP);
+	struct vis_window *a = vis_wtree_create(&tree, p < 0 ? &tree.root : wins[p], g[0], g[1],
+						g[2], g[3], 1);
+	struct vis_window *b = vis_wtree_create(&twin, p < 0 ? &twin.root : twins[p], g[0], g[1],
+						g[2], g[3], 1);
+	assert(a && b);
+	a->mapped = b->mapped = mapped;
+	wins[nwins] = a;
+	twins[nwins++] = b;
+	damage_of(b);
+}
+
+enum op { RESTACK, RAISE, LOWER, REPARENT, MOVE, RESIZE, MAP, UNMAP, DESTROY };
+static const char *const op_names[] = { "restack", "raise", "lower", "reparent", "move",
+					 "resize", "map", "unmap", "destroy" };
+
+/*
+ * Changes window i of both trees, with the damage the daemon records: after a restack or a change
+ * of mapping (the box stays), before and after a move, a resize or a reparent, before a
+ * destruction. other is the sibling of a restack (above it if x, else below) or the new parent
+ * (-1: the screen); x, y the position or the size. Returns the change's name.
+ */
+static const char *change(enum op op, int i, int other, int32_t x, int32_t y)
+{
+	struct vis_window *a = wins[i], *b = twins[i];
+	switch (op) {
+	case RESTACK:
+		vis_wtree_restack(a, wins[other], x);
+		vis_wtree_restack(b, twins[other], x);
+		damage_of(b);
+		break;
+	case RAISE:
+		vis_wtree_raise(a);
+		vis_wtree_raise(b);
+		damage_of(b);
+		break;
+	case LOWER:
+		vis_wtree_lower(a);
+		vis_wtree_lower(b);
+		damage_of(b);
+		break;
+	case REPARENT:
+		damage_of(b);
+		vis_wtree_reparent(a, other < 0 ? &tree.root : wins[other], x, y);
+		vis_wtree_reparent(b, other < 0 ? &twin.root : twins[other], x, y);
+		damage_of(b);
+		break;
+	case MOVE:
+	case RESIZE:
+		damage_of(b);
+		if (op == MOVE) {
+			a->x = b->x = x;
+			a->y = b->y = y;
+		} else {
+			a->width = b->width = x;
+			a->height = b->height = y;
+		}
+		damage_of(b);
+		break;
+	case MAP:
+	case UNMAP:
+		a->mapped = b->mapped = op == MAP;
+		damage_of(b);
+		break;
+	case DESTROY:
+		damage_of(b);
+		vis_wtree_destroy(&tree, a, forget, wins);
+		vis_wtree_destroy(&twin, b, forget, twins);
+		break;
+	}
+	return op_names[op];
+}
+
+/* One random edit of both trees; returns its name. */
+static const char *edit(struct vis_rng *r)
+{
+	int i = pick(r);
+	int32_t g[4];
+	geometry(r, g);
+	if (i < 0 || vis_rng_below(r, 12) == 0) {
+		int p = vis_rng_below(r, 3) ? pick(r) : -1;
+		if (nwins < CAP) {
+			create(p, g, vis_rng_below(r, 6) != 0);
+			return "create";
+		}
+		if (i < 0)
+			return "nothing";
+	}
+	struct vis_window *a = wins[i];
+	switch (vis_rng_below(r, 9)) {
+	case 0: {
+		/* Above or below a random sibling. */
+		int k = 0;
+		for (struct vis_window *s = a->parent->bottom; s; s = s->above)
+			k++;
+		struct vis_window *s = a->parent->bottom;
+		for (int j = (int)vis_rng_below(r, (uint64_t)k); j > 0; j--)
+			s = s->above;
+		return change(RESTACK, i, index_of(s), (int32_t)vis_rng_below(r, 2), 0);
+	}
+	case 1:
+		return change(RAISE, i, 0, 0, 0);
+	case 2:
+		return change(LOWER, i, 0, 0, 0);
+	case 3: {
+		int p = pick(r);
+		if (p >= 0 && vis_wtree_is_ancestor(a, wins[p]))
+			p = -1;
+		return change(REPARENT, i, p, g[0], g[1]);
+	}
+	case 4:
+		if (vis_rng_below(r, 2) && family != EXTREME)
+			/* A small step: abutting and shared edges come and go. */
+			return change(MOVE, i, 0, a->x + (int32_t)vis_rng_below(r, 5) - 2,
+				      a->y + (int32_t)vis_rng_below(r, 3) - 1);
+		return change(MOVE, i, 0, g[0], g[1]);
+	case 5:
+		return change(RESIZE, i, 0, g[2], g[3]);
+	case 6:
+	case 7:
+		return change(a->mapped ? UNMAP : MAP, i, 0, 0, 0);
+	default:
+		return change(DESTROY, i, 0, 0, 0);
+	}
+}
+
+/* Random trees under random batches of edits, each batch followed by both recomputes. */
+static int random_trees(uint64_t first, uint64_t count, int batches)
+{
+	for (uint64_t seed = first; seed < first + count; seed++) {
+		struct vis_rng r = { seed };
+		int32_t sw = family == CROWD ? 64 : SW, sh = family == CROWD ? 48 : SH;
+		if (family == EXTREME) {
+			static const int32_t sides[] = { 1, 3, SW, INT32_MAX - 1, INT32_MAX };
+			sw = sides[vis_rng_below(&r, 5)];
+			sh = sides[vis_rng_below(&r, 5)];
+		}
+		vis_wtree_init(&tree, sw, sh);
+		vis_wtree_init(&twin, sw, sh);
+		nwins = 0;
+		n_damage = 0;
+		damage_all = false;
+		int n = family == CROWD ? 100 + (int)vis_rng_below(&r, 200)
+					: 1 + (int)vis_rng_below(&r, MAXW);
+		for (int i = 0; i < n; i++) {
+			int p = vis_rng_below(&r, 3) ? pick(&r) : -1;
+			int32_t g[4];
+			geometry(&r, g);
+			create(p, g, vis_rng_below(&r, 6) != 0);
+		}
+		check_both(seed, "creation");
+		for (int e = 0; e < batches; e++) {
+			const char *what = "no change";
+			for (int k = (int)vis_rng_below(&r, 4); k > 0; k--)
+				what = edit(&r);
+			check_both(seed, what);
+		}
+		vis_wtree_finish(&tree);
+		vis_wtree_finish(&twin);
+	}
+	return (int)count;
+}
+
+/* Starts a scripted scene: both trees empty on the small screen. */
+static void scene_begin(void)
+{
+	vis_wtree_init(&tree, SW, SH);
+	vis_wtree_init(&twin, SW, SH);
+	nwins = 0;
+	n_damage = 0;
+	damage_all = false;
+}
+
+static void scene_end(void)
+{
+	vis_wtree_finish(&tree);
+	vis_wtree_finish(&twin);
+}
+
+/* Creates a mapped window under parent index p (-1: the screen); returns its index. */
+static int put(int p, int32_t x, int32_t y, int32_t w, int32_t h)
+{
+	create(p, (int32_t[4]){ x, y, w, h }, true);
+	return nwins - 1;
+}
+
+/* Window i's state in both trees, which check_both() found equal. */
+static int state(int i)
+{
+	return wins[i]->state;
+}
+
+/*
+ * Cases random trees reach only by chance, each step checked against X's rules and the full
+ * recompute: a window covered exactly by abutting ones, uncovered by one pixel and covered again;
+ * identical rectangles; 1×1 windows on the screen's last pixel and just off it; a deep chain
+ * unmapped, moved, reparented and cut in its middle; children raised, lowered and restacked, also
+ * under an unmapped parent.
+ */
+static void scripted(void)
+{
+	enum { U = VIS_UNOBSCURED, P = VIS_PARTIALLY_OBSCURED, F = VIS_FULLY_OBSCURED };
+	scene_begin();
+	int c = put(-1, 2, 2, 8, 4), a = put(-1, 2, 2, 4, 4), b = put(-1, 6, 2, 4, 4);
+	check_both(0, "abutting cover");
+	assert(state(c) == F && state(a) == U && state(b) == U);
+	check_both(0, change(MOVE, b, 0, 7, 2));
+	assert(state(c) == P);
+	check_both(0, change(MOVE, b, 0, 6, 2));
+	assert(state(c) == F);
+	check_both(0, change(RESIZE, a, 0, 4, 3));
+	assert(state(c) == P);
+	check_both(0, change(RESIZE, a, 0, 4, 4));
+	assert(state(c) == F);
+	int d = put(-1, 2, 2, 8, 4);
+	check_both(0, "identical");
+	assert(state(d) == U && state(c) == F && state(a) == F && state(b) == F);
+	check_both(0, change(RAISE, c, 0, 0, 0));
+	assert(state(c) == U && state(d) == F);
+	check_both(0, change(RESTACK, d, c, 1, 0));
+	assert(state(d) == U && state(c) == F);
+	scene_end();
+
+	scene_begin();
+	int big = put(-1, 0, 0, SW, SH), p = put(-1, SW - 1, SH - 1, 1, 1), q = put(-1, SW, SH, 1, 1);
+	check_both(0, "1x1");
+	assert(state(big) == P && state(p) == U && state(q) == F);
+	check_both(0, change(MOVE, q, 0, SW - 1, SH - 1));
+	assert(state(q) == U && state(p) == F);
+	check_both(0, change(LOWER, q, 0, 0, 0));
+	assert(state(q) == F && state(p) == U);
+	check_both(0, change(MOVE, big, 0, 1, 0));
+	assert(state(big) == P);
+	check_both(0, change(MOVE, big, 0, 0, 0));
+	scene_end();
+
+	scene_begin();
+	int chain[8];
+	chain[0] = put(-1, 1, 1, 14, 10);
+	for (int k = 1; k < 8; k++)
+		chain[k] = put(chain[k - 1], 1, k % 2, 13 - k, 9 - k);
+	put(-1, 10, 0, 6, 12);
+	check_both(0, "chain");
+	check_both(0, change(UNMAP, chain[3], 0, 0, 0));
+	for (int k = 3; k < 8; k++)
+		assert(state(chain[k]) == VIS_WTREE_STATE_NONE);
+	check_both(0, change(MAP, chain[3], 0, 0, 0));
+	check_both(0, change(MOVE, chain[3], 0, -1, 1));
+	check_both(0, change(REPARENT, chain[5], -1, 0, 0));
+	check_both(0, change(RAISE, chain[0], 0, 0, 0));
+	check_both(0, change(REPARENT, chain[5], chain[1], 0, 0));
+	check_both(0, change(DESTROY, chain[2], 0, 0, 0));
+	scene_end();
+
+	scene_begin();
+	int top = put(-1, 0, 0, 12, 10);
+	int k1 = put(top, 0, 0, 6, 6), k2 = put(top, 3, 3, 6, 6), k3 = put(top, 5, 1, 6, 6);
+	put(k1, 1, 1, 3, 3);
+	put(k2, 0, 0, 6, 6);
+	int other = put(-1, 8, 4, 8, 8);
+	check_both(0, "children");
+	check_both(0, change(RAISE, k1, 0, 0, 0));
+	check_both(0, change(LOWER, k3, 0, 0, 0));
+	check_both(0, change(RESTACK, k2, k1, 0, 0));
+	check_both(0, change(UNMAP, top, 0, 0, 0));
+	check_both(0, change(RAISE, k3, 0, 0, 0));
+	check_both(0, change(MAP, top, 0, 0, 0));
+	check_both(0, change(REPARENT, k2, other, 0, 0));
+	check_both(0, change(LOWER, other, 0, 0, 0));
+	check_both(0, change(UNMAP, k1, 0, 0, 0));
+	check_both(0, change(DESTROY, top, 0, 0, 0));
+	scene_end();
 }
 
 int main(void)
 {
-	int scenes = 0;
-	for (uint64_t seed = 1; seed <= 3000; seed++) {
-		struct vis_rng r;
-		r.state = seed;
-		vis_wtree_init(&tree, SW, SH);
-		nwins = 0;
-		int n = 1 + (int)vis_rng_below(&r, MAXW);
-		for (int i = 0; i < n; i++) {
-			struct vis_window *p = vis_rng_below(&r, 3) ? pick(&r) : NULL;
-			if (!p)
-				p = &tree.root;
-			struct vis_window *w = vis_wtree_create(
-				&tree, p, (int32_t)vis_rng_below(&r, 20) - 4, (int32_t)vis_rng_below(&r, 16) - 4,
-				1 + (int32_t)vis_rng_below(&r, 12), 1 + (int32_t)vis_rng_below(&r, 10), 1);
-			w->mapped = vis_rng_below(&r, 6) != 0;
-			wins[nwins++] = w;
-		}
-		check(seed);
-		/* Edits, each followed by a check: restack, raise, lower, reparent, move, destroy. */
-		for (int e = 0; e < 6; e++) {
-			struct vis_window *w = pick(&r);
-			if (!w)
-				break;
-			switch (vis_rng_below(&r, 7)) {
-			case 0:
-				if (w->parent->bottom != w)
-					vis_wtree_restack(w, w->parent->bottom, vis_rng_below(&r, 2));
-				break;
-			case 1:
-				vis_wtree_raise(w);
-				break;
-			case 2:
-				vis_wtree_lower(w);
-				break;
-			case 3: {
-				struct vis_window *p = pick(&r);
-				if (!p || vis_wtree_is_ancestor(w, p))
-					p = &tree.root;
-				vis_wtree_reparent(w, p, (int32_t)vis_rng_below(&r, 10) - 2, 1);
-				break;
-			}
-			case 4:
-				w->x += (int32_t)vis_rng_below(&r, 5) - 2;
-				break;
-			case 5:
-				w->mapped = !w->mapped;
-				break;
-			default:
-				vis_wtree_destroy(&tree, w, forget, NULL);
-			}
-			check(seed);
-		}
-		vis_wtree_finish(&tree);
-		scenes++;
-	}
+	scripted();
+	int scenes = random_trees(1, 3000, 10);
+	family = EXTREME;
+	int extremes = random_trees(1, 20000, 10);
+	family = CROWD;
+	int crowds = random_trees(1, 300, 20);
+	family = SMALL;
 	/* Coordinates near the 32-bit limits: nesting adds offsets beyond them. */
 	vis_wtree_init(&tree, 100, 100);
 	struct vis_window *a = vis_wtree_create(&tree, &tree.root, -10, 0, INT32_MAX, 50, 1);
@@ -217,6 +591,10 @@ int main(void)
 	assert(vis_wtree_compute(&tree) == 0);
 	assert(a->state == 1 && b->state == 1 && c->state == 0 && d->state == 2 && e->state == 2);
 	vis_wtree_finish(&tree);
-	printf("wtree: %d random trees with 6 edits each agree with X's rules\n", scenes);
+	printf("wtree: the scripted cases and %d random trees with 10 batches of edits each agree "
+	       "with X's rules, and the incremental recompute with the full one there, on %d trees "
+	       "with extreme coordinates and on %d crowds (%llu recomputes, %llu states changed)\n",
+	       scenes, extremes, crowds, (unsigned long long)incremental_runs,
+	       (unsigned long long)affected_states);
 	return 0;
 }

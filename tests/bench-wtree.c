@@ -1,0 +1,158 @@
+/*
+ * The cost of one recompute of the window tree after a single move, as the daemon pays it after
+ * a client's move: a generated scene as top-level windows on the 3840×2160 screen, then random
+ * moves, each followed by a recompute that is timed alone, in full (vis_wtree_compute) and from
+ * the move's damage (vis_wtree_compute_damaged, the window's box before and after). Prints the
+ * median, the 99th percentile and the mean per move. Not a test: run it from a release build,
+ *   build-release/tests/bench-wtree [--kinds K,…] [--sizes N,…] [--moves M] [--seed S]
+ * or `meson test -C build-release --benchmark`.
+ */
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "gen.h"
+#include "rng.h"
+#include "wtree.h"
+
+/* Which windows move: any window, or the top one (a drag). */
+enum who { ANY, TOP };
+
+static double now_us(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec * 1e6 + (double)ts.tv_nsec / 1e3;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+	return x < y ? -1 : x > y;
+}
+
+/* Times `moves` recomputes, each after one move; fills the sorted times (µs). */
+static int run(const struct vis_scene *scene, enum who who, bool damaged, size_t moves,
+	       uint64_t seed, double *us)
+{
+	struct vis_wtree tree;
+	vis_wtree_init(&tree, VIS_GEN_SCREEN_W, VIS_GEN_SCREEN_H);
+	struct vis_window **wins = malloc((scene->n ? scene->n : 1) * sizeof *wins);
+	if (!wins)
+		return -1;
+	for (size_t i = 0; i < scene->n; i++) {
+		struct vis_rect r = scene->rects[i];
+		wins[i] = vis_wtree_create(&tree, &tree.root, r.x, r.y, r.w, r.h, 1);
+		if (!wins[i])
+			return -1;
+		wins[i]->mapped = true;
+	}
+	if (vis_wtree_compute(&tree) < 0)
+		return -1;
+	struct vis_rng rng = { seed };
+	for (size_t k = 0; k < moves; k++) {
+		struct vis_window *w = who == TOP ? tree.root.top
+						  : wins[vis_rng_below(&rng, scene->n)];
+		int32_t dx = (int32_t)vis_rng_below(&rng, 129) - 64;
+		int32_t dy = (int32_t)vis_rng_below(&rng, 129) - 64;
+		/* Stay inside the 32-bit range: generated windows may sit at its edge. */
+		if ((dx > 0 && w->x > INT32_MAX - dx) || (dx < 0 && w->x < INT32_MIN - dx))
+			dx = -dx;
+		if ((dy > 0 && w->y > INT32_MAX - dy) || (dy < 0 && w->y < INT32_MIN - dy))
+			dy = -dy;
+		struct vis_box damage[2];
+		damage[0] = vis_wtree_box(w);
+		w->x += dx;
+		w->y += dy;
+		damage[1] = vis_wtree_box(w);
+		double t0 = now_us();
+		int rc = damaged ? vis_wtree_compute_damaged(&tree, damage, 2)
+				 : vis_wtree_compute(&tree);
+		us[k] = now_us() - t0;
+		if (rc < 0)
+			return -1;
+	}
+	vis_wtree_finish(&tree);
+	free(wins);
+	qsort(us, moves, sizeof *us, cmp_double);
+	return 0;
+}
+
+/* The next item of a comma-separated list, or NULL at its end. */
+static char *next_item(char **list)
+{
+	char *s = *list;
+	if (!s || !*s)
+		return NULL;
+	char *comma = strchr(s, ',');
+	*list = comma ? comma + 1 : NULL;
+	if (comma)
+		*comma = '\0';
+	return s;
+}
+
+int main(int argc, char **argv)
+{
+	char kinds_default[] = "random,cascade,tiles", sizes_default[] = "1000,10000";
+	char *kinds = kinds_default, *sizes = sizes_default;
+	size_t moves = 2000;
+	uint64_t seed = 1;
+	for (int i = 1; i + 1 < argc; i += 2) {
+		if (strcmp(argv[i], "--kinds") == 0)
+			kinds = argv[i + 1];
+		else if (strcmp(argv[i], "--sizes") == 0)
+			sizes = argv[i + 1];
+		else if (strcmp(argv[i], "--moves") == 0)
+			moves = strtoul(argv[i + 1], NULL, 10);
+		else if (strcmp(argv[i], "--seed") == 0)
+			seed = strtoull(argv[i + 1], NULL, 10);
+		else
+			break;
+	}
+	if (argc % 2 == 0 || moves == 0) {
+		fprintf(stderr, "usage: bench-wtree [--kinds K,…] [--sizes N,…] [--moves M] "
+				"[--seed S]\n");
+		return 2;
+	}
+	double *us = malloc(moves * sizeof *us);
+	if (!us)
+		return 1;
+	printf("one recompute after one move (µs): median / p99 / mean; seed %llu, %zu moves\n",
+	       (unsigned long long)seed, moves);
+	printf("%-8s %7s  %-4s  %26s  %26s\n", "kind", "n", "move", "full", "damaged");
+	for (char *k; (k = next_item(&kinds));) {
+		enum vis_gen_kind kind;
+		if (vis_gen_kind_from_name(k, &kind) < 0) {
+			fprintf(stderr, "bench-wtree: unknown kind %s\n", k);
+			return 2;
+		}
+		char sizes_copy[256];
+		snprintf(sizes_copy, sizeof sizes_copy, "%s", sizes);
+		char *list = sizes_copy;
+		for (char *s; (s = next_item(&list));) {
+			size_t n = strtoul(s, NULL, 10);
+			struct vis_scene scene;
+			vis_scene_init(&scene);
+			if (n == 0 || vis_gen(&scene, kind, n, seed, 0, 0) < 0)
+				return 1;
+			for (int who = ANY; who <= TOP; who++) {
+				printf("%-8s %7zu  %-4s", k, n, who == TOP ? "top" : "any");
+				for (int damaged = 0; damaged <= 1; damaged++) {
+					if (run(&scene, (enum who)who, damaged, moves, seed, us) < 0)
+						return 1;
+					double sum = 0;
+					for (size_t i = 0; i < moves; i++)
+						sum += us[i];
+					printf("  %8.1f / %6.1f / %6.1f", us[moves / 2],
+					       us[moves * 99 / 100], sum / (double)moves);
+				}
+				printf("\n");
+			}
+			vis_scene_finish(&scene);
+		}
+	}
+	free(us);
+	return 0;
+}
