@@ -325,10 +325,13 @@ void server_flush(struct server *server)
 {
 	if (!server->dirty || server->deferring)
 		return;
-	/* Only the states the changes can have changed, unless there were too many to remember. */
-	int rc = server->damage_all ? vis_wtree_compute(&server->tree)
-				    : vis_wtree_compute_damaged(&server->tree, server->damage,
-								server->n_damage);
+	/*
+	 * Only the states the changes can have changed, unless there were so many that testing every
+	 * window against each would cost more than the full recompute.
+	 */
+	bool few = !server->damage_all && server->n_damage <= SERVER_DAMAGE_INCREMENTAL;
+	int rc = few ? vis_wtree_compute_damaged(&server->tree, server->damage, server->n_damage)
+		     : vis_wtree_compute(&server->tree);
 	if (rc < 0) {
 		log_error("recompute: out of memory; states stay as they were");
 		return;

@@ -28,6 +28,8 @@ struct server_options {
 
 /* Changes remembered one by one between recomputes before every window counts as damaged. */
 #define SERVER_DAMAGE_BOXES 1024
+/* Changes past which a recompute is a full one rather than an incremental one. */
+#define SERVER_DAMAGE_INCREMENTAL 64
 
 /*
  * Requests one connection may run per turn of the event loop before others get theirs; a request
