@@ -57,6 +57,29 @@ printf 'create 0 0 10 10\nmap 999999\n' >"$dir/bad-script"
 v script "$dir/bad-script" >/dev/null 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "bad-script:2:" "$dir/err" || fail "a failing script line: $(cat "$dir/err")"
 
+# A script names its own windows with @N (the N-th create) and holds changes in a batch.
+cat >"$dir/script" <<'SCRIPT'
+create 0 0 100 100 --map
+create 50 50 100 100 --map
+batch-begin
+move @1 60 60
+raise @1
+batch-commit
+states
+SCRIPT
+out=$(v script "$dir/script" | tail -n 2 | cut -d' ' -f2 | tr '\n' ' ') || fail "batch script failed"
+[ "$out" = "unobscured partially-obscured " ] || fail "batch script states: $out"
+printf 'create 0 0 10 10\nbatch-begin\nmove @1 5 5\nmap 999999\nbatch-commit\n' >"$dir/bad-script"
+v script "$dir/bad-script" >/dev/null 2>"$dir/err"
+[ $? -eq 1 ] && grep -q "bad-script:5: batch from line 2: map: window: no such window" "$dir/err" ||
+	fail "a failing request in a batch: $(cat "$dir/err")"
+for bad in 'move @1 1 1' 'batch-commit' 'batch-begin\nstates' 'batch-begin\nbatch-begin' 'batch-begin'; do
+	printf "$bad\n" >"$dir/bad-script"
+	v script "$dir/bad-script" >/dev/null 2>"$dir/err"
+	[ $? -eq 2 ] && grep -q "bad-script:[12]: " "$dir/err" || fail "script '$bad': $(cat "$dir/err")"
+done
+[ -z "$(v --role observer states)" ] || fail "a script's windows outlived it"
+
 # Daemon errors: exit 1, naming the request and the reason.
 v map 999999 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "map" "$dir/err" && grep -q "no such window" "$dir/err" ||
