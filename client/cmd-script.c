@@ -135,7 +135,7 @@ static int run_line(struct live *l, struct script *sc, size_t line, char *text)
 				  words[0]);
 	if (!cmd)
 		return line_error(l, "unknown command '%s'", words[0]);
-	if (!cmd->live || cmd->live == cmd_script)
+	if (!cmd->live || cmd->live == cmd_script || cmd->live == cmd_stress)
 		return line_error(l, "'%s' cannot be used in a script", words[0]);
 	if (l->in_batch && !batchable(words[0]))
 		return line_error(l, "'%s' cannot be used inside a batch: only changes can", words[0]);

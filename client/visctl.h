@@ -70,6 +70,9 @@ struct load {
 int cmd_load_batch(struct vis_client *c, const struct vis_scene *scene, uint32_t flags,
 		   struct load *ld);
 
+/* `visctl stress` (cmd-stress.c): changes a desktop under load, measures, checks. */
+int cmd_stress(struct live *l, int argc, char **argv);
+
 /* `visctl watch` (cmd-watch.c): prints notices as they come. */
 int cmd_watch(struct live *l, int argc, char **argv);
 
