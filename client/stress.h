@@ -166,6 +166,7 @@ struct stress {
 	uint64_t round_covers; /* operations the round in flight confirms */
 	uint32_t round_pending;
 	uint64_t t0, now, last_notice, last_heard, last_progress;
+	uint64_t room_at; /* when the pipeline last stopped being full */
 	uint64_t mgr_errors;
 	struct vis_error first_error;
 };
