@@ -188,6 +188,13 @@ static int connect_subscribers(struct stress *s)
 {
 	const struct stress_options *o = s->o;
 	uint32_t mask = VIS_NOTICE_VISIBILITY | (o->exposure ? VIS_NOTICE_EXPOSURE : 0);
+	/* A descriptor a subscriber: raise the soft limit (often 1,024) as far as needed and allowed. */
+	struct rlimit fds;
+	rlim_t want = (rlim_t)o->clients + 64;
+	if (getrlimit(RLIMIT_NOFILE, &fds) == 0 && fds.rlim_cur < want) {
+		fds.rlim_cur = fds.rlim_max < want ? fds.rlim_max : want;
+		setrlimit(RLIMIT_NOFILE, &fds);
+	}
 	for (uint32_t i = 0; i < o->clients; i++) {
 		struct stress_sub *u = &s->subs[i];
 		u->s = s;
