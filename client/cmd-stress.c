@@ -47,8 +47,9 @@ static void usage(FILE *f)
 		"  -n WINDOWS          windows, 1..%d (default 1000)\n"
 		"  --count N           operations (default %d unless --duration is given)\n"
 		"  --duration SECONDS  start no operation after this long\n"
-		"  -R OPS              start operations at this fixed rate a second, each one's latency\n"
-		"                      counted from when it was due (default: as fast as they go)\n"
+		"  -R OPS              start operations at this fixed rate a second; one held back by\n"
+		"                      a full pipeline counts from when it was due (default: closed\n"
+		"                      loop, each as soon as the pipeline has room)\n"
 		"  --pipeline K        operations in flight at most (default 1: one at a time)\n"
 		"  --mix LIST          KIND=WEIGHT,... of move resize raise lower restack map batch\n"
 		"                      (default move=40,resize=15,raise=15,lower=10,restack=5,map=10,\n"
@@ -82,9 +83,10 @@ static int parse_uint(const char *s, uint64_t lo, uint64_t hi, uint64_t *out)
 	if (!*s)
 		return -1;
 	for (; *s; s++) {
-		if (*s < '0' || *s > '9' || v > (UINT64_MAX - 9) / 10)
+		uint64_t d = (uint64_t)(*s - '0');
+		if (*s < '0' || *s > '9' || v > (UINT64_MAX - d) / 10)
 			return -1;
-		v = v * 10 + (uint64_t)(*s - '0');
+		v = v * 10 + d;
 	}
 	if (v < lo || v > hi)
 		return -1;
@@ -236,12 +238,14 @@ static int parse_options(int argc, char **argv, struct stress_options *o, enum f
 	return 0;
 }
 
-/* One number of the results, for JSON and CSV alike; absent ones are null (JSON), empty (CSV). */
+/* One number of the results, for JSON and CSV alike; absent ones are null (JSON), empty (CSV).
+ * Counts are printed from integer, so that a 64-bit seed survives; measures with decimals. */
 struct field {
 	const char *name;
-	double value;
 	bool present;
-	int decimals;
+	int decimals; /* < 0: the count */
+	uint64_t count;
+	double value;
 };
 
 /* The flat results, in the order JSON and CSV give them. Returns how many. */
@@ -252,34 +256,37 @@ static size_t fields(const struct stress_options *o, const struct stress_result 
 	double t = r->seconds > 0 ? r->seconds : 1e-9;
 	bool cpu = r->daemon_cpu >= 0;
 	size_t n = 0;
-#define FIELD(name_, value_, present_, decimals_) \
-	f[n++] = (struct field){ name_, (double)(value_), present_, decimals_ }
-	FIELD("windows", o->windows, true, 0);
-	FIELD("clients", o->clients, true, 0);
-	FIELD("seed", o->seed, true, 0);
-	FIELD("pipeline", o->pipeline, true, 0);
-	FIELD("rate", o->rate, o->rate > 0, 1);
-	FIELD("ops", r->ops, true, 0);
-	FIELD("changes", r->changes, true, 0);
-	FIELD("seconds", r->seconds, true, 3);
-	FIELD("ops_per_s", (double)r->ops / t, true, 0);
-	FIELD("changes_per_s", (double)r->changes / t, true, 0);
-	FIELD("notices", r->notices, true, 0);
-	FIELD("notices_per_s", (double)r->notices / t, true, 0);
-	FIELD("p50_us", (double)histogram_percentile(h, 50) / 1e3, true, 1);
-	FIELD("p90_us", (double)histogram_percentile(h, 90) / 1e3, true, 1);
-	FIELD("p99_us", (double)histogram_percentile(h, 99) / 1e3, true, 1);
-	FIELD("p999_us", (double)histogram_percentile(h, 99.9) / 1e3, true, 1);
-	FIELD("max_us", (double)h->max / 1e3, true, 1);
-	FIELD("mean_us", histogram_mean(h) / 1e3, true, 1);
-	FIELD("daemon_pid", r->daemon_pid, r->daemon_pid > 0, 0);
-	FIELD("daemon_cpu_s", r->daemon_cpu, cpu, 2);
-	FIELD("daemon_cpu_pct", 100 * r->daemon_cpu / t, cpu, 1);
-	FIELD("daemon_rss_kb", r->daemon_rss_kb, r->daemon_rss_kb >= 0, 0);
-	FIELD("daemon_hwm_kb", r->daemon_hwm_kb, r->daemon_hwm_kb >= 0, 0);
-	FIELD("visctl_cpu_s", r->self_cpu, true, 2);
-	FIELD("mismatches", r->mismatches, true, 0);
-#undef FIELD
+#define COUNT(name_, count_, present_) \
+	f[n++] = (struct field){ name_, present_, -1, (uint64_t)(count_), 0 }
+#define VALUE(name_, value_, present_, decimals_) \
+	f[n++] = (struct field){ name_, present_, decimals_, 0, (double)(value_) }
+	COUNT("windows", o->windows, true);
+	COUNT("clients", o->clients, true);
+	COUNT("seed", o->seed, true);
+	COUNT("pipeline", o->pipeline, true);
+	VALUE("rate", o->rate, o->rate > 0, 1);
+	COUNT("ops", r->ops, true);
+	COUNT("changes", r->changes, true);
+	VALUE("seconds", r->seconds, true, 3);
+	VALUE("ops_per_s", (double)r->ops / t, true, 0);
+	VALUE("changes_per_s", (double)r->changes / t, true, 0);
+	COUNT("notices", r->notices, true);
+	VALUE("notices_per_s", (double)r->notices / t, true, 0);
+	VALUE("p50_us", (double)histogram_percentile(h, 50) / 1e3, true, 1);
+	VALUE("p90_us", (double)histogram_percentile(h, 90) / 1e3, true, 1);
+	VALUE("p99_us", (double)histogram_percentile(h, 99) / 1e3, true, 1);
+	VALUE("p999_us", (double)histogram_percentile(h, 99.9) / 1e3, true, 1);
+	VALUE("max_us", (double)h->max / 1e3, true, 1);
+	VALUE("mean_us", histogram_mean(h) / 1e3, true, 1);
+	COUNT("daemon_pid", r->daemon_pid, r->daemon_pid > 0);
+	VALUE("daemon_cpu_s", r->daemon_cpu, cpu, 2);
+	VALUE("daemon_cpu_pct", 100 * r->daemon_cpu / t, cpu, 1);
+	COUNT("daemon_rss_kb", r->daemon_rss_kb, r->daemon_rss_kb >= 0);
+	COUNT("daemon_hwm_kb", r->daemon_hwm_kb, r->daemon_hwm_kb >= 0);
+	VALUE("visctl_cpu_s", r->self_cpu, true, 2);
+	COUNT("mismatches", r->mismatches, true);
+#undef COUNT
+#undef VALUE
 	return n;
 }
 
@@ -288,7 +295,9 @@ static size_t fields(const struct stress_options *o, const struct stress_result 
 /* Prints a field's value as JSON and CSV want it. */
 static void print_value(const struct field *f, const char *absent)
 {
-	if (f->present)
+	if (f->present && f->decimals < 0)
+		printf("%llu", (unsigned long long)f->count);
+	else if (f->present)
 		printf("%.*f", f->decimals, f->value);
 	else
 		fputs(absent, stdout);

@@ -175,7 +175,9 @@ static void on_first_states(void *data, const struct vis_error *err,
 {
 	struct stress_sub *u = data;
 	if (err)
-		u->gap = true; /* cannot happen to an observer; make it fail the check if it does */
+		fprintf(stderr, "visctl stress: a subscriber's get-states: %s: %s\n",
+			vis_error_code_name(err->code), err->message);
+	u->unread = err != NULL;
 	for (size_t i = 0; i < n; i++) {
 		uint32_t slot = stress_model_slot(&u->s->m, states[i].window);
 		if (slot != STRESS_NONE)
@@ -211,9 +213,19 @@ static int connect_subscribers(struct stress *s)
 		if (vis_client_flush(u->c) < 0)
 			return stress_run_lost(u->c, "a subscriber");
 	}
-	for (uint32_t i = 0; i < o->clients; i++)
-		if (vis_client_sync(s->subs[i].c) < 0)
-			return stress_run_lost(s->subs[i].c, "subscribing");
+	for (uint32_t i = 0; i < o->clients; i++) {
+		struct stress_sub *u = &s->subs[i];
+		if (vis_client_roundtrip(u->c) < 0)
+			return stress_run_lost(u->c, "subscribing");
+		struct vis_error e;
+		if (u->unread || vis_client_last_error(u->c, &e)) {
+			if (!u->unread)
+				fprintf(stderr, "visctl stress: a subscriber's %s: %s: %s\n",
+					vis_request_name(e.opcode), vis_error_code_name(e.code),
+					e.message);
+			return -1;
+		}
+	}
 	return 0;
 }
 

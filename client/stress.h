@@ -141,6 +141,7 @@ struct stress_sub {
 	uint64_t serial, notices;
 	uint64_t gap_after; /* the serial a gap followed, or 0 */
 	bool gap;
+	bool unread; /* its first get-states failed */
 };
 
 /* An operation sent and not yet confirmed. */
