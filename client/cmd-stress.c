@@ -431,6 +431,11 @@ int cmd_stress(struct live *l, int argc, char **argv)
 			print_csv(&o, res);
 		else
 			print_table(&o, res);
+		double achieved = res->seconds > 0 ? (double)res->ops / res->seconds : 0;
+		if (o.rate > 0 && achieved < 0.95 * o.rate)
+			fprintf(stderr, "visctl stress: %.0f operations a second of the %.0f asked: the "
+					"latencies count the wait; a larger --pipeline may keep up\n",
+				achieved, o.rate);
 		if (res->mismatches)
 			fprintf(stderr, "visctl stress: FAILED: %llu differences between visd and "
 					"the model; --seed %llu reproduces the run\n",

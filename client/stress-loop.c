@@ -178,8 +178,10 @@ static uint64_t issue(struct stress *s)
 		uint64_t start = s->now;
 		if (o->rate > 0)
 			start = s->t0 + (uint64_t)((double)s->sent * 1e9 / o->rate);
+		/* The duration bounds the time, even when a fixed rate has fallen behind. */
+		uint64_t last = start > s->now ? start : s->now;
 		if ((o->count && s->sent == o->count) ||
-		    (o->duration > 0 && (double)(start - s->t0) >= o->duration * 1e9)) {
+		    (o->duration > 0 && (double)(last - s->t0) >= o->duration * 1e9)) {
 			s->stopping = true;
 			break;
 		}
