@@ -67,13 +67,15 @@ raise @1
 batch-commit
 states
 SCRIPT
-out=$(v script "$dir/script" | tail -n 2 | cut -d' ' -f2 | tr '\n' ' ') || fail "batch script failed"
+out=$(v script "$dir/script" | tail -n 2 | cut -d' ' -f2 | tr '\n' ' ') ||
+	fail "batch script failed"
 [ "$out" = "unobscured partially-obscured " ] || fail "batch script states: $out"
 printf 'create 0 0 10 10\nbatch-begin\nmove @1 5 5\nmap 999999\nbatch-commit\n' >"$dir/bad-script"
 v script "$dir/bad-script" >/dev/null 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "bad-script:5: batch from line 2: map: window: no such window" "$dir/err" ||
 	fail "a failing request in a batch: $(cat "$dir/err")"
-for bad in 'move @1 1 1' 'batch-commit' 'batch-begin\nstates' 'batch-begin\nbatch-begin' 'batch-begin'; do
+for bad in 'move @1 1 1' 'batch-commit' 'batch-begin\nstates' 'batch-begin\nbatch-begin' \
+	'batch-begin'; do
 	printf "$bad\n" >"$dir/bad-script"
 	v script "$dir/bad-script" >/dev/null 2>"$dir/err"
 	[ $? -eq 2 ] && grep -q "bad-script:[12]: " "$dir/err" || fail "script '$bad': $(cat "$dir/err")"
@@ -160,7 +162,8 @@ VISCTL_STRESS_CORRUPT_MODEL=1 v stress -c 2 -n 30 --count 100 >/dev/null 2>"$dir
 # It needs a daemon of its own and the manager role.
 keep=$(v create 0 0 10 10 --retain) || fail "create"
 v stress -n 10 --count 10 >/dev/null 2>"$dir/err"
-[ $? -eq 1 ] && grep -q "has 1 windows already" "$dir/err" || fail "stress on a busy daemon: $(cat "$dir/err")"
+[ $? -eq 1 ] && grep -q "has 1 windows already" "$dir/err" ||
+	fail "stress on a busy daemon: $(cat "$dir/err")"
 v --role manager destroy "$keep" || fail "destroy"
 # (The daemon may see the watch's hello before an earlier manager's end: start it again then.)
 wpid=
@@ -173,7 +176,8 @@ for _ in $(seq 200); do
 	sleep 0.05
 done
 v stress -n 10 --count 10 >/dev/null 2>"$dir/err"
-[ $? -eq 1 ] && grep -q "needs the manager role" "$dir/err" || fail "stress without the manager role: $(cat "$dir/err")"
+[ $? -eq 1 ] && grep -q "needs the manager role" "$dir/err" ||
+	fail "stress without the manager role: $(cat "$dir/err")"
 kill $wpid
 wait $wpid
 
