@@ -149,11 +149,13 @@ awk 'FNR == NR { if (/^# @[0-9]+ /) want[substr($2, 2)] = $3; next }
 	END { for (n in want) if (got[id[n]] != want[n]) { print "@" n, got[id[n]], want[n]; bad = 1 }
 	      exit bad || length(want) == 0 }' "$dir/rec" "$dir/replay" >"$dir/err" ||
 	fail "the replayed record ends in other states: $(head -3 "$dir/err")"
-# A fixed rate, a pipeline, exposures, only some kinds; CSV is a header and one row.
+# A fixed rate, a pipeline, exposures, only some kinds; CSV is a header and one row. (At most
+# 600 operations fall due in 0.3 s: fewer when the machine is slow, as no operation starts later.)
 v stress -c 2 -n 30 -R 2000 --duration 0.3 --pipeline 4 --exposure --mix move,raise=2,batch \
 	--batch-size 3 --csv >"$dir/stress.csv" 2>"$dir/err" || fail "stress -R: $(cat "$dir/err")"
 awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; n = NF }
-	NR == 2 { ok = NF == n && $col["ok"] == 1 && $col["rate"] == "2000.0" && $col["ops"] == 600 }
+	NR == 2 { ok = NF == n && $col["ok"] == 1 && $col["rate"] == "2000.0" &&
+		  $col["ops"] > 0 && $col["ops"] <= 600 }
 	END { exit !(NR == 2 && ok) }' "$dir/stress.csv" || fail "stress --csv: $(cat "$dir/stress.csv")"
 # The check can fail: a model that drifts from the daemon is caught.
 VISCTL_STRESS_CORRUPT_MODEL=1 v stress -c 2 -n 30 --count 100 >/dev/null 2>"$dir/err"
