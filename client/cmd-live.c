@@ -82,12 +82,15 @@ static int size_arg(struct live *l, const char *name, const char *what, const ch
 
 /*
  * Ends a change: a round trip, then the daemon's verdict on request seq (0: not sent). Errors
- * are matched by request number, so an earlier failure never blames this command.
+ * are matched by request number, so an earlier failure never blames this command. Inside a
+ * script's batch the daemon holds the request, so the verdict waits for batch-commit.
  */
 static int finish(struct live *l, uint32_t seq, int argc, char **argv)
 {
 	char what[256];
 	struct vis_error e;
+	if (seq && l->in_batch)
+		return VISCTL_EXIT_OK;
 	if (!seq || vis_client_roundtrip(l->client) < 0 ||
 	    (vis_client_last_error(l->client, &e) && e.seq == seq))
 		return live_failed(l, live_describe(argc, argv, what, sizeof(what)));
@@ -145,6 +148,7 @@ int cmd_create(struct live *l, int argc, char **argv)
 		return VISCTL_EXIT_FAILURE;
 	if (vis_client_create(l->client, parent, x, y, w, h, flags, &window) < 0)
 		return query_failed(l, argc, argv);
+	l->created = window;
 	printf("%u\n", window);
 	return VISCTL_EXIT_OK;
 }

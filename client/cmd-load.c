@@ -15,16 +15,7 @@
 /* Requests queued between two waits for the socket, so that a large scene never piles up. */
 #define LOAD_DRAIN_EVERY 4096
 
-/* The created replies, which come in request order, hence in scene order. */
-struct load {
-	uint32_t *windows;
-	size_t created;
-	bool failed;
-	size_t failed_at;
-	struct vis_error error;
-};
-
-/* Called with each created reply. */
+/* Called with each created reply; they come in request order, hence in scene order. */
 static void on_created(void *data, const struct vis_error *err, uint32_t window)
 {
 	struct load *ld = data;
@@ -63,9 +54,8 @@ static int read_scene(struct live *l, const char *path, struct vis_scene *scene)
 	return VISCTL_EXIT_USAGE;
 }
 
-/* Sends the batch and waits for every window's ID; 0, or -1 when something failed. */
-static int send_batch(struct vis_client *c, const struct vis_scene *scene, uint32_t flags,
-		      struct load *ld)
+int cmd_load_batch(struct vis_client *c, const struct vis_scene *scene, uint32_t flags,
+		   struct load *ld)
 {
 	uint32_t begin = vis_client_batch_begin(c);
 	if (!begin)
@@ -127,7 +117,7 @@ int cmd_load(struct live *l, int argc, char **argv)
 	ret = VISCTL_EXIT_FAILURE;
 	if (!live_connect(l))
 		goto out;
-	if (send_batch(l->client, &scene, flags, &ld) < 0) {
+	if (cmd_load_batch(l->client, &scene, flags, &ld) < 0) {
 		char what[256];
 		if (ld.failed && !vis_client_error(l->client))
 			live_error(l, "load %s: create of window %u: %s: %s", path,

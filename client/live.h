@@ -16,6 +16,8 @@ struct live {
 	struct vis_client *client; /* NULL until a command connects */
 	const char *where; /* what messages start with: "visctl", or "FILE:LINE" in a script */
 	bool in_script;
+	bool in_batch;    /* a script's batch-begin is sent and its batch-commit not yet */
+	uint32_t created; /* the window the last create made, for a script's @N */
 };
 
 /* A live subcommand: argv[0] is its name; returns a VISCTL_EXIT_* status. */

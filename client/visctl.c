@@ -38,6 +38,7 @@ static const struct visctl_command commands[] = {
 	{ "watch", NULL, cmd_watch, "[--json] [--count N] [ID...]" },
 	{ "script", NULL, cmd_script, "FILE|-" },
 	{ "sync", NULL, cmd_sync, "" },
+	{ "stress", NULL, cmd_stress, "[OPTIONS]  (see `visctl stress --help`)" },
 };
 
 #define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))

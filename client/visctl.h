@@ -2,9 +2,11 @@
 #ifndef VISCTL_H
 #define VISCTL_H
 
+#include <stdbool.h>
 #include <stddef.h>
 
 #include "live.h"
+#include "scene.h"
 
 /* Exit statuses shared by every subcommand. */
 #define VISCTL_EXIT_OK 0
@@ -55,6 +57,24 @@ int cmd_load(struct live *l, int argc, char **argv);
 
 /* `visctl snapshot` (cmd-snapshot.c): draws the daemon's windows into an SVG file. */
 int cmd_snapshot(struct live *l, int argc, char **argv);
+
+/* What cmd_load_batch() heard: windows[i] (room for the scene's n) is the ID of the scene's i-th
+ * window; failed says that a create failed, failed_at which one and error why. Start zeroed. */
+struct load {
+	uint32_t *windows;
+	size_t created;
+	bool failed;
+	size_t failed_at;
+	struct vis_error error;
+};
+
+/* Creates the scene's windows with flags (enum vis_create_flags) in one batch and waits for their
+ * IDs. 0, or -1 when a create or the connection failed. */
+int cmd_load_batch(struct vis_client *c, const struct vis_scene *scene, uint32_t flags,
+		   struct load *ld);
+
+/* `visctl stress` (cmd-stress.c): changes a desktop under load, measures, checks. */
+int cmd_stress(struct live *l, int argc, char **argv);
 
 /* `visctl watch` (cmd-watch.c): prints notices as they come. */
 int cmd_watch(struct live *l, int argc, char **argv);

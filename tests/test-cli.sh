@@ -198,6 +198,23 @@ f=$(scene bad3.script '# no global options\n-s /tmp/x sync\n')
 live_usage "script global option" "$f:2: global options such as '-s'" script "$f"
 f=$(scene bad4.script 'compute x\n')
 live_usage "script offline command" "$f:1: 'compute' cannot be used in a script" script "$f"
+live_usage "script stress" "$(scene bad5.script 'stress\n'):1: 'stress' cannot be used in a script" \
+	script "$T/bad5.script"
+live_usage "stress bad -c" "-c 'x' is not a number in 0..1000" stress -c x
+live_usage "stress -c too many" "-c '1001' is not a number in 0..1000" stress -c 1001
+live_usage "stress -n 0" "-n '0' is not a number in 1..1000000" stress -n 0
+live_usage "stress --count 0" "--count '0' is not a positive number" stress --count 0
+live_usage "stress bad duration" "--duration '-1' is not a positive number" stress --duration -1
+live_usage "stress bad rate" "-R 'fast' is not a positive rate" stress -R fast
+live_usage "stress --pipeline 0" "--pipeline '0' is not a number" stress --pipeline 0
+live_usage "stress unknown kind" "--mix: unknown kind 'spin'" stress --mix move=1,spin=2
+live_usage "stress bad weight" "--mix: weight 'x' is not a number" stress --mix move=x
+live_usage "stress zero mix" "gives every kind weight 0" stress --mix move=0
+live_usage "stress json and csv" "--json and --csv exclude each other" stress --json --csv
+live_usage "stress unknown option" "unknown option '--frob'" stress --frob
+live_usage "stress -c without value" "-c needs a value" stress -c
+live_usage "stress argument" "unexpected argument 'now'" stress now
+live_usage "stress record unwritable" "$T/no/such: cannot write" stress --record "$T/no/such"
 printf 'visctl sync\n' | "$V" -s "$N" script - >"$T/out" 2>"$T/err"
 rc=$?
 if [ "$rc" -eq 2 ] && grep -qF "<stdin>:1: unknown command 'visctl'" "$T/err"; then pass
@@ -217,6 +234,7 @@ else fail "no socket variables (status $rc)"; fi
 VISD_SOCKET="$N" "$V" sync >"$T/out" 2>"$T/err"
 rc=$?
 if [ "$rc" -eq 1 ] && grep -qF "$N" "$T/err"; then pass; else fail "VISD_SOCKET (status $rc)"; fi
+expect_fail "stress without daemon" 1 "$N" -s "$N" stress
 f=$(scene ok.script '# creates nothing before the failure\nmap 1\n')
 expect_fail "script without daemon" 1 "$f:2: " -s "$N" script "$f"
 

@@ -57,6 +57,31 @@ printf 'create 0 0 10 10\nmap 999999\n' >"$dir/bad-script"
 v script "$dir/bad-script" >/dev/null 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "bad-script:2:" "$dir/err" || fail "a failing script line: $(cat "$dir/err")"
 
+# A script names its own windows with @N (the N-th create) and holds changes in a batch.
+cat >"$dir/script" <<'SCRIPT'
+create 0 0 100 100 --map
+create 50 50 100 100 --map
+batch-begin
+move @1 60 60
+raise @1
+batch-commit
+states
+SCRIPT
+out=$(v script "$dir/script" | tail -n 2 | cut -d' ' -f2 | tr '\n' ' ') ||
+	fail "batch script failed"
+[ "$out" = "unobscured partially-obscured " ] || fail "batch script states: $out"
+printf 'create 0 0 10 10\nbatch-begin\nmove @1 5 5\nmap 999999\nbatch-commit\n' >"$dir/bad-script"
+v script "$dir/bad-script" >/dev/null 2>"$dir/err"
+[ $? -eq 1 ] && grep -q "bad-script:5: batch from line 2: map: window: no such window" "$dir/err" ||
+	fail "a failing request in a batch: $(cat "$dir/err")"
+for bad in 'move @1 1 1' 'batch-commit' 'batch-begin\nstates' 'batch-begin\nbatch-begin' \
+	'batch-begin'; do
+	printf "$bad\n" >"$dir/bad-script"
+	v script "$dir/bad-script" >/dev/null 2>"$dir/err"
+	[ $? -eq 2 ] && grep -q "bad-script:[12]: " "$dir/err" || fail "script '$bad': $(cat "$dir/err")"
+done
+[ -z "$(v --role observer states)" ] || fail "a script's windows outlived it"
+
 # Daemon errors: exit 1, naming the request and the reason.
 v map 999999 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "map" "$dir/err" && grep -q "no such window" "$dir/err" ||
@@ -123,6 +148,70 @@ grep -q "\"notice\":\"visibility\",\"window\":$id,\"state\":\"partially-obscured
 	"$dir/watch.json" || fail "watch --json: $(cat "$dir/watch.json")"
 v --role manager destroy "$id" || fail "destroy"
 v --role manager destroy "$probe" || fail "destroy probe"
+
+# visctl stress: a short run passes its own check, and its JSON has every documented field.
+[ -z "$(v --role observer states)" ] || fail "windows left before visctl stress"
+v stress -c 3 -n 50 --count 2000 --seed 1 --json --record "$dir/rec" >"$dir/stress.json" \
+	2>"$dir/err" || fail "visctl stress: $(cat "$dir/err")"
+python3 - "$dir/stress.json" "$pid" <<'PY' || fail "visctl stress --json: $(cat "$dir/stress.json")"
+import json, sys
+d = json.load(open(sys.argv[1]))
+fields = ("windows clients seed pipeline rate ops changes seconds ops_per_s changes_per_s notices "
+	  "notices_per_s p50_us p90_us p99_us p999_us max_us mean_us daemon_pid daemon_cpu_s "
+	  "daemon_cpu_pct daemon_rss_kb daemon_hwm_kb visctl_cpu_s mismatches ok kinds").split()
+missing = [f for f in fields if f not in d]
+assert not missing, missing
+assert d["windows"] == 50 and d["clients"] == 3 and d["ops"] == 2000 and d["rate"] is None
+assert d["ok"] is True and d["mismatches"] == 0 and d["notices"] > 0
+assert d["changes"] > d["ops"]  # batches hold several changes
+assert 0 < d["p50_us"] <= d["p90_us"] <= d["p99_us"] <= d["p999_us"] <= d["max_us"]
+assert d["daemon_pid"] == int(sys.argv[2]) and d["daemon_rss_kb"] > 0
+assert sum(k["ops"] for k in d["kinds"].values()) == 2000
+assert set(d["kinds"]) == {"move", "resize", "raise", "lower", "restack", "map", "batch"}
+PY
+[ -z "$(v --role observer states)" ] || fail "visctl stress left windows behind"
+# The record replays with visctl script to the model's final states (listed at its end as
+# '# @N STATE'; the script prints the N-th create's ID on its N-th line).
+(cat "$dir/rec" && echo states) | v script - >"$dir/replay" || fail "replaying the record"
+awk 'FNR == NR { if (/^# @[0-9]+ /) want[substr($2, 2)] = $3; next }
+	FNR <= 50 { id[FNR] = $1; next }
+	{ got[$1] = $2 }
+	END { for (n in want) if (got[id[n]] != want[n]) { print "@" n, got[id[n]], want[n]; bad = 1 }
+	      exit bad || length(want) == 0 }' "$dir/rec" "$dir/replay" >"$dir/err" ||
+	fail "the replayed record ends in other states: $(head -3 "$dir/err")"
+# A fixed rate, a pipeline, exposures, only some kinds; CSV is a header and one row. (At most
+# 600 operations fall due in 0.3 s: fewer when the machine is slow, as no operation starts later.)
+v stress -c 2 -n 30 -R 2000 --duration 0.3 --pipeline 4 --exposure --mix move,raise=2,batch \
+	--batch-size 3 --csv >"$dir/stress.csv" 2>"$dir/err" || fail "stress -R: $(cat "$dir/err")"
+awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; n = NF }
+	NR == 2 { ok = NF == n && $col["ok"] == 1 && $col["rate"] == "2000.0" &&
+		  $col["ops"] > 0 && $col["ops"] <= 600 }
+	END { exit !(NR == 2 && ok) }' "$dir/stress.csv" || fail "stress --csv: $(cat "$dir/stress.csv")"
+# The check can fail: a model that drifts from the daemon is caught.
+VISCTL_STRESS_CORRUPT_MODEL=1 v stress -c 2 -n 30 --count 100 >/dev/null 2>"$dir/err"
+[ $? -eq 1 ] && grep -q "differences between visd and the model" "$dir/err" ||
+	fail "a corrupt model passed: $(cat "$dir/err")"
+# It needs a daemon of its own and the manager role.
+keep=$(v create 0 0 10 10 --retain) || fail "create"
+v stress -n 10 --count 10 >/dev/null 2>"$dir/err"
+[ $? -eq 1 ] && grep -q "has 1 windows already" "$dir/err" ||
+	fail "stress on a busy daemon: $(cat "$dir/err")"
+v --role manager destroy "$keep" || fail "destroy"
+# (The daemon may see the watch's hello before an earlier manager's end: start it again then.)
+wpid=
+for _ in $(seq 200); do
+	if [ -z "$wpid" ] || ! kill -0 "$wpid" 2>/dev/null; then
+		"$visctl" -s "$sock" --role manager watch >/dev/null 2>&1 &
+		wpid=$!
+	fi
+	v --role manager sync 2>/dev/null || break
+	sleep 0.05
+done
+v stress -n 10 --count 10 >/dev/null 2>"$dir/err"
+[ $? -eq 1 ] && grep -q "needs the manager role" "$dir/err" ||
+	fail "stress without the manager role: $(cat "$dir/err")"
+kill $wpid
+wait $wpid
 
 # visd's own errors: a second daemon on the same socket, bad options.
 "$visd" --socket "$sock" 2>"$dir/err"
