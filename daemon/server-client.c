@@ -313,6 +313,31 @@ static void resume_next_turn(struct client *c)
 }
 
 /*
+ * Whether a request that reports states should wait for the recompute at the end of this turn,
+ * which the others' changes of the turn share, rather than force one of its own now. A request
+ * waits once at most, so that others' changes cannot hold it back turn after turn.
+ */
+static bool wait_for_recompute(struct client *c, uint32_t op)
+{
+	if (!c->server->dirty || c->in_batch || c->waited)
+		return false;
+	switch (op) {
+	case VIS_OP_CREATE:
+	case VIS_OP_SUBSCRIBE:
+	case VIS_OP_GET_STATE:
+	case VIS_OP_GET_STATES:
+	case VIS_OP_GET_TREE:
+	case VIS_OP_GET_REGION:
+	case VIS_OP_GET_REPAINT:
+	case VIS_OP_SYNC:
+		c->waited = true;
+		return true;
+	default:
+		return false;
+	}
+}
+
+/*
  * Runs the complete requests that have arrived, up to the budget, then leaves the recompute to the
  * end of this turn of the event loop, so that others' requests read in the same turn share it. A
  * connection whose output is full is not read from until it drains.
@@ -345,6 +370,11 @@ static void serve(struct client *c)
 			p = evbuffer_pullup(in, size);
 		}
 		enum vis_decode r = vis_msg_decode(p, avail, max, 1, &m, why, sizeof why);
+		if (r == VIS_DECODE_OK && wait_for_recompute(c, m.type->opcode)) {
+			resume_next_turn(c);
+			break;
+		}
+		c->waited = false;
 		uint32_t seq = ++c->seq;
 		if (r == VIS_DECODE_MALFORMED) {
 			uint32_t op = vis_wire_get_u16(p + 4);

@@ -90,6 +90,7 @@ struct client {
 	uint32_t id;
 	uid_t uid;
 	bool restricted, hello_done, in_batch, closing, read_blocked;
+	bool waited; /* its next request waited a turn for the shared recompute */
 	uint32_t role;
 	uint32_t seq;
 	uint64_t serial;
