@@ -26,77 +26,23 @@ static const char *const engine_colours[VIS_ENGINE_COUNT] = {
 #define SVG_TOP 78  /* title band */
 #define SVG_FOOT 78 /* legend band */
 
-/* Labels a decade of n: 1k, 10k, 1M, … reads faster on a small axis than 10^3. */
-static const char *decade_n(char *buf, size_t len, int d)
-{
-	static const char *const suffix[] = { "", "k", "M", "G" };
-
-	if (d < 0 || d > 11)
-		snprintf(buf, len, "1e%d", d);
-	else
-		snprintf(buf, len, "%.0f%s", pow(10, d % 3), suffix[d / 3]);
-	return buf;
-}
-
-/* Labels a decade of milliseconds in the unit that keeps it a small round number. */
-static const char *decade_ms(char *buf, size_t len, int d)
-{
-	static const char *const unit[] = { "µs", "ms", "s" };
-
-	if (d < -3 || d > 5)
-		snprintf(buf, len, "1e%d ms", d);
-	else
-		snprintf(buf, len, "%.0f %s", pow(10, (d + 3) % 3), unit[(d + 3) / 3]);
-	return buf;
-}
-
-/* Draws a grid line of a panel. */
-static void svg_line(FILE *f, double x1, double y1, double x2, double y2, const char *stroke)
-{
-	fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\"/>\n",
-		x1, y1, x2, y2, stroke);
-}
-
 /* Draws one kind's panel: decade grid, labels, then a polyline with markers per column. */
 static void svg_panel(const struct bench *b, FILE *f, size_t k, double px, double py,
 		      const int xr[2], const int yr[2])
 {
-	double x0 = px + SVG_ML, x1 = px + SVG_PW - SVG_MR;
-	double y0 = py + SVG_PH - SVG_MB, y1 = py + SVG_MT;
-	char buf[32];
+	const struct svg_axes ax = {
+		.x0 = px + SVG_ML, .x1 = px + SVG_PW - SVG_MR,
+		.y0 = py + SVG_PH - SVG_MB, .y1 = py + SVG_MT,
+		.xr = { xr[0], xr[1] }, .yr = { yr[0], yr[1] },
+	};
+	double y0 = ax.y0;
 
-#define SX(n) (x0 + (log10(n) - xr[0]) / (xr[1] - xr[0]) * (x1 - x0))
-#define SY(ms) (y0 - (log10(ms) - yr[0]) / (yr[1] - yr[0]) * (y0 - y1))
+#define SX(n) svg_axes_x(&ax, n)
+#define SY(ms) svg_axes_y(&ax, ms)
 	fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"15\" font-weight=\"bold\" "
-		"text-anchor=\"middle\">%s</text>\n", (x0 + x1) / 2, py + 20,
+		"text-anchor=\"middle\">%s</text>\n", (ax.x0 + ax.x1) / 2, py + 20,
 		vis_gen_kind_name(b->kinds[k]));
-	/* Faint lines at 2…9 × each decade, stronger ones and a label at the decade itself. */
-	for (int d = xr[0]; d <= xr[1]; d++) {
-		for (int m = d < xr[1] ? 9 : 1; m >= 1; m--) {
-			double x = SX(m * pow(10, d));
-
-			svg_line(f, x, y0, x, y1, m == 1 ? "#c8c8c8" : "#eeeeee");
-		}
-		fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"11\" "
-			"text-anchor=\"middle\">%s</text>\n", SX(pow(10, d)), y0 + 15,
-			decade_n(buf, sizeof(buf), d));
-	}
-	for (int d = yr[0]; d <= yr[1]; d++) {
-		for (int m = d < yr[1] ? 9 : 1; m >= 1; m--) {
-			double y = SY(m * pow(10, d));
-
-			svg_line(f, x0, y, x1, y, m == 1 ? "#c8c8c8" : "#eeeeee");
-		}
-		fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"11\" "
-			"text-anchor=\"end\">%s</text>\n", x0 - 6, SY(pow(10, d)) + 4,
-			decade_ms(buf, sizeof(buf), d));
-	}
-	fprintf(f, "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"none\" "
-		"stroke=\"#555555\"/>\n", x0, y1, x1 - x0, y0 - y1);
-	fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"12\" text-anchor=\"middle\">"
-		"n (windows)</text>\n", (x0 + x1) / 2, y0 + 34);
-	fprintf(f, "<text transform=\"translate(%.1f %.1f) rotate(-90)\" font-size=\"12\" "
-		"text-anchor=\"middle\">time</text>\n", px + 14, (y0 + y1) / 2);
+	svg_axes_draw(f, &ax, svg_decade_count, svg_decade_ms, "n (windows)", "time", px + 14);
 
 	/*
 	 * A × along the bottom where an engine's skipping began, so a short line reads as skipped;
@@ -135,9 +81,7 @@ static void svg_panel(const struct bench *b, FILE *f, size_t k, double px, doubl
 			const struct cell *cell = cell_at(b, k, s, c);
 
 			if (cell->status == CELL_RAN && cell->ms > 0)
-				fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3.2\" fill=\"%s\" "
-					"stroke=\"white\" stroke-width=\"0.8\"/>\n",
-					SX((double)b->sizes[s]), SY(cell->ms), colour);
+				svg_marker(f, SX((double)b->sizes[s]), SY(cell->ms), colour);
 		}
 	}
 #undef SX
@@ -168,14 +112,8 @@ int bench_svg_write(const struct bench *b, FILE *f)
 			}
 	if (hi_ms == 0)
 		lo_ms = hi_ms = 1;
-	xr[0] = (int)floor(log10((double)b->sizes[0]));
-	xr[1] = (int)ceil(log10((double)b->sizes[b->nsizes - 1]));
-	yr[0] = (int)floor(log10(lo_ms));
-	yr[1] = (int)ceil(log10(hi_ms));
-	if (xr[1] == xr[0])
-		xr[1]++;
-	if (yr[1] == yr[0])
-		yr[1]++;
+	svg_decades((double)b->sizes[0], (double)b->sizes[b->nsizes - 1], xr);
+	svg_decades(lo_ms, hi_ms, yr);
 
 	svg_begin(f, w, h);
 	fprintf(f, "<text x=\"%d\" y=\"34\" font-size=\"20\" font-weight=\"bold\">"
@@ -196,12 +134,7 @@ int bench_svg_write(const struct bench *b, FILE *f)
 			vis_engine_name(b->engines[i]);
 		const char *colour = is_q ? "#444444" : engine_colours[b->engines[i]];
 
-		fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\" "
-			"stroke-width=\"2\"%s/>\n<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3.2\" "
-			"fill=\"%s\"/>\n<text x=\"%.1f\" y=\"%.1f\" font-size=\"13\">%s</text>\n",
-			lx, ly, lx + 30, ly, colour, is_q ? " stroke-dasharray=\"6 4\"" : "",
-			lx + 15, ly, colour, lx + 38, ly + 4.5, name);
-		lx += 60 + 7.5 * (double)strlen(name);
+		lx = svg_legend(f, lx, ly, colour, is_q ? "6 4" : NULL, name);
 	}
 	fprintf(f, "<text x=\"%d\" y=\"%.1f\" font-size=\"12\" fill=\"#555555\">A line that ends "
 		"early: from the size marked × at the bottom on, the engine was skipped "

@@ -20,6 +20,7 @@ static const struct visctl_command commands[] = {
 	  "[--engine=auto|gmv|gmv-heap|region|brute] [--visible] [--time] [--svg FILE] SCENE" },
 	{ "gen", cmd_gen, NULL, "KIND N SEED [W H]" },
 	{ "bench", cmd_bench, NULL, "[OPTIONS]  (see `visctl bench --help`)" },
+	{ "plot-service", cmd_plot_service, NULL, "[--note TEXT] CSV SVG" },
 	{ "create", NULL, cmd_create, "X Y W H [--parent ID] [--map] [--retain]" },
 	{ "destroy", NULL, cmd_destroy, "ID" },
 	{ "map", NULL, cmd_map, "ID" },

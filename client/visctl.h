@@ -36,6 +36,9 @@ int cmd_gen(int argc, char **argv);
 /* `visctl bench`: times the engines on generated scenes. */
 int cmd_bench(int argc, char **argv);
 
+/* `visctl plot-service` (cmd-plot-service.c): the service benchmark's latency plot. */
+int cmd_plot_service(int argc, char **argv);
+
 /* The live subcommands (cmd-live.c): one request each, then a round trip. */
 int cmd_create(struct live *l, int argc, char **argv);
 int cmd_destroy(struct live *l, int argc, char **argv);

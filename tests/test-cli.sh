@@ -353,5 +353,27 @@ done
 if [ "$(head -n 1 "$T/out")" = "screen 1000 800" ]; then pass; else fail "gen with screen size"; fi
 expect_out "gen 0 windows" 'screen 3840 2160\n' gen random 0 1
 
+# --- visctl plot-service: the service benchmark's plot from a fixed CSV -----------------------
+f=$(scene service.csv 'run,windows,clients,p50_us,p99_us,p999_us,ok\nlatency,1000,1,60.1,110.5,150.2,1\nthroughput,1000,1,900,1500,1600,1\nlatency,100,1,33.0,78.8,104.3,1\nlatency,100,10,36.4,191.5,216.8,1\nlatency,1000,10,60.4,217.1,244.2,1\n')
+run plot-service --note "a <note> & more" "$f" "$T/service.svg"
+if [ "$rc" -eq 0 ] && [ ! -s "$T/out" ] && valid_svg "$T/service.svg"; then pass
+else fail "plot-service: status $rc or not well-formed"; fi
+# Two panels of three lines (p50, p99, p99.9); the throughput row is not drawn.
+if [ "$(grep -c '<polyline' "$T/service.svg")" -eq 6 ] &&
+	grep -q '>10 subscribers<' "$T/service.svg" && grep -q 'a &lt;note&gt; &amp; more' "$T/service.svg" &&
+	[ "$(grep -c '<circle' "$T/service.svg")" -eq 15 ]; then pass
+else fail "plot-service: panels, lines or markers wrong"; fi
+f=$(scene nocol.csv 'run,windows,p50_us,p99_us,p999_us\nlatency,100,1,2,3\n')
+expect_fail "plot-service without clients" 2 "no column 'clients'" plot-service "$f" "$T/x.svg"
+f=$(scene norows.csv 'run,windows,clients,p50_us,p99_us,p999_us\nthroughput,100,1,1,2,3\n')
+expect_fail "plot-service without latency rows" 2 'no closed-loop ("latency") rows' \
+	plot-service "$f" "$T/x.svg"
+f=$(scene badrow.csv 'run,windows,clients,p50_us,p99_us,p999_us\nlatency,100,1,1,2,3\nlatency,0,1,1,2,3\n')
+expect_fail "plot-service bad row" 2 "badrow.csv:3: bad windows, clients or latency" \
+	plot-service "$f" "$T/x.svg"
+expect_fail "plot-service missing SVG" 2 "usage: visctl plot-service" plot-service "$f"
+expect_fail "plot-service unwritable" 1 "$T/nodir/x.svg: cannot write" \
+	plot-service "$T/service.csv" "$T/nodir/x.svg"
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -2,6 +2,7 @@
 # The two set-up commands of the README:
 #   tools/dev.sh demo   install what is missing, build (release), run the main job
 #   tools/dev.sh test   install what is missing, build, run every suite, then again under ASan+UBSan
+#   tools/dev.sh release  install what is missing, configure (once) and build build-release
 #   tools/dev.sh install [PACKAGE...]   install what is missing of these Debian packages (default:
 #                       the build's), as the other tools do (tools/fuzz.sh)
 set -euo pipefail
@@ -111,13 +112,17 @@ test)
 	install_missing "${PACKAGES[@]}"
 	run_tests
 	;;
+release)
+	install_missing "${PACKAGES[@]}"
+	build build-release --buildtype=release
+	;;
 install)
 	shift
 	[ $# -gt 0 ] || set -- "${PACKAGES[@]}"
 	install_missing "$@"
 	;;
 *)
-	echo "usage: tools/dev.sh demo|test|install [PACKAGE...]" >&2
+	echo "usage: tools/dev.sh demo|test|release|install [PACKAGE...]" >&2
 	exit 2
 	;;
 esac
