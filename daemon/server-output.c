@@ -11,6 +11,7 @@
 #include "log.h"
 #include "server.h"
 #include "vis/protocol.h"
+#include "wire.h"
 
 /* Encoded sizes: header, serial, fields; an exposure adds 16 bytes a rectangle. */
 #define VISIBILITY_BYTES 36u
@@ -130,16 +131,34 @@ static struct held *held_entry(struct client *c, uint32_t window)
 }
 
 /* Writes one visibility notice now. */
+/*
+ * Writes a notice of fixed words after the serial, laid out by hand: the fan-out's hot path, where
+ * the generic encoder's walk of the signature cost a third of the daemon's time. Every suite that
+ * talks to visd decodes what this writes with the generic decoder.
+ */
+static void write_words(struct client *c, uint32_t opcode, const uint32_t *words, size_t n)
+{
+	uint8_t b[VIS_MSG_HEADER + 8 + 4 * 9];
+	size_t size = VIS_MSG_HEADER + 8 + 4 * n;
+	if (c->closing)
+		return;
+	vis_wire_put_u32(b, (uint32_t)size);
+	vis_wire_put_u16(b + 4, (uint16_t)opcode);
+	vis_wire_put_u16(b + 6, 0);
+	vis_wire_put_u64(b + 8, ++c->serial);
+	for (size_t i = 0; i < n; i++)
+		vis_wire_put_u32(b + 16 + 4 * i, words[i]);
+	if (bufferevent_write(c->bev, b, size) < 0) {
+		log_error("client %u: cannot queue a notice", c->id);
+		server_client_close(c);
+	}
+}
+
 static void write_visibility(struct client *c, uint32_t window, uint32_t state, uint32_t previous,
 			     uint32_t coalesced)
 {
-	union vis_arg a[5];
-	a[0].q = ++c->serial;
-	a[1].u = window;
-	a[2].u = state;
-	a[3].u = previous;
-	a[4].u = coalesced;
-	server_client_write(c, VIS_OP_VISIBILITY, a);
+	const uint32_t words[4] = { window, state, previous, coalesced };
+	write_words(c, VIS_OP_VISIBILITY, words, 4);
 }
 
 /* Writes one exposure notice now: the rectangles, or their bounding box past the limit. */
@@ -179,11 +198,7 @@ static void write_region(struct client *c, uint32_t window, uint32_t rect_limit,
 
 static void write_stack(struct client *c, const uint32_t words[9])
 {
-	union vis_arg a[10];
-	a[0].q = ++c->serial;
-	for (int i = 0; i < 9; i++)
-		a[i + 1].u = words[i];
-	server_client_write(c, VIS_OP_STACK, a);
+	write_words(c, VIS_OP_STACK, words, 9);
 }
 
 void server_notice_visibility(struct client *c, const struct vis_window *w)
