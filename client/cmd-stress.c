@@ -60,7 +60,8 @@ static void usage(FILE *f)
 		"  --record FILE       writes the operations as a script for visctl script\n"
 		"  --pid PID           visd's process, for CPU and memory (default: the socket's peer)\n"
 		"  --json, --csv       the results as JSON or CSV instead of a table\n"
-		"  --quiet             no progress line (shown only when stderr is a terminal)\n"
+		"  --quiet             no progress line (on stderr: overwritten in place on a\n"
+		"                      terminal, else one line a second)\n"
 		"  visd must have no windows but the run's; it takes the manager role.\n"
 		"exit status: 0 passed, 1 a mismatch or a runtime error, 2 usage\n",
 		MAX_CLIENTS, MAX_WINDOWS, DEFAULT_COUNT);
@@ -234,7 +235,8 @@ static int parse_options(int argc, char **argv, struct stress_options *o, enum f
 		return bad_usage("unexpected argument '%s'", argv[optind]);
 	if (!o->count && o->duration == 0)
 		o->count = DEFAULT_COUNT;
-	o->progress = !quiet && isatty(STDERR_FILENO);
+	o->progress = !quiet;
+	o->progress_tty = isatty(STDERR_FILENO);
 	return 0;
 }
 

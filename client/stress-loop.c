@@ -199,19 +199,26 @@ static uint64_t issue(struct stress *s)
 	return due;
 }
 
-/* Says how far the run is, overwriting the line, a few times a second. */
+/*
+ * Says how far the run is: on a terminal, overwriting the line a few times a second; otherwise
+ * (a log, a pipe) a plain line a second, so that scripts see the run go on without noise.
+ */
 static void progress(struct stress *s, bool last)
 {
-	if (!s->o->progress || (!last && s->now - s->last_progress < PROGRESS_NS))
+	bool tty = s->o->progress_tty;
+	uint64_t every = tty ? PROGRESS_NS : NS;
+	if (!s->o->progress || (last && !tty) || (!last && s->now - s->last_progress < every))
 		return;
 	s->last_progress = s->now;
 	double t = (double)(s->now - s->t0) / 1e9;
 	uint64_t notices = 0;
 	for (uint32_t i = 0; i < s->o->clients; i++)
 		notices += s->subs[i].notices;
-	fprintf(stderr, "\rvisctl stress: %llu ops in %.1f s, %.0f ops/s, p99 %.0f us, %llu notices\033[K",
-		(unsigned long long)s->confirmed, t, t > 0 ? (double)s->confirmed / t : 0,
-		(double)histogram_percentile(&s->r->latency, 99) / 1e3, (unsigned long long)notices);
+	fprintf(stderr, "%svisctl stress: %llu ops in %.1f s, %.0f ops/s, p99 %.0f us, %llu notices%s",
+		tty ? "\r" : "", (unsigned long long)s->confirmed, t,
+		t > 0 ? (double)s->confirmed / t : 0,
+		(double)histogram_percentile(&s->r->latency, 99) / 1e3, (unsigned long long)notices,
+		tty ? "\033[K" : "\n");
 	if (last)
 		fputs("\r\033[K", stderr);
 }

@@ -48,6 +48,7 @@ struct stress_options {
 	FILE *record;       /* the operations as a visctl script, or NULL */
 	pid_t pid;          /* visd's pid for CPU and memory; 0: the socket's peer */
 	bool progress;      /* a progress line on stderr */
+	bool progress_tty;  /* stderr is a terminal: overwrite the line in place */
 	bool corrupt_model; /* for the tests: the model drifts from the daemon, which must be seen */
 };
 
