@@ -13,10 +13,10 @@
 #include "vis/protocol.h"
 #include "wire.h"
 
-/* Encoded sizes: header, serial, fields; an exposure adds 16 bytes a rectangle. */
-#define VISIBILITY_BYTES 36u
-#define EXPOSURE_BYTES 36u
-#define STACK_BYTES 52u
+/* Encoded sizes: header, serial, fields (an exposure's count, then 16 bytes a rectangle). */
+#define VISIBILITY_BYTES (VIS_MSG_HEADER + 8u + 4 * 4u)
+#define EXPOSURE_BYTES (VIS_MSG_HEADER + 8u + 4 * 4u)
+#define STACK_BYTES (VIS_MSG_HEADER + 8u + 4 * 9u)
 
 void server_output_init(struct client *c)
 {
