@@ -141,15 +141,27 @@ static bool maybe_exposed(pixman_region32_t *damage, const struct vis_window *w)
 	return pixman_region32_contains_rectangle(damage, &b) != PIXMAN_REGION_OUT;
 }
 
-/* The union of the damage boxes; false when there are too many (everywhere is damaged). */
-static bool damage_region(struct server *server, pixman_region32_t *out)
+/*
+ * The union of the damage boxes, built on first use in a recompute (only exposure tracking needs
+ * it); NULL for everywhere: too many changes, or no memory for the region.
+ */
+struct damage {
+	bool built, ok;
+	pixman_region32_t region;
+};
+
+static pixman_region32_t *damage_region(struct server *server, struct damage *d)
 {
-	pixman_box32_t boxes[SERVER_DAMAGE_BOXES];
-	if (server->damage_all)
-		return false;
-	for (size_t i = 0; i < server->n_damage; i++)
-		boxes[i] = clamp_box(server->damage[i]);
-	return pixman_region32_init_rects(out, boxes, (int)server->n_damage);
+	if (!d->built) {
+		d->built = true;
+		if (!server->damage_all) {
+			static pixman_box32_t boxes[SERVER_DAMAGE_BOXES];
+			for (size_t i = 0; i < server->n_damage; i++)
+				boxes[i] = clamp_box(server->damage[i]);
+			d->ok = pixman_region32_init_rects(&d->region, boxes, (int)server->n_damage);
+		}
+	}
+	return d->ok ? &d->region : NULL;
 }
 
 /* The deferred recompute: after every request read in this turn. */
@@ -338,10 +350,10 @@ void server_flush(struct server *server)
 	}
 	server->dirty = false;
 	server->recomputes++;
-	pixman_region32_t now, exposed, damage;
+	pixman_region32_t now, exposed;
 	pixman_region32_init(&now);
 	pixman_region32_init(&exposed);
-	bool damaged = damage_region(server, &damage);
+	struct damage damage = { 0 };
 	for (struct vis_window *w = server->tree.root.bottom; w; w = vis_wtree_next(w)) {
 		if (w->state != w->old_state && w->state != VIS_WTREE_STATE_NONE)
 			notify_visibility(server, w);
@@ -357,9 +369,9 @@ void server_flush(struct server *server)
 			log_error("out of memory for exposure tracking");
 			continue;
 		}
-		/* A window first tracked now was created since the last recompute: it showed nothing. */
-		if (d->tracked && !maybe_exposed(damaged ? &damage : NULL, w))
+		if (d->tracked && !maybe_exposed(damage_region(server, &damage), w))
 			continue;
+		/* A window first tracked now was created since the last recompute: it showed nothing. */
 		d->tracked = true;
 		if (vis_wtree_visible_region(&server->tree, w, &now) < 0) {
 			log_error("out of memory for a visible region");
@@ -372,8 +384,8 @@ void server_flush(struct server *server)
 	}
 	pixman_region32_fini(&now);
 	pixman_region32_fini(&exposed);
-	if (damaged)
-		pixman_region32_fini(&damage);
+	if (damage.ok)
+		pixman_region32_fini(&damage.region);
 	server->n_damage = 0;
 	server->damage_all = false;
 }
@@ -433,5 +445,4 @@ void server_destroy_window(struct server *server, struct vis_window *w)
 {
 	server_damage(server, w);
 	vis_wtree_destroy(&server->tree, w, window_gone, server);
-	server->dirty = true;
 }
