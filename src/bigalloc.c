@@ -24,8 +24,15 @@ void *vis_bigalloc(size_t bytes, bool zero)
 		}
 	}
 #endif
-	void *p = zero ? calloc(bytes + 1, 1) : malloc(bytes + 1);
+	if (bytes > SIZE_MAX - 2 * VIS_BIGALLOC_ALIGN) {
+		errno = ENOMEM;
+		return NULL;
+	}
+	size_t size = (bytes + VIS_BIGALLOC_ALIGN) / VIS_BIGALLOC_ALIGN * VIS_BIGALLOC_ALIGN;
+	void *p = aligned_alloc(VIS_BIGALLOC_ALIGN, size);
 	if (!p)
 		errno = ENOMEM;
+	else if (zero)
+		memset(p, 0, size);
 	return p;
 }

@@ -8,10 +8,13 @@
  * top is deleted. Since a deleted window was the top of no node except those RIGHT-DELETE
  * visits, every top stays live.
  *
- * The node's top is cached in its record, so the heap is needed only when the top is deleted.
+ * The node's top is kept in its entry, so the heap is needed only when the top is deleted.
  * Insertion therefore just appends (one store, where a push would read a parent: a cache miss,
- * the costliest step of the sweep); the appended tail is pushed into heap order when the top is
- * deleted, each element once, in a burst that keeps the heap's top levels in the cache.
+ * the costliest step of the sweep); the appended tail is put into heap order when the top is
+ * deleted, in a burst that keeps the heap's top levels in the cache. A tail as long as half the
+ * ordered part is cheaper rebuilt with it in linear time, and the rebuild drops the dead windows,
+ * which popping would have cost O(log) each: on dense stacks, where every window reaches the top
+ * of most of its heaps dead, that was most of the heaps' work and its cache misses.
  */
 #define SOURCE_PREFETCH 1
 #define SOURCE_LAZY_DELETE 1
@@ -28,38 +31,55 @@ struct source {
 
 enum { HEAP_OFF, HEAP_LEN, HEAP_ORDERED };
 
-static inline uint32_t source_insert(struct source *src, struct head *hd, uint32_t z)
+static inline uint32_t source_insert(struct source *src, struct entry *e, uint32_t z)
 {
-	src->a[hd->aux[HEAP_OFF] + hd->aux[HEAP_LEN]++] = z;
-	return z > hd->top ? z : hd->top;
+	src->a[e->aux[HEAP_OFF] + e->aux[HEAP_LEN]++] = z;
+	return z > e->top ? z : e->top;
 }
 
-static inline uint32_t source_remove(struct source *src, struct head *hd, uint32_t z)
+static inline uint32_t source_remove(struct source *src, struct entry *e, uint32_t z)
 {
 	/* z is the only new corpse: unless it is the top, nothing changes. */
-	if (hd->top != z)
-		return hd->top;
-	uint32_t *a = src->a + hd->aux[HEAP_OFF];
-	uint32_t len = hd->aux[HEAP_LEN];
-	for (uint32_t i = hd->aux[HEAP_ORDERED]; i < len;) {
-		uint32_t x = a[i];
-		vis_heap_push(a, &i, x);
+	if (e->top != z)
+		return e->top;
+	uint32_t *a = src->a + e->aux[HEAP_OFF];
+	uint32_t len = e->aux[HEAP_LEN], ordered = e->aux[HEAP_ORDERED];
+	if (2 * (len - ordered) >= ordered) {
+		/*
+		 * A third of the slice or more is unordered: keeping the live windows and
+		 * rebuilding costs O(len), paid for by the appended ones, and sweeps out the dead,
+		 * each of which would otherwise cost a pop.
+		 */
+		uint32_t live = 0;
+		for (uint32_t i = 0; i < len; i++) {
+			if (!src->dead[a[i]])
+				a[live++] = a[i];
+		}
+		vis_heap_build(a, live);
+		len = live;
+	} else {
+		/* The dead among the appended would only be popped again. */
+		uint32_t i = ordered;
+		for (uint32_t j = ordered; j < len; j++) {
+			if (!src->dead[a[j]])
+				vis_heap_push(a, &i, a[j]);
+		}
+		len = i;
+		while (len && src->dead[a[0]])
+			vis_heap_pop(a, &len);
 	}
-	do
-		vis_heap_pop(a, &len);
-	while (len && src->dead[a[0]]);
-	hd->aux[HEAP_LEN] = hd->aux[HEAP_ORDERED] = len;
+	e->aux[HEAP_LEN] = e->aux[HEAP_ORDERED] = len;
 	return len ? a[0] : 0;
 }
 
-/* Prefetches what source_insert or source_remove will read beyond the head. */
-static inline void source_prefetch(const struct source *src, const struct head *hd, uint32_t z,
+/* Prefetches what source_insert or source_remove will read beyond the entry. */
+static inline void source_prefetch(const struct source *src, const struct entry *e, uint32_t z,
 				   bool del)
 {
 	if (!del)
-		__builtin_prefetch(src->a + hd->aux[HEAP_OFF] + hd->aux[HEAP_LEN]);
-	else if (hd->top == z)
-		__builtin_prefetch(src->a + hd->aux[HEAP_OFF]);
+		__builtin_prefetch(src->a + e->aux[HEAP_OFF] + e->aux[HEAP_LEN]);
+	else if (e->top == z)
+		__builtin_prefetch(src->a + e->aux[HEAP_OFF]);
 }
 
 static inline void source_deleted(struct source *src, uint32_t z)
@@ -73,24 +93,25 @@ static void source_free(struct source *src)
 	free(src->dead);
 }
 
-static inline void source_number(struct source *src, struct head *hd)
+static inline void source_number(struct source *src, struct entry *e)
 {
 	(void)src;
-	(void)hd;
+	(void)e;
 }
 
 static int source_make(struct source *src, const struct vis_events *ev, struct step *steps,
 		       struct sweep *s)
 {
 	(void)steps;
-	uint32_t slots[VIS_SEGTREE_MAX_CANONICAL];
+	uint32_t canon[VIS_SEGTREE_MAX_CANONICAL];
+	uint32_t m = ev->nleaves;
 	size_t total = 0;
 	src->a = NULL;
 	src->dead = calloc(ev->n + 1, 1);
 	for (size_t k = 0; k < ev->n; k++) {
-		size_t c = vis_segtree_canonical_slots(ev->nleaves, ev->lo[k], ev->hi[k], slots);
+		size_t c = vis_segtree_canonical_entries(m, ev->lo[k], ev->hi[k], canon);
 		for (size_t j = 0; j < c; j++)
-			head_of_slot(s, slots[j])->aux[HEAP_OFF]++;
+			entry_at(s, m, canon[j])->aux[HEAP_OFF]++;
 		total += c;
 	}
 	if (total > UINT32_MAX) {
@@ -98,16 +119,11 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 		errno = EOVERFLOW;
 		return -1;
 	}
-	/* Slices in any order: internal nodes, then leaves. */
 	uint32_t sum = 0;
-	for (uint32_t i = 0; i + 1 < ev->nleaves; i++) {
-		uint32_t c = s->node[i].hd.aux[HEAP_OFF];
-		s->node[i].hd.aux[HEAP_OFF] = sum;
-		sum += c;
-	}
-	for (uint32_t i = 0; i < ev->nleaves; i++) {
-		uint32_t c = s->leaf[i].aux[HEAP_OFF];
-		s->leaf[i].aux[HEAP_OFF] = sum;
+	for (uint32_t i = 0; i < vis_segtree_entries(m); i++) {
+		struct entry *e = entry_at(s, m, i);
+		uint32_t c = e->aux[HEAP_OFF];
+		e->aux[HEAP_OFF] = sum;
 		sum += c;
 	}
 	src->a = vis_bigalloc(total * sizeof(*src->a), false);

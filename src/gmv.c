@@ -19,7 +19,7 @@
  */
 #define SOURCE_PREFETCH 0
 #define SOURCE_LAZY_DELETE 0
-#define SOURCE_AUX 1 /* while numbering: the node's next slot */
+#define SOURCE_AUX 0
 
 /* How far down the stream the top is prefetched: about three events' canonical steps. */
 #define STREAM_AHEAD 48
@@ -43,26 +43,26 @@ static inline uint32_t next_top(struct source *src)
 	return src->tops[src->stream[src->at++]];
 }
 
-static inline uint32_t source_insert(struct source *src, struct head *hd, uint32_t z)
+static inline uint32_t source_insert(struct source *src, struct entry *e, uint32_t z)
 {
-	(void)hd;
+	(void)e;
 	(void)z;
 	return next_top(src);
 }
 
-static inline uint32_t source_remove(struct source *src, struct head *hd, uint32_t z)
+static inline uint32_t source_remove(struct source *src, struct entry *e, uint32_t z)
 {
-	(void)hd;
+	(void)e;
 	(void)z;
 	return next_top(src);
 }
 
 /* Nothing to prefetch through the node: the stream prefetches its own tops. */
-static inline void source_prefetch(const struct source *src, const struct head *hd, uint32_t z,
+static inline void source_prefetch(const struct source *src, const struct entry *e, uint32_t z,
 				   bool del)
 {
 	(void)src;
-	(void)hd;
+	(void)e;
 	(void)z;
 	(void)del;
 }
@@ -73,10 +73,13 @@ static inline void source_deleted(struct source *src, uint32_t z)
 	(void)z;
 }
 
-/* Numbers the next operation at the node: its slot goes down the stream. */
-static inline void source_number(struct source *src, struct head *hd)
+/*
+ * Numbers the next operation at the node: its slot goes down the stream. Before the sweep begins
+ * the entries' tops are free, and each holds the node's next slot meanwhile.
+ */
+static inline void source_number(struct source *src, struct entry *e)
 {
-	src->stream[src->len++] = hd->aux[0]++;
+	src->stream[src->len++] = e->top++;
 }
 
 static void source_free(struct source *src)
@@ -115,12 +118,12 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 	if (!pos)
 		goto nomem;
 
-	/* Two slots per (window, canonical node). */
+	/* Two slots per (window, canonical node), counted in the entries' tops. */
 	size_t total = 0;
 	for (size_t k = 0; k < n; k++) {
-		size_t c = vis_segtree_canonical_slots(m, ev->lo[k], ev->hi[k], canon);
+		size_t c = vis_segtree_canonical_entries(m, ev->lo[k], ev->hi[k], canon);
 		for (size_t j = 0; j < c; j++)
-			head_of_slot(s, canon[j])->aux[0] += 2;
+			entry_at(s, m, canon[j])->top += 2;
 		pos[3 * k + 2] = (uint32_t)c;
 		total += c;
 	}
@@ -135,16 +138,11 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 	if (!src->tops || !src->stream || !next)
 		goto nomem;
 	memset(src->stream + 2 * total, 0, STREAM_AHEAD * sizeof(*src->stream));
-	/* Runs in any order: internal nodes, then leaves. */
 	uint32_t sum = 0;
-	for (uint32_t i = 0; i + 1 < m; i++) {
-		uint32_t c = s->node[i].hd.aux[0];
-		s->node[i].hd.aux[0] = sum;
-		sum += c;
-	}
-	for (uint32_t i = 0; i < m; i++) {
-		uint32_t c = s->leaf[i].aux[0];
-		s->leaf[i].aux[0] = sum;
+	for (uint32_t i = 0; i < vis_segtree_entries(m); i++) {
+		struct entry *e = entry_at(s, m, i);
+		uint32_t c = e->top;
+		e->top = sum;
 		sum += c;
 	}
 
@@ -157,6 +155,8 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 		pos[3 * k + !!(steps[i].zf & STEP_DELETE)] = (uint32_t)src->len;
 		walk_number(s, &steps[i], m);
 	}
+	for (uint32_t i = 0; i < vis_segtree_entries(m); i++)
+		entry_at(s, m, i)->top = 0;
 
 	/* Fill: the highest window alive at a slot is the top there. */
 	for (size_t s = 0; s <= 2 * total; s++)

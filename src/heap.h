@@ -18,13 +18,9 @@ static inline void vis_heap_push(uint32_t *a, uint32_t *len, uint32_t x)
 	a[i] = x;
 }
 
-/* Removes the largest element of the non-empty max-heap a[0 … *len). O(log len). */
-static inline void vis_heap_pop(uint32_t *a, uint32_t *len)
+/* Moves x down from the hole at i of the max-heap a[0 … n) to its place. O(log n). */
+static inline void vis_heap_sift(uint32_t *a, uint32_t n, uint32_t i, uint32_t x)
 {
-	uint32_t n = --(*len);
-	if (n == 0)
-		return;
-	uint32_t x = a[n], i = 0;
 	for (;;) {
 		uint32_t c = 2 * i + 1;
 		if (c >= n)
@@ -40,6 +36,21 @@ static inline void vis_heap_pop(uint32_t *a, uint32_t *len)
 		i = c;
 	}
 	a[i] = x;
+}
+
+/* Removes the largest element of the non-empty max-heap a[0 … *len). O(log len). */
+static inline void vis_heap_pop(uint32_t *a, uint32_t *len)
+{
+	uint32_t n = --(*len);
+	if (n > 0)
+		vis_heap_sift(a, n, 0, a[n]);
+}
+
+/* Puts a[0 … len) in heap order (Floyd). O(len). */
+static inline void vis_heap_build(uint32_t *a, uint32_t len)
+{
+	for (uint32_t i = len / 2; i-- > 0;)
+		vis_heap_sift(a, len, i, a[i]);
 }
 
 #endif

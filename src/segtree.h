@@ -14,18 +14,23 @@
  * A range [a, b) is stored at its canonical nodes: the maximal nodes whose interval lies inside it,
  * at most two a level.
  *
- * Storage can keep leaves apart, since a leaf has nothing below it to summarize: node v covering
- * [lo, hi) is then internal node v − lo when hi − lo ≥ 2 (there are m − 1, still in pre-order),
- * or leaf lo (the leaves before v in pre-order are exactly those left of lo). A slot names either:
- * the internal index, or VIS_SEGTREE_LEAF | lo.
+ * The sweeps store a node's fields in its parent, next to its sibling's, so that a walk reading a
+ * node's record finds both children there: a canonical child then costs no further read. Internal
+ * node v covering [lo, hi) (hi − lo ≥ 2) has record v − lo (0 … m − 2, still in pre-order), which
+ * holds the entries 2 (v − lo) of its left child and 2 (v − lo) + 1 of its right child; the root's
+ * entry is 2 (m − 1). Leaves have entries but no record.
  */
 
-#define VIS_SEGTREE_LEAF 0x80000000u
-
-/* The storage slot of node v covering [lo, hi). O(1). */
-static inline uint32_t vis_segtree_slot(uint32_t v, uint32_t lo, uint32_t hi)
+/* The entry of the root of a tree over m ≥ 1 leaves. O(1). */
+static inline uint32_t vis_segtree_root_entry(uint32_t m)
 {
-	return hi - lo == 1 ? VIS_SEGTREE_LEAF | lo : v - lo;
+	return 2 * (m - 1);
+}
+
+/* The number of entries of a tree over m leaves (0 for m = 0), like its number of nodes. O(1). */
+static inline size_t vis_segtree_entries(uint32_t m)
+{
+	return m ? 2 * (size_t)m - 1 : 0;
 }
 
 #define VIS_SEGTREE_MAX_CANONICAL 64
@@ -58,7 +63,7 @@ static inline size_t vis_segtree_nodes(uint32_t m)
  */
 size_t vis_segtree_canonical(uint32_t m, uint32_t a, uint32_t b, uint32_t *out);
 
-/* As vis_segtree_canonical(), writing the nodes' storage slots. O(log m). */
-size_t vis_segtree_canonical_slots(uint32_t m, uint32_t a, uint32_t b, uint32_t *out);
+/* As vis_segtree_canonical(), writing the nodes' entries. O(log m). */
+size_t vis_segtree_canonical_entries(uint32_t m, uint32_t a, uint32_t b, uint32_t *out);
 
 #endif

@@ -2,18 +2,19 @@
  * The Grove–Murali–Vitter sweep, included by the two engines that differ only in where they read
  * top(H_v) from: gmv-heap.c (per-node heaps, sections 4–5) and gmv.c (offline top lists, section
  * 6). The sweep is memory-latency bound and makes these reads at every canonical node, so each
- * engine gets its own copy with the reads inlined and their state in the node record itself.
- * Define SOURCE_AUX (the words of per-node state the source needs), SOURCE_LAZY_DELETE (1 if the
- * source needs no call for a deletion at a node the window does not top), SOURCE_PREFETCH (1 if
- * source_prefetch() does anything) and struct source before including this, and after it:
- *   uint32_t source_insert(struct source *, struct head *, uint32_t z)  -> the node's new top
- *   uint32_t source_remove(struct source *, struct head *, uint32_t z)  -> the node's new top
+ * engine gets its own copy with the reads inlined and their state in the node's entry itself.
+ * Define SOURCE_AUX (the words of per-node state the source keeps through the sweep, 0 or more),
+ * SOURCE_LAZY_DELETE (1 if the source needs no call for a deletion at a node the window does not
+ * top), SOURCE_PREFETCH (1 if source_prefetch() does anything) and struct source before
+ * including this, and after it:
+ *   uint32_t source_insert(struct source *, struct entry *, uint32_t z) -> the node's new top
+ *   uint32_t source_remove(struct source *, struct entry *, uint32_t z) -> the node's new top
  *   void source_deleted(struct source *, uint32_t z)   before a window's removals begin
  *   int source_make(struct source *, const struct vis_events *, struct step *steps,
- *                   struct sweep *)                    sets up every head's aux; 0 or -1
- *   void source_number(struct source *, struct head *) called by walk_number() at each
+ *                   struct sweep *)                    sets up every entry's aux; 0 or -1
+ *   void source_number(struct source *, struct entry *) called by walk_number() at each
  *                                                      canonical node, in the walks' order
- *   void source_prefetch(const struct source *, const struct head *, uint32_t z, bool del)
+ *   void source_prefetch(const struct source *, const struct entry *, uint32_t z, bool del)
  *                                                      prefetches what the next calls will read
  *   void source_free(struct source *)
  * Windows are named by z = k + 1 for kept window k, 0 standing for none (the paper's −∞).
@@ -42,34 +43,41 @@ struct summary {
 	uint32_t l, h, m;
 };
 
-/* What every node has: top, the highest window stored at it; aux, the top source's state. */
-struct head {
+/*
+ * A node's entry: top, the highest window stored at it; cl, ch, cm, the least l, greatest h and
+ * greatest m of its children's summaries (0 at a leaf), from which its own summary follows; aux,
+ * the top source's state.
+ */
+struct entry {
 	uint32_t top;
+	uint32_t cl, ch, cm;
+#if SOURCE_AUX
 	uint32_t aux[SOURCE_AUX];
+#endif
 };
 
 /*
- * An internal node also keeps its children's summaries, so that visiting a node reads one record,
- * not three: the sweep is bound by those cache misses. A node's own summary lives in its parent
- * (the root's in the sweep). Leaves, with no children, are stored apart and smaller (see
- * segtree.h): half the nodes, a third of the memory, and more of the tree in the cache.
+ * An internal node's record holds its children's entries (segtree.h), one aligned cache line or
+ * half of one: a walk reads one line per node it passes through, and none for the canonical
+ * children of those nodes, whose entries it has just read. The sweep is bound by those misses.
  */
-struct node {
-	struct head hd;
-	struct summary kid[2];
-};
+#define RECORD_ALIGN (2 * sizeof(struct entry) > 32 ? 64 : 32)
+
+struct record {
+	struct entry e[2];
+} __attribute__((aligned(RECORD_ALIGN)));
 
 struct sweep;
 struct source;
 struct step;
-static inline uint32_t source_insert(struct source *src, struct head *hd, uint32_t z);
-static inline uint32_t source_remove(struct source *src, struct head *hd, uint32_t z);
+static inline uint32_t source_insert(struct source *src, struct entry *e, uint32_t z);
+static inline uint32_t source_remove(struct source *src, struct entry *e, uint32_t z);
 static inline void source_deleted(struct source *src, uint32_t z);
-static inline void source_prefetch(const struct source *src, const struct head *hd, uint32_t z,
+static inline void source_prefetch(const struct source *src, const struct entry *e, uint32_t z,
 				   bool del);
 static int source_make(struct source *src, const struct vis_events *ev, struct step *steps,
 		       struct sweep *s);
-static inline void source_number(struct source *src, struct head *hd);
+static inline void source_number(struct source *src, struct entry *e);
 static void source_free(struct source *src);
 
 /*
@@ -102,10 +110,9 @@ struct step {
 #define STEP_Z(zf) ((zf) & ((1u << 30) - 1))
 
 struct sweep {
-	struct node *node; /* internal nodes */
-	struct head *leaf;
-	struct summary root;
-	uint8_t *reported; /* by z */
+	struct record *rec; /* by internal node */
+	struct entry root;
+	uint64_t *reported; /* a bit by z: few enough lines to stay in the cache */
 	uint8_t *ntop; /* by z: the nodes it tops, at most its canonical ones (ntop[0]: junk) */
 	uint8_t *cstate;   /* by z: enum cand_state */
 	uint32_t *cand, *submin;
@@ -129,112 +136,103 @@ static inline uint32_t min32(uint32_t a, uint32_t b)
 	return a < b ? a : b;
 }
 
-/* A leaf's children's summaries: nothing below. Never written. */
-static struct summary no_kids[2];
-
-/* The storage of node v covering [lo, hi): its head, and in *kid its children's summaries. */
-static inline struct head *head_at(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi,
-				   struct summary **kid)
+/* The entry numbered e (segtree.h) of a tree over m leaves. O(1). */
+static inline struct entry *entry_at(struct sweep *s, uint32_t m, uint32_t e)
 {
-	if (hi - lo == 1) {
-		*kid = no_kids;
-		return &s->leaf[lo];
-	}
-	struct node *nd = &s->node[v - lo];
-	*kid = nd->kid;
-	return &nd->hd;
+	return e == vis_segtree_root_entry(m) ? &s->root : &s->rec[e / 2].e[e % 2];
 }
 
-/* The head in a storage slot (segtree.h). */
-static inline struct head *head_of_slot(struct sweep *s, uint32_t slot)
+static inline bool is_reported(const struct sweep *s, uint32_t z)
 {
-	return slot & VIS_SEGTREE_LEAF ? &s->leaf[slot & ~VIS_SEGTREE_LEAF] : &s->node[slot].hd;
+	return s->reported[z / 64] >> (z % 64) & 1;
 }
 
-/* The lowest visible window below a node, within its subtree (0 at a leaf: nothing is below). */
-static inline uint32_t children_l(const struct summary *kid)
+/* A node's summary, from its entry. */
+static inline struct summary summary_of(const struct sweep *s, const struct entry *e)
 {
-	return min32(kid[0].l, kid[1].l);
+	uint32_t t = e->top, h = e->ch;
+	if (h < t)
+		h = 0; /* t spans the whole subtree: everything under it is hidden */
+	if (t > e->cl && !is_reported(s, t))
+		h = max32(h, t);
+	return (struct summary){ max32(e->cl, t), h, max32(e->cm, t) };
 }
 
-/* Recomputes a node's summary, *out, from its top t and its children's. */
-static inline void update(const struct sweep *s, uint32_t t, const struct summary *kid,
-			  struct summary *out)
+/* Recomputes an internal node's entry e from its record r. */
+static inline void update(const struct sweep *s, struct entry *e, const struct record *r)
 {
-	uint32_t cl = children_l(kid);
-	uint32_t ch = max32(kid[0].h, kid[1].h);
-	out->m = max32(max32(kid[0].m, kid[1].m), t);
-	out->l = max32(cl, t);
-	if (ch < t)
-		ch = 0; /* t spans the whole subtree: everything under it is hidden */
-	if (t > cl && !s->reported[t])
-		ch = max32(ch, t);
-	out->h = ch;
+	struct summary a = summary_of(s, &r->e[0]), b = summary_of(s, &r->e[1]);
+	e->cl = min32(a.l, b.l);
+	e->ch = max32(a.h, b.h);
+	e->cm = max32(a.m, b.m);
 }
 
-/* update(), saying whether the summary changed: if not, the ancestors' summaries stand. */
-static inline bool update_changed(const struct sweep *s, uint32_t t, const struct summary *kid,
-				  struct summary *out)
+/*
+ * update(), saying whether the entry changed: if not, neither did the node's summary, and the
+ * ancestors' summaries stand.
+ */
+static inline bool update_changed(const struct sweep *s, struct entry *e, const struct record *r)
 {
-	struct summary old = *out;
-	update(s, t, kid, out);
-	return old.l != out->l || old.h != out->h || old.m != out->m;
+	struct entry old = *e;
+	update(s, e, r);
+	return old.cl != e->cl || old.ch != e->ch || old.cm != e->cm;
 }
 
 /*
  * Sets a node's top, counting the nodes each window tops where a lazily deleting source can use
  * the count; returns whether it changed.
  */
-static inline bool set_top(struct sweep *s, struct head *hd, uint32_t top)
+static inline bool set_top(struct sweep *s, struct entry *e, uint32_t top)
 {
-	if (top == hd->top)
+	if (top == e->top)
 		return false;
 	if (SOURCE_LAZY_DELETE) {
-		s->ntop[hd->top]--;
+		s->ntop[e->top]--;
 		s->ntop[top]++;
 	}
-	hd->top = top;
+	e->top = top;
 	return true;
 }
 
 static inline void report(struct sweep *s, uint32_t z)
 {
-	if (!s->reported[z]) {
-		s->reported[z] = 1;
+	if (!is_reported(s, z)) {
+		s->reported[z / 64] |= (uint64_t)1 << (z % 64);
 		s->newly[s->nnewly++] = z;
 	}
 }
 
 #include "sweep-walk.h"
 
-/* Recomputes h on the canonical nodes of [a, b) and their ancestors. */
-static void refresh(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, struct summary *out)
+/*
+ * Recomputes h on the ancestors of the canonical nodes of [a, b), node v covering [lo, hi) with
+ * entry e among them: the canonical nodes' own summaries follow from their entries.
+ */
+static void refresh(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, struct entry *e)
 {
-	struct summary *kid;
-	struct head *hd = head_at(s, v, lo, hi, &kid);
-	if (!(s->a <= lo && hi <= s->b)) {
-		uint32_t mid = vis_segtree_mid(lo, hi);
-		if (s->a < mid)
-			refresh(s, vis_segtree_left(v), lo, mid, &kid[0]);
-		if (s->b > mid)
-			refresh(s, vis_segtree_right(v, lo, mid), mid, hi, &kid[1]);
-	}
-	update(s, hd->top, kid, out);
+	if (s->a <= lo && hi <= s->b)
+		return;
+	struct record *r = &s->rec[v - lo];
+	uint32_t mid = vis_segtree_mid(lo, hi);
+	if (s->a < mid)
+		refresh(s, vis_segtree_left(v), lo, mid, &r->e[0]);
+	if (s->b > mid)
+		refresh(s, vis_segtree_right(v, lo, mid), mid, hi, &r->e[1]);
+	update(s, e, r);
 }
 
 /* Whether window z is the top at every leaf of [a, b): S-free since any ancestor above fails. */
-static bool on_top(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi)
+static bool on_top(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, const struct entry *e)
 {
-	struct summary *kid;
-	const struct head *hd = head_at(s, v, lo, hi, &kid);
 	if (s->a <= lo && hi <= s->b)
-		return hd->top == s->z && max32(kid[0].m, kid[1].m) < s->z;
-	if (hd->top > s->z)
+		return e->top == s->z && e->cm < s->z;
+	if (e->top > s->z)
 		return false;
+	const struct record *r = &s->rec[v - lo];
 	uint32_t mid = vis_segtree_mid(lo, hi);
-	if (s->a < mid && !on_top(s, vis_segtree_left(v), lo, mid))
+	if (s->a < mid && !on_top(s, vis_segtree_left(v), lo, mid, &r->e[0]))
 		return false;
-	return !(s->b > mid && !on_top(s, vis_segtree_right(v, lo, mid), mid, hi));
+	return !(s->b > mid && !on_top(s, vis_segtree_right(v, lo, mid), mid, hi, &r->e[1]));
 }
 
 /* Sets the candidate of the canonical nodes of [a, b) to c (0 to clear), keeping submin. */
@@ -329,7 +327,7 @@ static void end_group(struct sweep *s, const struct vis_events *ev, const uint8_
 	}
 	for (size_t g = 0; g < s->ngroup; g++) {
 		set_step(s, &s->group[g]);
-		if (onscreen[s->z - 1] && on_top(s, 0, 0, m)) {
+		if (onscreen[s->z - 1] && on_top(s, 0, 0, m, &s->root)) {
 			s->cstate[s->z] = CAND_ACTIVE;
 			cand_store(s, 0, 0, m, s->z);
 		}
@@ -339,8 +337,7 @@ static void end_group(struct sweep *s, const struct vis_events *ev, const uint8_
 
 static void sweep_free(struct sweep *s)
 {
-	free(s->node);
-	free(s->leaf);
+	free(s->rec);
 	free(s->reported);
 	free(s->ntop);
 	free(s->cstate);
@@ -388,9 +385,8 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 	if (n == 0)
 		return 0;
 	struct sweep s = { .src = &src };
-	s.node = vis_bigalloc(m * sizeof(*s.node), true); /* m − 1 internal nodes */
-	s.leaf = vis_bigalloc(m * sizeof(*s.leaf), true);
-	s.reported = calloc(n + 1, 1);
+	s.rec = vis_bigalloc(m * sizeof(*s.rec), true); /* m − 1 internal nodes */
+	s.reported = calloc(n / 64 + 1, sizeof(*s.reported));
 	s.ntop = calloc(n + 1, sizeof(*s.ntop));
 	s.cstate = calloc(n + 1, 1);
 	s.cand = vis_bigalloc(nodes * sizeof(*s.cand), true);
@@ -398,7 +394,7 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 	s.newly = malloc(n * sizeof(*s.newly));
 	s.group = malloc(n * sizeof(*s.group));
 	s.found = malloc(n * sizeof(*s.found));
-	if (!s.node || !s.leaf || !s.reported || !s.ntop || !s.cstate || !s.cand || !s.submin ||
+	if (!s.rec || !s.reported || !s.ntop || !s.cstate || !s.cand || !s.submin ||
 	    !s.newly || !s.group || !s.found) {
 		sweep_free(&s);
 		errno = ENOMEM;
@@ -451,7 +447,7 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 	free(steps);
 	for (size_t k = 0; k < n; k++) {
 		uint32_t z = (uint32_t)k + 1;
-		states[ev->idx[k]] = !s.reported[z]		 ? VIS_FULLY_OBSCURED
+		states[ev->idx[k]] = !is_reported(&s, z)	 ? VIS_FULLY_OBSCURED
 				     : s.cstate[z] == CAND_DONE ? VIS_UNOBSCURED
 								 : VIS_PARTIALLY_OBSCURED;
 	}

@@ -8,70 +8,65 @@
 #define WALK_INLINE static inline __attribute__((always_inline))
 
 /*
- * LEFT-INSERT at a canonical node; S is the highest top among its ancestors. Returns whether its
- * summary changed: most insertions land under a higher top and change nothing.
+ * LEFT-INSERT at a canonical node with entry e; S is the highest top among its ancestors. Returns
+ * whether its entry changed: most insertions land under a higher top and change nothing.
  */
-WALK_INLINE bool insert_at(struct sweep *s, struct head *hd, const struct summary *kid,
-			   uint32_t S, struct summary *out)
+WALK_INLINE bool insert_at(struct sweep *s, struct entry *e, uint32_t S)
 {
 	/* Read l before the update: z is visible here iff it beats what was visible. */
-	uint32_t old_top = hd->top, old_l = max32(children_l(kid), old_top);
-	if (!set_top(s, hd, source_insert(s->src, hd, s->z)))
+	uint32_t old_l = max32(e->cl, e->top);
+	if (!set_top(s, e, source_insert(s->src, e, s->z)))
 		return false;
 	if (s->z > old_l && s->z > S)
 		report(s, s->z);
-	return update_changed(s, hd->top, kid, out);
+	return true;
 }
 
 /* RIGHT-REPORT: reports the unreported windows above S now visible in v's subtree. */
-static void right_report(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, uint32_t S,
-			 struct summary *out)
+static void right_report(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, struct entry *e,
+			 uint32_t S)
 {
-	if (out->h <= S)
+	if (summary_of(s, e).h <= S)
 		return;
-	struct summary *kid;
-	struct head *hd = head_at(s, v, lo, hi, &kid);
-	uint32_t t = hd->top;
+	uint32_t t = e->top;
 	if (t > S) {
 		/* Visible within the subtree: tested against the children, not against l_v. */
-		if (!s->reported[t] && t > children_l(kid))
+		if (!is_reported(s, t) && t > e->cl)
 			report(s, t);
 		S = t;
 	}
 	if (hi - lo > 1) {
+		struct record *r = &s->rec[v - lo];
 		uint32_t mid = vis_segtree_mid(lo, hi);
-		right_report(s, vis_segtree_left(v), lo, mid, S, &kid[0]);
-		right_report(s, vis_segtree_right(v, lo, mid), mid, hi, S, &kid[1]);
+		right_report(s, vis_segtree_left(v), lo, mid, &r->e[0], S);
+		right_report(s, vis_segtree_right(v, lo, mid), mid, hi, &r->e[1], S);
+		update(s, e, r);
 	}
-	update(s, hd->top, kid, out);
 }
 
 /*
- * RIGHT-DELETE at canonical node v covering [lo, hi); S as for insert_at(). Returns whether its
- * summary changed: removing a window that was not the top changes nothing, exposes nothing.
+ * RIGHT-DELETE at canonical node v covering [lo, hi) with entry e; S as for insert_at(). Returns
+ * whether its entry changed: removing a window that was not the top changes nothing, exposes
+ * nothing.
  */
-WALK_INLINE bool delete_at(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, struct head *hd,
-			   struct summary *kid, uint32_t S, struct summary *out)
+WALK_INLINE bool delete_at(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, struct entry *e,
+			   uint32_t S)
 {
-	uint32_t old_top = hd->top;
-	bool was_visible = old_top == s->z && s->z > S && s->z > children_l(kid);
-	if (!set_top(s, hd, source_remove(s->src, hd, s->z)))
+	bool was_visible = e->top == s->z && s->z > S && s->z > e->cl;
+	if (!set_top(s, e, source_remove(s->src, e, s->z)))
 		return false;
-	bool changed = update_changed(s, hd->top, kid, out);
 	/* The deletion may expose S itself here, which RIGHT-REPORT never looks at. */
-	if (S && S > out->l)
+	if (S && S > max32(e->cl, e->top))
 		report(s, S);
-	if (was_visible) {
-		right_report(s, v, lo, hi, S, out);
-		changed = true;
-	}
-	return changed;
+	if (was_visible)
+		right_report(s, v, lo, hi, e, S);
+	return true;
 }
 
 /*
  * What a walk does: an event's work, or, ahead of it, prefetching what it will read. The sweep
  * waits on memory, and an event's nodes do not depend on the data, so the records of the nodes an
- * event will visit are prefetched several events ahead, and the top source's entries at its
+ * event will visit are prefetched several events ahead, and what the top source reads at their
  * canonical nodes (found through those records, by then in the cache) a few events ahead.
  */
 enum walk_kind {
@@ -94,50 +89,37 @@ enum walk_kind {
 /* Whether a tree over m leaves is large enough for prefetching to pay. */
 static inline bool prefetch_pays(uint32_t m)
 {
-	return (size_t)m * (sizeof(struct node) + sizeof(struct head)) >= PREFETCH_MIN_BYTES;
+	return (size_t)m * sizeof(struct record) >= PREFETCH_MIN_BYTES;
 }
 
-/* Prefetches an internal node's record, which may straddle two lines. */
-static inline void prefetch_node(const struct node *nd)
-{
-	__builtin_prefetch(nd);
-	__builtin_prefetch((const char *)(nd + 1) - 1);
-}
-
-/* The walk's step at canonical node v covering [lo, hi) for the event of step st. */
+/* The walk's step at canonical node v covering [lo, hi), with entry e, for the event of step st. */
 WALK_INLINE bool at_canonical(struct sweep *s, enum walk_kind kind, const struct step *st,
-			      uint32_t v, uint32_t lo, uint32_t hi, uint32_t S,
-			      struct summary *out)
+			      uint32_t v, uint32_t lo, uint32_t hi, struct entry *e, uint32_t S)
 {
-	struct summary *kid;
-	struct head *hd = head_at(s, v, lo, hi, &kid);
 	switch (kind) {
 	case WALK_INSERT:
-		return insert_at(s, hd, kid, S, out);
+		return insert_at(s, e, S);
 	case WALK_DELETE:
-		return delete_at(s, v, lo, hi, hd, kid, S, out);
+		return delete_at(s, v, lo, hi, e, S);
 	case WALK_PREFETCH_NODES:
-		if (hi - lo == 1)
-			__builtin_prefetch(hd);
-		else
-			prefetch_node(&s->node[v - lo]);
-		return false;
+		return false; /* its entry is in its parent's record */
 	case WALK_PREFETCH_SOURCE:
-		source_prefetch(s->src, hd, STEP_Z(st->zf), st->zf & STEP_DELETE);
+		source_prefetch(s->src, e, STEP_Z(st->zf), st->zf & STEP_DELETE);
 		return false;
 	case WALK_NUMBER:
-		source_number(s->src, hd);
+		source_number(s->src, e);
 		return false;
 	}
 	return false;
 }
 
-/* The walk's step at path node nd: S gathers its top, or its record is prefetched. */
-WALK_INLINE uint32_t at_path(enum walk_kind kind, const struct node *nd, uint32_t S)
+/* The walk's step at a path node (entry e, record r): S gathers its top, or r is prefetched. */
+WALK_INLINE uint32_t at_path(enum walk_kind kind, const struct entry *e, const struct record *r,
+			     uint32_t S)
 {
 	if (kind == WALK_PREFETCH_NODES)
-		prefetch_node(nd);
-	return kind == WALK_INSERT || kind == WALK_DELETE ? max32(S, nd->hd.top) : S;
+		__builtin_prefetch(r);
+	return kind == WALK_INSERT || kind == WALK_DELETE ? max32(S, e->top) : S;
 }
 
 /*
@@ -148,9 +130,9 @@ WALK_INLINE uint32_t at_path(enum walk_kind kind, const struct node *nd, uint32_
  * refreshes the path nodes below a changed child, deepest first.
  */
 struct hop {
-	struct node *nd;
-	struct summary *out; /* where the node's summary lives */
-	bool changed;	     /* whether a child's summary changed */
+	struct entry *e;  /* the node's entry */
+	struct record *r; /* its children's */
+	bool changed;	  /* whether a child's summary changed */
 };
 
 /* Refreshes the path nodes hop[from … d) deepest first; changed: whether the deepest's child did. */
@@ -161,8 +143,7 @@ WALK_INLINE bool climb(struct sweep *s, enum walk_kind kind, struct hop *hop, si
 		return false;
 	while (d-- > from) {
 		changed |= hop[d].changed;
-		changed = changed &&
-			  update_changed(s, hop[d].nd->hd.top, hop[d].nd->kid, hop[d].out);
+		changed = changed && update_changed(s, hop[d].e, hop[d].r);
 	}
 	return changed;
 }
@@ -172,42 +153,42 @@ WALK_INLINE bool climb(struct sweep *s, enum walk_kind kind, struct hop *hop, si
  * (right) of the range and lies inside it on the other side; pushes its nodes from hop[d].
  */
 WALK_INLINE bool walk_side(struct sweep *s, enum walk_kind kind, const struct step *st, bool left,
-			   uint32_t v, uint32_t lo, uint32_t hi, uint32_t S, struct summary *out,
+			   uint32_t v, uint32_t lo, uint32_t hi, uint32_t S, struct entry *e,
 			   struct hop *hop, size_t d)
 {
 	size_t from = d;
 	for (;;) {
 		if (left ? st->lo <= lo : hi <= st->hi)
 			break;
-		struct node *nd = &s->node[v - lo];
+		struct record *r = &s->rec[v - lo];
 		uint32_t mid = vis_segtree_mid(lo, hi);
-		S = at_path(kind, nd, S);
-		hop[d] = (struct hop){ nd, out, false };
+		S = at_path(kind, e, r, S);
+		hop[d] = (struct hop){ e, r, false };
 		if (left && st->lo < mid) {
 			/* [mid, hi) lies inside the range. */
 			hop[d].changed = at_canonical(s, kind, st, vis_segtree_right(v, lo, mid),
-						      mid, hi, S, &nd->kid[1]);
+						      mid, hi, &r->e[1], S);
 			v = vis_segtree_left(v);
 			hi = mid;
-			out = &nd->kid[0];
+			e = &r->e[0];
 		} else if (!left && st->hi > mid) {
-			hop[d].changed = at_canonical(s, kind, st, vis_segtree_left(v), lo, mid, S,
-						      &nd->kid[0]);
+			hop[d].changed = at_canonical(s, kind, st, vis_segtree_left(v), lo, mid,
+						      &r->e[0], S);
 			v = vis_segtree_right(v, lo, mid);
 			lo = mid;
-			out = &nd->kid[1];
+			e = &r->e[1];
 		} else if (left) {
 			v = vis_segtree_right(v, lo, mid);
 			lo = mid;
-			out = &nd->kid[1];
+			e = &r->e[1];
 		} else {
 			v = vis_segtree_left(v);
 			hi = mid;
-			out = &nd->kid[0];
+			e = &r->e[0];
 		}
 		d++;
 	}
-	return climb(s, kind, hop, from, d, at_canonical(s, kind, st, v, lo, hi, S, out));
+	return climb(s, kind, hop, from, d, at_canonical(s, kind, st, v, lo, hi, e, S));
 }
 
 /*
@@ -218,31 +199,31 @@ WALK_INLINE void walk(struct sweep *s, enum walk_kind kind, const struct step *s
 {
 	struct hop hop[2 * VIS_SEGTREE_MAX_HEIGHT];
 	uint32_t v = 0, lo = 0, hi = m, S = 0;
-	struct summary *out = &s->root;
+	struct entry *e = &s->root;
 	size_t d = 0;
 	bool changed;
 	for (;;) {
 		if (st->lo <= lo && hi <= st->hi) {
-			changed = at_canonical(s, kind, st, v, lo, hi, S, out);
+			changed = at_canonical(s, kind, st, v, lo, hi, e, S);
 			break;
 		}
-		struct node *nd = &s->node[v - lo];
+		struct record *r = &s->rec[v - lo];
 		uint32_t mid = vis_segtree_mid(lo, hi);
-		S = at_path(kind, nd, S);
-		hop[d++] = (struct hop){ nd, out, false };
+		S = at_path(kind, e, r, S);
+		hop[d++] = (struct hop){ e, r, false };
 		if (st->hi <= mid) {
 			v = vis_segtree_left(v);
 			hi = mid;
-			out = &nd->kid[0];
+			e = &r->e[0];
 		} else if (st->lo >= mid) {
 			v = vis_segtree_right(v, lo, mid);
 			lo = mid;
-			out = &nd->kid[1];
+			e = &r->e[1];
 		} else {
 			changed = walk_side(s, kind, st, true, vis_segtree_left(v), lo, mid, S,
-					    &nd->kid[0], hop, d);
+					    &r->e[0], hop, d);
 			changed |= walk_side(s, kind, st, false, vis_segtree_right(v, lo, mid), mid,
-					     hi, S, &nd->kid[1], hop, d);
+					     hi, S, &r->e[1], hop, d);
 			break;
 		}
 	}

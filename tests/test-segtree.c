@@ -16,8 +16,12 @@ static int failures;
 		}                                                                    \
 	} while (0)
 
-/* Records every node's interval by walking the layout; checks indices are a permutation. */
-static void walk(uint32_t v, uint32_t lo, uint32_t hi, uint32_t *nlo, uint32_t *nhi, size_t nodes)
+/*
+ * Records every node's interval and entry (e: the entry its parent gives it) by walking the
+ * layout; checks indices are a permutation.
+ */
+static void walk(uint32_t v, uint32_t lo, uint32_t hi, uint32_t e, uint32_t *nlo, uint32_t *nhi,
+		 uint32_t *nent, size_t nodes)
 {
 	CHECK(v < nodes);
 	if (v >= nodes)
@@ -25,10 +29,11 @@ static void walk(uint32_t v, uint32_t lo, uint32_t hi, uint32_t *nlo, uint32_t *
 	CHECK(nhi[v] == 0);
 	nlo[v] = lo;
 	nhi[v] = hi;
+	nent[v] = e;
 	if (hi - lo > 1) {
 		uint32_t mid = vis_segtree_mid(lo, hi);
-		walk(vis_segtree_left(v), lo, mid, nlo, nhi, nodes);
-		walk(vis_segtree_right(v, lo, mid), mid, hi, nlo, nhi, nodes);
+		walk(vis_segtree_left(v), lo, mid, 2 * (v - lo), nlo, nhi, nent, nodes);
+		walk(vis_segtree_right(v, lo, mid), mid, hi, 2 * (v - lo) + 1, nlo, nhi, nent, nodes);
 	}
 }
 
@@ -44,34 +49,30 @@ static void test_layout_and_canonical(void)
 {
 	for (uint32_t m = 1; m <= 70; m++) {
 		size_t nodes = vis_segtree_nodes(m);
+		CHECK(vis_segtree_entries(m) == nodes);
 		uint32_t *nlo = calloc(nodes, sizeof(*nlo)), *nhi = calloc(nodes, sizeof(*nhi));
-		walk(0, 0, m, nlo, nhi, nodes);
+		uint32_t *nent = calloc(nodes, sizeof(*nent));
+		walk(0, 0, m, vis_segtree_root_entry(m), nlo, nhi, nent, nodes);
 		for (size_t v = 0; v < nodes; v++)
 			CHECK(nhi[v] > nlo[v]); /* every index used exactly once */
-		/* Internal nodes' slots are 0 … m − 2, each once. */
-		uint8_t *seen = calloc(m, 1);
+		/* Records are 0 … m − 2 and entries 0 … 2m − 2, each once. */
+		uint8_t *seen = calloc(nodes, 1);
 		for (size_t v = 0; v < nodes; v++) {
-			uint32_t slot = vis_segtree_slot((uint32_t)v, nlo[v], nhi[v]);
-			if (slot & VIS_SEGTREE_LEAF) {
-				CHECK((slot & ~VIS_SEGTREE_LEAF) == nlo[v]);
-				continue;
-			}
-			CHECK(slot + 1 < m && !seen[slot]);
-			if (slot + 1 < m)
-				seen[slot] = 1;
+			CHECK(nent[v] < nodes && !seen[nent[v]]);
+			if (nent[v] < nodes)
+				seen[nent[v]] = 1;
+			if (nhi[v] - nlo[v] > 1)
+				CHECK(v - nlo[v] + 1 < m);
 		}
 		free(seen);
 		for (uint32_t a = 0; a < m; a++) {
 			for (uint32_t b = a + 1; b <= m; b++) {
 				uint32_t out[VIS_SEGTREE_MAX_CANONICAL];
 				size_t c = vis_segtree_canonical(m, a, b, out);
-				uint32_t slots[VIS_SEGTREE_MAX_CANONICAL];
-				CHECK(vis_segtree_canonical_slots(m, a, b, slots) == c);
-				for (size_t j = 0; j < c; j++) {
-					uint32_t v = out[j], len = nhi[v] - nlo[v];
-					CHECK(slots[j] == (len == 1 ? (VIS_SEGTREE_LEAF | nlo[v]) : v - nlo[v]));
-					CHECK(len == 1 || v - nlo[v] < m - 1);
-				}
+				uint32_t entries[VIS_SEGTREE_MAX_CANONICAL];
+				CHECK(vis_segtree_canonical_entries(m, a, b, entries) == c);
+				for (size_t j = 0; j < c; j++)
+					CHECK(entries[j] == nent[out[j]]);
 				CHECK(c >= 1 && c <= 2 * log2_ceil(m) + (m == 1));
 				/* Left to right, abutting, covering exactly [a, b). */
 				uint32_t at = a;
@@ -95,6 +96,7 @@ static void test_layout_and_canonical(void)
 		}
 		free(nlo);
 		free(nhi);
+		free(nent);
 	}
 	CHECK(vis_segtree_nodes(0) == 0);
 }
