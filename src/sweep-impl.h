@@ -147,6 +147,12 @@ static inline bool is_reported(const struct sweep *s, uint32_t z)
 	return s->reported[z / 64] >> (z % 64) & 1;
 }
 
+/* A node's l: the lowest window visible at some leaf of its subtree, within the subtree. */
+static inline uint32_t entry_l(const struct entry *e)
+{
+	return max32(e->cl, e->top);
+}
+
 /* A node's summary, from its entry. */
 static inline struct summary summary_of(const struct sweep *s, const struct entry *e)
 {
@@ -155,7 +161,7 @@ static inline struct summary summary_of(const struct sweep *s, const struct entr
 		h = 0; /* t spans the whole subtree: everything under it is hidden */
 	if (t > e->cl && !is_reported(s, t))
 		h = max32(h, t);
-	return (struct summary){ max32(e->cl, t), h, max32(e->cm, t) };
+	return (struct summary){ entry_l(e), h, max32(e->cm, t) };
 }
 
 /* Recomputes an internal node's entry e from its record r. */

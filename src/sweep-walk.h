@@ -14,7 +14,7 @@
 WALK_INLINE bool insert_at(struct sweep *s, struct entry *e, uint32_t S)
 {
 	/* Read l before the update: z is visible here iff it beats what was visible. */
-	uint32_t old_l = max32(e->cl, e->top);
+	uint32_t old_l = entry_l(e);
 	if (!set_top(s, e, source_insert(s->src, e, s->z)))
 		return false;
 	if (s->z > old_l && s->z > S)
@@ -56,7 +56,7 @@ WALK_INLINE bool delete_at(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi
 	if (!set_top(s, e, source_remove(s->src, e, s->z)))
 		return false;
 	/* The deletion may expose S itself here, which RIGHT-REPORT never looks at. */
-	if (S && S > max32(e->cl, e->top))
+	if (S && S > entry_l(e))
 		report(s, S);
 	if (was_visible)
 		right_report(s, v, lo, hi, e, S);
