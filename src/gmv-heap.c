@@ -93,39 +93,27 @@ static void source_free(struct source *src)
 	free(src->dead);
 }
 
-static inline void source_number(struct source *src, struct entry *e)
-{
-	(void)src;
-	(void)e;
-}
-
 static int source_make(struct source *src, const struct vis_events *ev, struct step *steps,
 		       struct sweep *s)
 {
 	(void)steps;
-	uint32_t canon[VIS_SEGTREE_MAX_CANONICAL];
 	uint32_t m = ev->nleaves;
-	size_t total = 0;
+	size_t total;
 	src->a = NULL;
 	src->dead = calloc(ev->n + 1, 1);
-	for (size_t k = 0; k < ev->n; k++) {
-		size_t c = vis_segtree_canonical_entries(m, ev->lo[k], ev->hi[k], canon);
-		for (size_t j = 0; j < c; j++)
-			entry_at(s, m, canon[j])->aux[HEAP_OFF]++;
-		total += c;
-	}
-	if (total > UINT32_MAX) {
+	uint32_t *count = count_canonical(ev, &total, NULL, NULL);
+	if (!count || total > UINT32_MAX) {
+		free(count);
 		free(src->dead);
-		errno = EOVERFLOW;
+		errno = count ? EOVERFLOW : ENOMEM;
 		return -1;
 	}
 	uint32_t sum = 0;
 	for (uint32_t i = 0; i < vis_segtree_entries(m); i++) {
-		struct entry *e = entry_at(s, m, i);
-		uint32_t c = e->aux[HEAP_OFF];
-		e->aux[HEAP_OFF] = sum;
-		sum += c;
+		entry_at(s, m, i)->aux[HEAP_OFF] = sum;
+		sum += count[i];
 	}
+	free(count);
 	src->a = vis_bigalloc(total * sizeof(*src->a), false);
 	if (!src->a || !src->dead) {
 		source_free(src);

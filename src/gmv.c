@@ -1,60 +1,56 @@
 /* Section 6: the sweep reading top(H_v) from lists computed offline. */
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <string.h>
 
 /*
  * The sweep touches each node in a fixed order, so every node's sequence of inserts and deletes is
- * known before it starts, and so is top(H_v) after each of them. Each node gets a run of slots,
- * one per operation in schedule order; a window stored at v is alive in v's slots [its insert, its
- * delete). Filling the slots window by window in decreasing z, each slot taking the first window
- * that reaches it, solves the offline extract-max problem; a union-find over "next unfilled slot"
- * fills every slot once (near-linear, Bern's trick).
+ * known before it starts, and so is top(H_v) after each of them. Only the tops after deletions
+ * need a list: inserting z makes the top max(top, z), and deleting a window below the top leaves
+ * it. So each node gets a run of slots, one per deletion there in schedule order; a window stored
+ * at v is alive in v's slots [the first deletion after its insertion, its own deletion). Filling
+ * the slots window by window in decreasing z, each slot taking the first window that reaches it,
+ * solves the offline extract-max problem; a union-find over "next unfilled slot" fills every slot
+ * once (near-linear, Bern's trick).
  *
- * The sweep's canonical steps, in the order its walks make them, read their slots from one stream
- * in that same order: a sequential read instead of a per-node cursor, which lets each step
- * prefetch the top a few events ahead, where the cursor would first have to be read from a node.
- * An event's steps for the insertion and the deletion of one window visit the same nodes in the
- * same order, so their slots pair up in the stream.
+ * The sweep's deletions, in the order its walks make them, read their slots from one stream in
+ * that same order: a sequential read instead of a per-node cursor, which would first have to be
+ * read from a node, and which lets each deletion prefetch its top a few events ahead.
  */
 #define SOURCE_PREFETCH 0
 #define SOURCE_LAZY_DELETE 0
 #define SOURCE_AUX 0
 
-/* How far down the stream the top is prefetched: about three events' canonical steps. */
+/* How far down the stream the top is prefetched: about three deletions' canonical steps. */
 #define STREAM_AHEAD 48
 
-/* How far ahead the numbering prefetches nodes, and the filling its union-find's entries. */
-#define NUMBER_AHEAD 32
+/* How many events ahead the numbering prefetches its cursors, and twice that its lists. */
+#define NUMBER_AHEAD 8
+
+/* How far ahead the filling prefetches its union-find's entries. */
 #define FILL_AHEAD 4
 
 struct source {
-	uint32_t *tops;	  /* per slot: the node's top after that operation */
-	uint32_t *stream; /* the slots in the sweep's order, then STREAM_AHEAD zeros */
+	uint32_t *tops;	  /* per slot: the node's top after that deletion */
+	uint32_t *stream; /* the deletions' slots in the sweep's order, then STREAM_AHEAD zeros */
 	size_t at, len;
 };
 
 #include "sweep-impl.h"
 
-/* The top after the next canonical step, as the stream says. */
-static inline uint32_t next_top(struct source *src)
-{
-	__builtin_prefetch(&src->tops[src->stream[src->at + STREAM_AHEAD]]);
-	return src->tops[src->stream[src->at++]];
-}
-
 static inline uint32_t source_insert(struct source *src, struct entry *e, uint32_t z)
 {
-	(void)e;
-	(void)z;
-	return next_top(src);
+	(void)src;
+	return max32(e->top, z);
 }
 
+/* The top after the next deletion, as the stream says if z was the top. */
 static inline uint32_t source_remove(struct source *src, struct entry *e, uint32_t z)
 {
-	(void)e;
-	(void)z;
-	return next_top(src);
+	__builtin_prefetch(&src->tops[src->stream[src->at + STREAM_AHEAD]]);
+	uint32_t slot = src->stream[src->at++];
+	return e->top == z ? src->tops[slot] : e->top;
 }
 
 /* Nothing to prefetch through the node: the stream prefetches its own tops. */
@@ -71,15 +67,6 @@ static inline void source_deleted(struct source *src, uint32_t z)
 {
 	(void)src;
 	(void)z;
-}
-
-/*
- * Numbers the next operation at the node: its slot goes down the stream. Before the sweep begins
- * the entries' tops are free, and each holds the node's next slot meanwhile.
- */
-static inline void source_number(struct source *src, struct entry *e)
-{
-	src->stream[src->len++] = e->top++;
 }
 
 static void source_free(struct source *src)
@@ -105,87 +92,97 @@ static inline uint32_t next_free(uint32_t *next, uint32_t s)
 static int source_make(struct source *src, const struct vis_events *ev, struct step *steps,
 		       struct sweep *s)
 {
-	size_t n = ev->n;
+	(void)s;
+	size_t n = ev->n, total;
 	uint32_t m = ev->nleaves;
-	uint32_t canon[VIS_SEGTREE_MAX_CANONICAL];
 	/*
-	 * Where window k's steps begin down the stream: 3k its insertion's, 3k + 1 its deletion's;
-	 * 3k + 2 holds how many canonical nodes it has.
+	 * Window k's canonical entries, in walk order, are canon[first[k] …]; its first slots after
+	 * its insertion, after[first[k] …]; its slots, stream[del[k] …]. The union-find takes over
+	 * canon's memory.
 	 */
-	uint32_t *pos = malloc(3 * n * sizeof(*pos));
-	uint32_t *next = NULL;
+	uint32_t *first = malloc((n + 1) * sizeof(*first));
+	uint32_t *del = malloc(n * sizeof(*del));
+	uint32_t *canon = NULL, *after = NULL, *cursor = NULL;
 	*src = (struct source){ 0 };
-	if (!pos)
+	if (!first || !del || n > (SIZE_MAX / sizeof(*canon) - 1) / vis_segtree_max_canonical(m))
 		goto nomem;
-
-	/* Two slots per (window, canonical node), counted in the entries' tops. */
-	size_t total = 0;
-	for (size_t k = 0; k < n; k++) {
-		size_t c = vis_segtree_canonical_entries(m, ev->lo[k], ev->hi[k], canon);
-		for (size_t j = 0; j < c; j++)
-			entry_at(s, m, canon[j])->top += 2;
-		pos[3 * k + 2] = (uint32_t)c;
-		total += c;
-	}
-	if (2 * total >= UINT32_MAX - STREAM_AHEAD) {
-		free(pos);
+	/* Only the pages the lists fill are ever touched. */
+	canon = vis_bigalloc((n * vis_segtree_max_canonical(m) + 1) * sizeof(*canon), false);
+	if (!canon || !(cursor = count_canonical(ev, &total, first, canon)))
+		goto nomem;
+	if (total >= UINT32_MAX - STREAM_AHEAD) {
 		errno = EOVERFLOW;
-		return -1;
+		goto fail;
 	}
-	src->tops = vis_bigalloc((2 * total + 1) * sizeof(*src->tops), true);
-	src->stream = vis_bigalloc((2 * total + STREAM_AHEAD) * sizeof(*src->stream), false);
-	next = vis_bigalloc((2 * total + 1) * sizeof(*next), false);
-	if (!src->tops || !src->stream || !next)
+	src->tops = vis_bigalloc((total + 1) * sizeof(*src->tops), true);
+	src->stream = vis_bigalloc((total + STREAM_AHEAD) * sizeof(*src->stream), false);
+	after = vis_bigalloc(total * sizeof(*after) + 1, false);
+	if (!src->tops || !src->stream || !after)
 		goto nomem;
-	memset(src->stream + 2 * total, 0, STREAM_AHEAD * sizeof(*src->stream));
+	memset(src->stream + total, 0, STREAM_AHEAD * sizeof(*src->stream));
 	uint32_t sum = 0;
 	for (uint32_t i = 0; i < vis_segtree_entries(m); i++) {
-		struct entry *e = entry_at(s, m, i);
-		uint32_t c = e->top;
-		e->top = sum;
+		uint32_t c = cursor[i];
+		cursor[i] = sum;
 		sum += c;
 	}
 
-	/* Number each node's operations in the order the sweep will make them. */
-	bool prefetch = prefetch_pays(m);
+	/* Number each node's deletions in the order the sweep will make them. */
 	for (size_t i = 0; i < 2 * n; i++) {
-		if (prefetch && i + NUMBER_AHEAD < 2 * n)
-			prefetch_nodes(s, &steps[i + NUMBER_AHEAD], m);
+		if (i + NUMBER_AHEAD < 2 * n) {
+			uint32_t k = STEP_Z(steps[i + NUMBER_AHEAD].zf) - 1;
+			for (uint32_t j = first[k]; j < first[k + 1]; j++)
+				__builtin_prefetch(&cursor[canon[j]]);
+		}
+		if (i + 2 * NUMBER_AHEAD < 2 * n)
+			__builtin_prefetch(&canon[first[STEP_Z(steps[i + 2 * NUMBER_AHEAD].zf) - 1]]);
 		uint32_t k = STEP_Z(steps[i].zf) - 1;
-		pos[3 * k + !!(steps[i].zf & STEP_DELETE)] = (uint32_t)src->len;
-		walk_number(s, &steps[i], m);
+		if (steps[i].zf & STEP_DELETE) {
+			del[k] = (uint32_t)src->len;
+			for (uint32_t j = first[k]; j < first[k + 1]; j++)
+				src->stream[src->len++] = cursor[canon[j]]++;
+		} else {
+			for (uint32_t j = first[k]; j < first[k + 1]; j++)
+				after[j] = cursor[canon[j]];
+		}
 	}
-	for (uint32_t i = 0; i < vis_segtree_entries(m); i++)
-		entry_at(s, m, i)->top = 0;
+	free(cursor);
 
 	/* Fill: the highest window alive at a slot is the top there. */
-	for (size_t s = 0; s <= 2 * total; s++)
+	uint32_t *next = canon;
+	for (size_t s = 0; s <= total; s++)
 		next[s] = (uint32_t)s;
 	for (size_t k = n; k-- > 0;) {
 		if (k >= FILL_AHEAD) {
 			/* The window FILL_AHEAD later starts its searches there. */
-			const uint32_t *later = src->stream + pos[3 * (k - FILL_AHEAD)];
-			for (uint32_t j = 0; j < pos[3 * (k - FILL_AHEAD) + 2]; j++)
-				__builtin_prefetch(&next[later[j]]);
+			size_t later = k - FILL_AHEAD;
+			for (uint32_t j = first[later]; j < first[later + 1]; j++)
+				__builtin_prefetch(&next[after[j]]);
 		}
 		if (k >= 2 * FILL_AHEAD)
-			__builtin_prefetch(src->stream + pos[3 * (k - 2 * FILL_AHEAD)]);
-		const uint32_t *ins = src->stream + pos[3 * k], *del = src->stream + pos[3 * k + 1];
-		for (uint32_t j = 0; j < pos[3 * k + 2]; j++) {
-			for (uint32_t s = next_free(next, ins[j]); s < del[j]; s = next_free(next, s)) {
+			__builtin_prefetch(src->stream + del[k - 2 * FILL_AHEAD]);
+		const uint32_t *from = after + first[k], *to = src->stream + del[k];
+		for (uint32_t j = 0; j < first[k + 1] - first[k]; j++) {
+			for (uint32_t s = next_free(next, from[j]); s < to[j]; s = next_free(next, s)) {
 				src->tops[s] = (uint32_t)k + 1;
 				next[s] = s + 1;
 			}
 		}
 	}
-	free(pos);
-	free(next);
+	free(first);
+	free(del);
+	free(canon);
+	free(after);
 	return 0;
 nomem:
-	free(pos);
-	free(next);
-	source_free(src);
 	errno = ENOMEM;
+fail:
+	free(first);
+	free(del);
+	free(canon);
+	free(after);
+	free(cursor);
+	source_free(src);
 	return -1;
 }
 

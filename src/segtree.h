@@ -36,6 +36,13 @@ static inline size_t vis_segtree_entries(uint32_t m)
 #define VIS_SEGTREE_MAX_CANONICAL 64
 #define VIS_SEGTREE_MAX_HEIGHT 32
 
+/* The most canonical nodes a range can have in a tree over m ≥ 1 leaves: 2 ⌈log2 m⌉, or 1. O(1). */
+static inline size_t vis_segtree_max_canonical(uint32_t m)
+{
+	unsigned height = m > 1 ? 32 - (unsigned)__builtin_clz(m - 1) : 0;
+	return height ? 2 * (size_t)height : 1;
+}
+
 static inline uint32_t vis_segtree_mid(uint32_t lo, uint32_t hi)
 {
 	return lo + (hi - lo) / 2;
@@ -63,7 +70,12 @@ static inline size_t vis_segtree_nodes(uint32_t m)
  */
 size_t vis_segtree_canonical(uint32_t m, uint32_t a, uint32_t b, uint32_t *out);
 
-/* As vis_segtree_canonical(), writing the nodes' entries. O(log m). */
+/*
+ * As vis_segtree_canonical(), writing the nodes' entries in the order a root-to-leaf walk meets
+ * them: where the range is one node, that node; else, below the split node (the deepest node
+ * whose interval holds [a, b)), the canonical nodes along the path down to a, top-down (right to
+ * left), then those along the path down to b, top-down (left to right). O(log m).
+ */
 size_t vis_segtree_canonical_entries(uint32_t m, uint32_t a, uint32_t b, uint32_t *out);
 
 #endif

@@ -12,8 +12,6 @@
  *   void source_deleted(struct source *, uint32_t z)   before a window's removals begin
  *   int source_make(struct source *, const struct vis_events *, struct step *steps,
  *                   struct sweep *)                    sets up every entry's aux; 0 or -1
- *   void source_number(struct source *, struct entry *) called by walk_number() at each
- *                                                      canonical node, in the walks' order
  *   void source_prefetch(const struct source *, const struct entry *, uint32_t z, bool del)
  *                                                      prefetches what the next calls will read
  *   void source_free(struct source *)
@@ -77,7 +75,6 @@ static inline void source_prefetch(const struct source *src, const struct entry 
 				   bool del);
 static int source_make(struct source *src, const struct vis_events *ev, struct step *steps,
 		       struct sweep *s);
-static inline void source_number(struct source *src, struct entry *e);
 static void source_free(struct source *src);
 
 /*
@@ -140,6 +137,38 @@ static inline uint32_t min32(uint32_t a, uint32_t b)
 static inline struct entry *entry_at(struct sweep *s, uint32_t m, uint32_t e)
 {
 	return e == vis_segtree_root_entry(m) ? &s->root : &s->rec[e / 2].e[e % 2];
+}
+
+/*
+ * How many canonical nodes of the windows each entry has, in an array by entry number (NULL:
+ * ENOMEM); *total gets the sum. Unless first is NULL, first[k] gets the sum over the windows
+ * below k (first[n] = *total) and, unless lists is also NULL, lists[first[k] …] window k's
+ * canonical entries in walk order (room for at most vis_segtree_max_canonical(m) a window).
+ * O(n log n), counted in a dense array rather than in the records, which are several times larger
+ * and would fall out of the cache sooner.
+ */
+static uint32_t *count_canonical(const struct vis_events *ev, size_t *total, uint32_t *first,
+				 uint32_t *lists)
+{
+	uint32_t m = ev->nleaves, canon[VIS_SEGTREE_MAX_CANONICAL];
+	uint32_t *count = vis_bigalloc(vis_segtree_entries(m) * sizeof(*count), true);
+	if (!count) {
+		errno = ENOMEM;
+		return NULL;
+	}
+	*total = 0;
+	for (size_t k = 0; k < ev->n; k++) {
+		uint32_t *out = lists ? lists + *total : canon;
+		if (first)
+			first[k] = (uint32_t)*total;
+		size_t c = vis_segtree_canonical_entries(m, ev->lo[k], ev->hi[k], out);
+		for (size_t j = 0; j < c; j++)
+			count[out[j]]++;
+		*total += c;
+	}
+	if (first)
+		first[ev->n] = (uint32_t)*total;
+	return count;
 }
 
 static inline bool is_reported(const struct sweep *s, uint32_t z)

@@ -74,7 +74,6 @@ enum walk_kind {
 	WALK_DELETE,
 	WALK_PREFETCH_NODES,
 	WALK_PREFETCH_SOURCE,
-	WALK_NUMBER, /* source_number() at each canonical node */
 };
 
 #define PREFETCH_NODES_AHEAD 8
@@ -105,9 +104,6 @@ WALK_INLINE bool at_canonical(struct sweep *s, enum walk_kind kind, const struct
 		return false; /* its entry is in its parent's record */
 	case WALK_PREFETCH_SOURCE:
 		source_prefetch(s->src, e, STEP_Z(st->zf), st->zf & STEP_DELETE);
-		return false;
-	case WALK_NUMBER:
-		source_number(s->src, e);
 		return false;
 	}
 	return false;
@@ -249,11 +245,6 @@ static void prefetch_nodes(struct sweep *s, const struct step *st, uint32_t m)
 static void prefetch_source(struct sweep *s, const struct step *st, uint32_t m)
 {
 	walk(s, WALK_PREFETCH_SOURCE, st, m);
-}
-
-static inline void walk_number(struct sweep *s, const struct step *st, uint32_t m)
-{
-	walk(s, WALK_NUMBER, st, m);
 }
 
 /* Whether the sweep will walk the event of step st (see sweep_run). */

@@ -71,8 +71,27 @@ static void test_layout_and_canonical(void)
 				size_t c = vis_segtree_canonical(m, a, b, out);
 				uint32_t entries[VIS_SEGTREE_MAX_CANONICAL];
 				CHECK(vis_segtree_canonical_entries(m, a, b, entries) == c);
+				/*
+				 * Walk order: the nodes left of the split node's middle right to
+				 * left, then the others left to right.
+				 */
+				uint32_t v = 0, split = a;
+				while (!(a <= nlo[v] && nhi[v] <= b)) {
+					uint32_t mid = vis_segtree_mid(nlo[v], nhi[v]);
+					if (b <= mid) {
+						v = vis_segtree_left(v);
+					} else if (a >= mid) {
+						v = vis_segtree_right(v, nlo[v], mid);
+					} else {
+						split = mid;
+						break;
+					}
+				}
+				size_t nleft = 0;
+				while (nleft < c && nhi[out[nleft]] <= split)
+					nleft++;
 				for (size_t j = 0; j < c; j++)
-					CHECK(entries[j] == nent[out[j]]);
+					CHECK(entries[j] == nent[out[j < nleft ? nleft - 1 - j : j]]);
 				CHECK(c >= 1 && c <= 2 * log2_ceil(m) + (m == 1));
 				/* Left to right, abutting, covering exactly [a, b). */
 				uint32_t at = a;
