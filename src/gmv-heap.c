@@ -89,7 +89,7 @@ static inline void source_deleted(struct source *src, uint32_t z)
 
 static void source_free(struct source *src)
 {
-	free(src->a);
+	vis_bigfree(src->a);
 	free(src->dead);
 }
 
@@ -103,7 +103,7 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 	src->dead = calloc(ev->n + 1, 1);
 	uint32_t *count = count_canonical(ev, &total, NULL, NULL);
 	if (!count || total > UINT32_MAX) {
-		free(count);
+		vis_bigfree(count);
 		free(src->dead);
 		errno = count ? EOVERFLOW : ENOMEM;
 		return -1;
@@ -113,7 +113,7 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 		entry_at(s, m, i)->aux[HEAP_OFF] = sum;
 		sum += count[i];
 	}
-	free(count);
+	vis_bigfree(count);
 	src->a = vis_bigalloc(total * sizeof(*src->a), false);
 	if (!src->a || !src->dead) {
 		source_free(src);

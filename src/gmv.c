@@ -71,8 +71,8 @@ static inline void source_deleted(struct source *src, uint32_t z)
 
 static void source_free(struct source *src)
 {
-	free(src->tops);
-	free(src->stream);
+	vis_bigfree(src->tops);
+	vis_bigfree(src->stream);
 }
 
 /* The union-find root: the first unfilled slot at or after s. */
@@ -146,7 +146,7 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 				after[j] = cursor[canon[j]];
 		}
 	}
-	free(cursor);
+	vis_bigfree(cursor);
 
 	/* Fill: the highest window alive at a slot is the top there. */
 	uint32_t *next = canon;
@@ -171,17 +171,17 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 	}
 	free(first);
 	free(del);
-	free(canon);
-	free(after);
+	vis_bigfree(canon);
+	vis_bigfree(after);
 	return 0;
 nomem:
 	errno = ENOMEM;
 fail:
 	free(first);
 	free(del);
-	free(canon);
-	free(after);
-	free(cursor);
+	vis_bigfree(canon);
+	vis_bigfree(after);
+	vis_bigfree(cursor);
 	source_free(src);
 	return -1;
 }

@@ -372,12 +372,12 @@ static void end_group(struct sweep *s, const struct vis_events *ev, const uint8_
 
 static void sweep_free(struct sweep *s)
 {
-	free(s->rec);
+	vis_bigfree(s->rec);
 	free(s->reported);
 	free(s->ntop);
 	free(s->cstate);
-	free(s->cand);
-	free(s->submin);
+	vis_bigfree(s->cand);
+	vis_bigfree(s->submin);
 	free(s->newly);
 	free(s->group);
 	free(s->found);
