@@ -101,19 +101,19 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 	size_t total;
 	src->a = NULL;
 	src->dead = calloc(ev->n + 1, 1);
-	uint32_t *count = count_canonical(ev, &total, NULL, NULL);
-	if (!count || total > UINT32_MAX) {
-		vis_bigfree(count);
+	count_canonical(ev, s->cand, &total, NULL, NULL);
+	if (total > UINT32_MAX) {
+		memset(s->cand, 0, vis_segtree_entries(m) * sizeof(*s->cand));
 		free(src->dead);
-		errno = count ? EOVERFLOW : ENOMEM;
+		errno = EOVERFLOW;
 		return -1;
 	}
 	uint32_t sum = 0;
 	for (uint32_t i = 0; i < vis_segtree_entries(m); i++) {
 		entry_at(s, m, i)->aux[HEAP_OFF] = sum;
-		sum += count[i];
+		sum += s->cand[i];
 	}
-	vis_bigfree(count);
+	memset(s->cand, 0, vis_segtree_entries(m) * sizeof(*s->cand));
 	src->a = vis_bigalloc(total * sizeof(*src->a), false);
 	if (!src->a || !src->dead) {
 		source_free(src);

@@ -92,7 +92,6 @@ static inline uint32_t next_free(uint32_t *next, uint32_t s)
 static int source_make(struct source *src, const struct vis_events *ev, struct step *steps,
 		       struct sweep *s)
 {
-	(void)s;
 	size_t n = ev->n, total;
 	uint32_t m = ev->nleaves;
 	/*
@@ -102,14 +101,15 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 	 */
 	uint32_t *first = malloc((n + 1) * sizeof(*first));
 	uint32_t *del = malloc(n * sizeof(*del));
-	uint32_t *canon = NULL, *after = NULL, *cursor = NULL;
+	uint32_t *canon = NULL, *after = NULL, *cursor = s->cand; /* see count_canonical() */
 	*src = (struct source){ 0 };
 	if (!first || !del || n > (SIZE_MAX / sizeof(*canon) - 1) / vis_segtree_max_canonical(m))
 		goto nomem;
 	/* Only the pages the lists fill are ever touched. */
 	canon = vis_bigalloc((n * vis_segtree_max_canonical(m) + 1) * sizeof(*canon), false);
-	if (!canon || !(cursor = count_canonical(ev, &total, first, canon)))
+	if (!canon)
 		goto nomem;
+	count_canonical(ev, cursor, &total, first, canon);
 	if (total >= UINT32_MAX - STREAM_AHEAD) {
 		errno = EOVERFLOW;
 		goto fail;
@@ -146,7 +146,7 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 				after[j] = cursor[canon[j]];
 		}
 	}
-	vis_bigfree(cursor);
+	memset(cursor, 0, vis_segtree_entries(m) * sizeof(*cursor));
 
 	/* Fill: the highest window alive at a slot is the top there. */
 	uint32_t *next = canon;
@@ -181,7 +181,7 @@ fail:
 	free(del);
 	vis_bigfree(canon);
 	vis_bigfree(after);
-	vis_bigfree(cursor);
+	memset(cursor, 0, vis_segtree_entries(m) * sizeof(*cursor));
 	source_free(src);
 	return -1;
 }

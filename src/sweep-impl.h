@@ -140,22 +140,18 @@ static inline struct entry *entry_at(struct sweep *s, uint32_t m, uint32_t e)
 }
 
 /*
- * How many canonical nodes of the windows each entry has, in an array by entry number (NULL:
- * ENOMEM); *total gets the sum. Unless first is NULL, first[k] gets the sum over the windows
- * below k (first[n] = *total) and, unless lists is also NULL, lists[first[k] …] window k's
- * canonical entries in walk order (room for at most vis_segtree_max_canonical(m) a window).
- * O(n log n), counted in a dense array rather than in the records, which are several times larger
- * and would fall out of the cache sooner.
+ * Adds to count[e] (by entry number) how many canonical nodes of the windows entry e has; *total
+ * gets their sum. Unless first is NULL, first[k] gets the sum over the windows below k
+ * (first[n] = *total) and, unless lists is also NULL, lists[first[k] …] window k's canonical
+ * entries in walk order (room for at most vis_segtree_max_canonical(m) a window). O(n log n),
+ * counted in a dense array rather than in the records, which are several times larger and would
+ * fall out of the cache sooner. The sources count in the sweep's cand array, all zero until the
+ * sweep begins, and zero it again after: a scratch array of that size would add to the peak.
  */
-static uint32_t *count_canonical(const struct vis_events *ev, size_t *total, uint32_t *first,
-				 uint32_t *lists)
+static void count_canonical(const struct vis_events *ev, uint32_t *count, size_t *total,
+			    uint32_t *first, uint32_t *lists)
 {
 	uint32_t m = ev->nleaves, canon[VIS_SEGTREE_MAX_CANONICAL];
-	uint32_t *count = vis_bigalloc(vis_segtree_entries(m) * sizeof(*count), true);
-	if (!count) {
-		errno = ENOMEM;
-		return NULL;
-	}
 	*total = 0;
 	for (size_t k = 0; k < ev->n; k++) {
 		uint32_t *out = lists ? lists + *total : canon;
@@ -168,7 +164,6 @@ static uint32_t *count_canonical(const struct vis_events *ev, size_t *total, uin
 	}
 	if (first)
 		first[ev->n] = (uint32_t)*total;
-	return count;
 }
 
 static inline bool is_reported(const struct sweep *s, uint32_t z)
