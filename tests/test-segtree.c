@@ -5,16 +5,7 @@
 
 #include "events.h"
 #include "segtree.h"
-
-static int failures;
-
-#define CHECK(cond)                                                                  \
-	do {                                                                         \
-		if (!(cond)) {                                                       \
-			fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond); \
-			failures++;                                                  \
-		}                                                                    \
-	} while (0)
+#include "check.h"
 
 /*
  * Records every node's interval and entry (e: the entry its parent gives it) by walking the
