@@ -2,8 +2,7 @@
 
 #include "segtree.h"
 
-/* The canonical decomposition, left to right. */
-static size_t canonical(uint32_t m, uint32_t a, uint32_t b, uint32_t *out)
+size_t vis_segtree_canonical(uint32_t m, uint32_t a, uint32_t b, uint32_t *out)
 {
 	/* An explicit stack instead of recursion: the right halves still to visit. */
 	struct frame {
@@ -36,67 +35,60 @@ static size_t canonical(uint32_t m, uint32_t a, uint32_t b, uint32_t *out)
 	}
 }
 
-size_t vis_segtree_canonical(uint32_t m, uint32_t a, uint32_t b, uint32_t *out)
+/* A node on a walk: its pre-order index, interval [lo, hi) and entry. */
+struct node {
+	uint32_t v, lo, hi, e;
+};
+
+/* Moves an internal node to its left or right child. */
+static inline void down(struct node *n, bool left)
 {
-	return canonical(m, a, b, out);
+	uint32_t mid = vis_segtree_mid(n->lo, n->hi), rec = n->v - n->lo;
+	if (left) {
+		n->v = vis_segtree_left(n->v);
+		n->hi = mid;
+	} else {
+		n->v = vis_segtree_right(n->v, n->lo, mid);
+		n->lo = mid;
+	}
+	n->e = 2 * rec + !left;
 }
 
 /*
- * One end's path below the split node: from node v covering [lo, hi), entry e, down to the node
- * whose interval begins at a (left) or ends at b (right), writing the canonical children off the
- * path top-down and that node last.
+ * One end's path below the split node, from its child n down to the node whose interval begins at
+ * a (left) or ends at b (right), writing the canonical children off the path top-down and that
+ * node last.
  */
-static size_t side_entries(uint32_t v, uint32_t lo, uint32_t hi, uint32_t e, uint32_t a,
-			   uint32_t b, bool left, uint32_t *out)
+static size_t side_entries(struct node n, uint32_t a, uint32_t b, bool left, uint32_t *out)
 {
 	size_t count = 0;
-	while (left ? a > lo : b < hi) {
-		uint32_t mid = vis_segtree_mid(lo, hi), rec = v - lo;
-		if (left && a < mid) {
-			out[count++] = 2 * rec + 1;
-			v = vis_segtree_left(v);
-			hi = mid;
-			e = 2 * rec;
-		} else if (!left && b > mid) {
-			out[count++] = 2 * rec;
-			v = vis_segtree_right(v, lo, mid);
-			lo = mid;
-			e = 2 * rec + 1;
-		} else if (left) {
-			v = vis_segtree_right(v, lo, mid);
-			lo = mid;
-			e = 2 * rec + 1;
-		} else {
-			v = vis_segtree_left(v);
-			hi = mid;
-			e = 2 * rec;
-		}
+	while (left ? a > n.lo : b < n.hi) {
+		uint32_t mid = vis_segtree_mid(n.lo, n.hi);
+		/* Whether the child away from the range's end lies inside the range. */
+		bool inside = left ? a < mid : b > mid;
+		bool go_left = left == inside;
+		if (inside)
+			out[count++] = 2 * (n.v - n.lo) + go_left; /* the other child */
+		down(&n, go_left);
 	}
-	out[count++] = e;
+	out[count++] = n.e;
 	return count;
 }
 
 size_t vis_segtree_canonical_entries(uint32_t m, uint32_t a, uint32_t b, uint32_t *out)
 {
-	uint32_t v = 0, lo = 0, hi = m, e = vis_segtree_root_entry(m);
-	for (;;) {
-		if (a <= lo && hi <= b) {
-			out[0] = e;
-			return 1;
+	struct node n = { 0, 0, m, vis_segtree_root_entry(m) };
+	while (!(a <= n.lo && n.hi <= b)) {
+		uint32_t mid = vis_segtree_mid(n.lo, n.hi);
+		if (a < mid && b > mid) {
+			struct node l = n, r = n;
+			down(&l, true);
+			down(&r, false);
+			size_t c = side_entries(l, a, b, true, out);
+			return c + side_entries(r, a, b, false, out + c);
 		}
-		uint32_t mid = vis_segtree_mid(lo, hi), rec = v - lo;
-		if (b <= mid) {
-			v = vis_segtree_left(v);
-			hi = mid;
-			e = 2 * rec;
-		} else if (a >= mid) {
-			v = vis_segtree_right(v, lo, mid);
-			lo = mid;
-			e = 2 * rec + 1;
-		} else {
-			size_t c = side_entries(vis_segtree_left(v), lo, mid, 2 * rec, a, b, true, out);
-			return c + side_entries(vis_segtree_right(v, lo, mid), mid, hi, 2 * rec + 1, a, b,
-						false, out + c);
-		}
+		down(&n, b <= mid);
 	}
+	out[0] = n.e;
+	return 1;
 }

@@ -123,7 +123,8 @@ WALK_INLINE uint32_t at_path(enum walk_kind kind, const struct entry *e, const s
  * without lying inside it) form a path from the root to the split node, then at most one path
  * below each of its children, along which the range's ends run. Each path node has at most one
  * canonical child off the path. Going down gathers S and does the canonical steps; coming back up
- * refreshes the path nodes below a changed child, deepest first.
+ * refreshes the path nodes below a changed child, deepest first. The canonical steps come in the
+ * order vis_segtree_canonical_entries() lists them, which gmv's stream of slots relies on.
  */
 struct hop {
 	struct entry *e;  /* the node's entry */
