@@ -2,6 +2,7 @@
 #ifndef VIS_SEGTREE_H
 #define VIS_SEGTREE_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -56,6 +57,20 @@ static inline uint32_t vis_segtree_left(uint32_t v)
 static inline uint32_t vis_segtree_right(uint32_t v, uint32_t lo, uint32_t mid)
 {
 	return v + 2 * (mid - lo);
+}
+
+/*
+ * Moves node v covering [*lo, *hi) (*hi − *lo ≥ 2) to its right child if right, else to its left
+ * one, and returns the child. Without a branch: a walk's turns are coin tosses that the branch
+ * predictor loses, at some 15 cycles each. O(1).
+ */
+static inline uint32_t vis_segtree_down(uint32_t v, uint32_t *lo, uint32_t *hi, bool right)
+{
+	uint32_t mid = vis_segtree_mid(*lo, *hi), mask = -(uint32_t)right;
+	v += 1 + (mask & (2 * (mid - *lo) - 1));
+	*lo += mask & (mid - *lo);
+	*hi = mid + (mask & (*hi - mid));
+	return v;
 }
 
 /* The number of nodes of a tree over m leaves (0 for m = 0). O(1). */

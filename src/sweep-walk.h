@@ -66,13 +66,13 @@ WALK_INLINE bool delete_at(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi
 /*
  * What a walk does: an event's work, or, ahead of it, prefetching what it will read. The sweep
  * waits on memory, and an event's nodes do not depend on the data, so the records of the nodes an
- * event will visit are prefetched several events ahead, and what the top source reads at their
- * canonical nodes (found through those records, by then in the cache) a few events ahead.
+ * event will visit are prefetched several events ahead (prefetch_nodes), and what the top source
+ * reads at their canonical nodes (found through those records, by then in the cache) a few events
+ * ahead.
  */
 enum walk_kind {
 	WALK_INSERT,
 	WALK_DELETE,
-	WALK_PREFETCH_NODES,
 	WALK_PREFETCH_SOURCE,
 };
 
@@ -100,8 +100,6 @@ WALK_INLINE bool at_canonical(struct sweep *s, enum walk_kind kind, const struct
 		return insert_at(s, e, S);
 	case WALK_DELETE:
 		return delete_at(s, v, lo, hi, e, S);
-	case WALK_PREFETCH_NODES:
-		return false; /* its entry is in its parent's record */
 	case WALK_PREFETCH_SOURCE:
 		source_prefetch(s->src, e, STEP_Z(st->zf), st->zf & STEP_DELETE);
 		return false;
@@ -109,13 +107,10 @@ WALK_INLINE bool at_canonical(struct sweep *s, enum walk_kind kind, const struct
 	return false;
 }
 
-/* The walk's step at a path node (entry e, record r): S gathers its top, or r is prefetched. */
-WALK_INLINE uint32_t at_path(enum walk_kind kind, const struct entry *e, const struct record *r,
-			     uint32_t S)
+/* The walk's step at a path node with entry e: S gathers its top. */
+WALK_INLINE uint32_t at_path(enum walk_kind kind, const struct entry *e, uint32_t S)
 {
-	if (kind == WALK_PREFETCH_NODES)
-		__builtin_prefetch(r);
-	return kind == WALK_INSERT || kind == WALK_DELETE ? max32(S, e->top) : S;
+	return kind == WALK_PREFETCH_SOURCE ? S : max32(S, e->top);
 }
 
 /*
@@ -159,7 +154,7 @@ WALK_INLINE bool walk_side(struct sweep *s, enum walk_kind kind, const struct st
 			break;
 		struct record *r = &s->rec[v - lo];
 		uint32_t mid = vis_segtree_mid(lo, hi);
-		S = at_path(kind, e, r, S);
+		S = at_path(kind, e, S);
 		hop[d] = (struct hop){ e, r, false };
 		if (left && st->lo < mid) {
 			/* [mid, hi) lies inside the range. */
@@ -206,7 +201,7 @@ WALK_INLINE void walk(struct sweep *s, enum walk_kind kind, const struct step *s
 		}
 		struct record *r = &s->rec[v - lo];
 		uint32_t mid = vis_segtree_mid(lo, hi);
-		S = at_path(kind, e, r, S);
+		S = at_path(kind, e, S);
 		hop[d++] = (struct hop){ e, r, false };
 		if (st->hi <= mid) {
 			v = vis_segtree_left(v);
@@ -238,9 +233,26 @@ static void walk_delete(struct sweep *s, const struct step *st, uint32_t m)
 	walk(s, WALK_DELETE, st, m);
 }
 
+/*
+ * Prefetches the records on the path from the root toward leaf x that an event over [a, b) passes
+ * through. Its turns are data, not branches: this walk has nothing else to do, and a walk's turns
+ * are coin tosses that would cost it a misprediction a level.
+ */
+static inline void prefetch_path(const struct sweep *s, uint32_t m, uint32_t a, uint32_t b,
+				 uint32_t x)
+{
+	uint32_t v = 0, lo = 0, hi = m;
+	while (!(a <= lo && hi <= b)) {
+		__builtin_prefetch(&s->rec[v - lo]);
+		v = vis_segtree_down(v, &lo, &hi, x >= vis_segtree_mid(lo, hi));
+	}
+}
+
+/* Prefetches the records of the path nodes of the event of step st. */
 static void prefetch_nodes(struct sweep *s, const struct step *st, uint32_t m)
 {
-	walk(s, WALK_PREFETCH_NODES, st, m);
+	prefetch_path(s, m, st->lo, st->hi, st->lo);
+	prefetch_path(s, m, st->lo, st->hi, st->hi - 1);
 }
 
 static void prefetch_source(struct sweep *s, const struct step *st, uint32_t m)
