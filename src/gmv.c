@@ -25,7 +25,10 @@
 /* How far down the stream the top is prefetched: about three deletions' canonical steps. */
 #define STREAM_AHEAD 48
 
-/* How many events ahead the numbering prefetches its cursors, and twice that its lists. */
+/*
+ * How many events ahead the numbering prefetches its cursors; twice that, the window's lists (both
+ * ends: a list is one to two lines); three times that, where the lists begin.
+ */
 #define NUMBER_AHEAD 8
 
 /* How far ahead the filling prefetches its union-find's entries. */
@@ -134,8 +137,18 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 			for (uint32_t j = first[k]; j < first[k + 1]; j++)
 				__builtin_prefetch(&cursor[canon[j]]);
 		}
-		if (i + 2 * NUMBER_AHEAD < 2 * n)
-			__builtin_prefetch(&canon[first[STEP_Z(steps[i + 2 * NUMBER_AHEAD].zf) - 1]]);
+		if (i + 2 * NUMBER_AHEAD < 2 * n) {
+			const struct step *ahead = &steps[i + 2 * NUMBER_AHEAD];
+			uint32_t k = STEP_Z(ahead->zf) - 1, j = first[k], end = first[k + 1] - 1;
+			__builtin_prefetch(&canon[j]);
+			__builtin_prefetch(&canon[end]);
+			if (!(ahead->zf & STEP_DELETE)) {
+				__builtin_prefetch(&after[j], 1);
+				__builtin_prefetch(&after[end], 1);
+			}
+		}
+		if (i + 3 * NUMBER_AHEAD < 2 * n)
+			__builtin_prefetch(&first[STEP_Z(steps[i + 3 * NUMBER_AHEAD].zf) - 1]);
 		uint32_t k = STEP_Z(steps[i].zf) - 1;
 		if (steps[i].zf & STEP_DELETE) {
 			del[k] = (uint32_t)src->len;
@@ -159,8 +172,11 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 			for (uint32_t j = first[later]; j < first[later + 1]; j++)
 				__builtin_prefetch(&next[after[j]]);
 		}
-		if (k >= 2 * FILL_AHEAD)
-			__builtin_prefetch(src->stream + del[k - 2 * FILL_AHEAD]);
+		if (k >= 2 * FILL_AHEAD) {
+			size_t later = k - 2 * FILL_AHEAD;
+			__builtin_prefetch(src->stream + del[later]);
+			__builtin_prefetch(src->stream + del[later] + (first[later + 1] - first[later]) - 1);
+		}
 		const uint32_t *from = after + first[k], *to = src->stream + del[k];
 		for (uint32_t j = 0; j < first[k + 1] - first[k]; j++) {
 			for (uint32_t s = next_free(next, from[j]); s < to[j]; s = next_free(next, s)) {

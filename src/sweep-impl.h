@@ -151,16 +151,29 @@ static inline struct entry *entry_at(struct sweep *s, uint32_t m, uint32_t e)
 static void count_canonical(const struct vis_events *ev, uint32_t *count, size_t *total,
 			    uint32_t *first, uint32_t *lists)
 {
-	uint32_t m = ev->nleaves, canon[VIS_SEGTREE_MAX_CANONICAL];
+	/* Window k's entries are counted COUNT_AHEAD windows after they are found and prefetched. */
+	enum { COUNT_AHEAD = 8, RING = COUNT_AHEAD + 1 };
+	uint32_t m = ev->nleaves, ring[RING][VIS_SEGTREE_MAX_CANONICAL];
+	size_t len[RING] = { 0 };
 	*total = 0;
-	for (size_t k = 0; k < ev->n; k++) {
-		uint32_t *out = lists ? lists + *total : canon;
-		if (first)
-			first[k] = (uint32_t)*total;
-		size_t c = vis_segtree_canonical_entries(m, ev->lo[k], ev->hi[k], out);
-		for (size_t j = 0; j < c; j++)
-			count[out[j]]++;
-		*total += c;
+	for (size_t k = 0; k < ev->n + COUNT_AHEAD; k++) {
+		if (k < ev->n) {
+			uint32_t *out = ring[k % RING];
+			size_t c = vis_segtree_canonical_entries(m, ev->lo[k], ev->hi[k], out);
+			for (size_t j = 0; j < c; j++)
+				__builtin_prefetch(&count[out[j]], 1);
+			if (first)
+				first[k] = (uint32_t)*total;
+			if (lists)
+				memcpy(lists + *total, out, c * sizeof(*out));
+			len[k % RING] = c;
+			*total += c;
+		}
+		if (k >= COUNT_AHEAD) {
+			const uint32_t *in = ring[(k - COUNT_AHEAD) % RING];
+			for (size_t j = 0; j < len[(k - COUNT_AHEAD) % RING]; j++)
+				count[in[j]]++;
+		}
 	}
 	if (first)
 		first[ev->n] = (uint32_t)*total;
