@@ -76,7 +76,7 @@ enum walk_kind {
 	WALK_PREFETCH_SOURCE,
 };
 
-#define PREFETCH_NODES_AHEAD 8
+#define PREFETCH_NODES_AHEAD 16
 #define PREFETCH_SOURCE_AHEAD 2
 
 /*
