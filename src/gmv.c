@@ -78,13 +78,17 @@ static void source_free(struct source *src)
 	vis_bigfree(src->stream);
 }
 
-/* The union-find root: the first unfilled slot at or after s. */
-static inline uint32_t next_free(uint32_t *next, uint32_t s)
+/*
+ * The union-find root, the first unfilled slot at or after s, or a slot at or after limit before
+ * it: the caller wants no slot there, and reading whether it is filled would be a cache miss (the
+ * links reach far, and most of a window's slots are filled before it comes).
+ */
+static inline uint32_t next_free(uint32_t *next, uint32_t s, uint32_t limit)
 {
 	uint32_t r = s;
-	while (next[r] != r)
+	while (r < limit && next[r] != r)
 		r = next[r];
-	while (next[s] != r) {
+	while (s != r) {
 		uint32_t up = next[s];
 		next[s] = r;
 		s = up;
@@ -179,7 +183,8 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 		}
 		const uint32_t *from = after + first[k], *to = src->stream + del[k];
 		for (uint32_t j = 0; j < first[k + 1] - first[k]; j++) {
-			for (uint32_t s = next_free(next, from[j]); s < to[j]; s = next_free(next, s)) {
+			for (uint32_t s = next_free(next, from[j], to[j]); s < to[j];
+			     s = next_free(next, s, to[j])) {
 				src->tops[s] = (uint32_t)k + 1;
 				next[s] = s + 1;
 			}
