@@ -151,8 +151,12 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 				__builtin_prefetch(&after[end], 1);
 			}
 		}
-		if (i + 3 * NUMBER_AHEAD < 2 * n)
-			__builtin_prefetch(&first[STEP_Z(steps[i + 3 * NUMBER_AHEAD].zf) - 1]);
+		if (i + 3 * NUMBER_AHEAD < 2 * n) {
+			const struct step *ahead = &steps[i + 3 * NUMBER_AHEAD];
+			__builtin_prefetch(&first[STEP_Z(ahead->zf) - 1]);
+			if (ahead->zf & STEP_DELETE)
+				__builtin_prefetch(&del[STEP_Z(ahead->zf) - 1], 1);
+		}
 		uint32_t k = STEP_Z(steps[i].zf) - 1;
 		if (steps[i].zf & STEP_DELETE) {
 			del[k] = (uint32_t)src->len;
