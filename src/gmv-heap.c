@@ -22,7 +22,7 @@
 
 struct source {
 	uint32_t *a;
-	uint8_t *dead; /* by z */
+	uint64_t *dead; /* a bit by z: the heaps test it for every window they sift, at random */
 };
 
 #include "sweep-impl.h"
@@ -30,6 +30,11 @@ struct source {
 #include "heap.h"
 
 enum { HEAP_OFF, HEAP_LEN, HEAP_ORDERED };
+
+static inline bool is_dead(const struct source *src, uint32_t z)
+{
+	return src->dead[z / 64] >> (z % 64) & 1;
+}
 
 static inline uint32_t source_insert(struct source *src, struct entry *e, uint32_t z)
 {
@@ -52,7 +57,7 @@ static inline uint32_t source_remove(struct source *src, struct entry *e, uint32
 		 */
 		uint32_t live = 0;
 		for (uint32_t i = 0; i < len; i++) {
-			if (!src->dead[a[i]])
+			if (!is_dead(src, a[i]))
 				a[live++] = a[i];
 		}
 		vis_heap_build(a, live);
@@ -61,11 +66,11 @@ static inline uint32_t source_remove(struct source *src, struct entry *e, uint32
 		/* The dead among the appended would only be popped again. */
 		uint32_t i = ordered;
 		for (uint32_t j = ordered; j < len; j++) {
-			if (!src->dead[a[j]])
+			if (!is_dead(src, a[j]))
 				vis_heap_push(a, &i, a[j]);
 		}
 		len = i;
-		while (len && src->dead[a[0]])
+		while (len && is_dead(src, a[0]))
 			vis_heap_pop(a, &len);
 	}
 	e->aux[HEAP_LEN] = e->aux[HEAP_ORDERED] = len;
@@ -84,7 +89,7 @@ static inline void source_prefetch(const struct source *src, const struct entry 
 
 static inline void source_deleted(struct source *src, uint32_t z)
 {
-	src->dead[z] = 1;
+	src->dead[z / 64] |= (uint64_t)1 << (z % 64);
 }
 
 static void source_free(struct source *src)
@@ -100,7 +105,7 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 	uint32_t m = ev->nleaves;
 	size_t total;
 	src->a = NULL;
-	src->dead = calloc(ev->n + 1, 1);
+	src->dead = calloc(ev->n / 64 + 1, sizeof(*src->dead));
 	count_canonical(ev, s->cand, &total, NULL, NULL);
 	if (total > UINT32_MAX) {
 		memset(s->cand, 0, vis_segtree_entries(m) * sizeof(*s->cand));
