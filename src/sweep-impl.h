@@ -454,6 +454,15 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 	bool prefetch = prefetch_pays(m);
 	for (size_t i = 0; i < 2 * n; i++) {
 		const struct step *st = &steps[i];
+		if (prefetch && i + PREFETCH_WINDOW_AHEAD < 2 * n) {
+			/* The window's flags: read at random z, and out of the L2 on large stacks. */
+			uint32_t z = STEP_Z(st[PREFETCH_WINDOW_AHEAD].zf);
+			if (SOURCE_LAZY_DELETE)
+				__builtin_prefetch(&s.ntop[z]);
+			__builtin_prefetch(&s.cstate[z]);
+			if (!(st[PREFETCH_WINDOW_AHEAD].zf & STEP_DELETE))
+				__builtin_prefetch(&onscreen[z - 1]);
+		}
 		if (prefetch && SOURCE_PREFETCH && i + PREFETCH_SOURCE_AHEAD < 2 * n &&
 		    walks(&s, st + PREFETCH_SOURCE_AHEAD))
 			prefetch_source(&s, st + PREFETCH_SOURCE_AHEAD, m);

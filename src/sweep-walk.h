@@ -78,6 +78,8 @@ enum walk_kind {
 
 #define PREFETCH_NODES_AHEAD 16
 #define PREFETCH_SOURCE_AHEAD 2
+/* Far enough that walks() finds a window's ntop in the cache at PREFETCH_NODES_AHEAD. */
+#define PREFETCH_WINDOW_AHEAD (2 * PREFETCH_NODES_AHEAD)
 
 /*
  * Below this much tree the caches hold it (screen-bound scenes have a few thousand leaves
