@@ -391,6 +391,8 @@ static void sweep_free(struct sweep *s)
 	free(s->found);
 }
 
+#define STEPS_AHEAD 16
+
 /* The schedule as steps; NULL (ENOMEM) on failure. */
 static struct step *make_steps(const struct vis_events *ev, const uint32_t *sched)
 {
@@ -402,6 +404,14 @@ static struct step *make_steps(const struct vis_events *ev, const uint32_t *sche
 	}
 	int64_t next_x = 0;
 	for (size_t i = count; i-- > 0;) {
+		if (i >= STEPS_AHEAD) {
+			/* The windows' fields are read in x order: at random. */
+			uint32_t later = VIS_EV_WINDOW(sched[i - STEPS_AHEAD]);
+			__builtin_prefetch(VIS_EV_IS_DELETE(sched[i - STEPS_AHEAD]) ? &ev->x2[later]
+										     : &ev->x1[later]);
+			__builtin_prefetch(&ev->lo[later]);
+			__builtin_prefetch(&ev->hi[later]);
+		}
 		uint32_t k = VIS_EV_WINDOW(sched[i]);
 		bool del = VIS_EV_IS_DELETE(sched[i]);
 		int64_t x = del ? ev->x2[k] : ev->x1[k];
