@@ -43,8 +43,15 @@ struct node {
 /* Moves an internal node to its left or right child. */
 static inline void down(struct node *n, bool left)
 {
-	n->e = 2 * (n->v - n->lo) + !left;
-	n->v = vis_segtree_down(n->v, &n->lo, &n->hi, !left);
+	uint32_t mid = vis_segtree_mid(n->lo, n->hi), rec = n->v - n->lo;
+	if (left) {
+		n->v = vis_segtree_left(n->v);
+		n->hi = mid;
+	} else {
+		n->v = vis_segtree_right(n->v, n->lo, mid);
+		n->lo = mid;
+	}
+	n->e = 2 * rec + !left;
 }
 
 /*
@@ -60,8 +67,8 @@ static size_t side_entries(struct node n, uint32_t a, uint32_t b, bool left, uin
 		/* Whether the child away from the range's end lies inside the range. */
 		bool inside = left ? a < mid : b > mid;
 		bool go_left = left == inside;
-		out[count] = 2 * (n.v - n.lo) + go_left; /* the other child, kept if inside */
-		count += inside;
+		if (inside)
+			out[count++] = 2 * (n.v - n.lo) + go_left; /* the other child */
 		down(&n, go_left);
 	}
 	out[count++] = n.e;
