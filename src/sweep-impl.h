@@ -474,10 +474,10 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 				__builtin_prefetch(&onscreen[z - 1]);
 		}
 		if (prefetch && SOURCE_PREFETCH && i + PREFETCH_SOURCE_AHEAD < 2 * n &&
-		    walks(&s, st + PREFETCH_SOURCE_AHEAD))
+		    !near_previous(st + PREFETCH_SOURCE_AHEAD) && walks(&s, st + PREFETCH_SOURCE_AHEAD))
 			prefetch_source(&s, st + PREFETCH_SOURCE_AHEAD, m);
 		if (prefetch && i + PREFETCH_NODES_AHEAD < 2 * n &&
-		    walks(&s, st + PREFETCH_NODES_AHEAD))
+		    !near_previous(st + PREFETCH_NODES_AHEAD) && walks(&s, st + PREFETCH_NODES_AHEAD))
 			prefetch_nodes(&s, st + PREFETCH_NODES_AHEAD, m);
 		set_step(&s, st);
 		if (st->zf & STEP_DELETE) {

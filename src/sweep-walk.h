@@ -87,6 +87,22 @@ enum walk_kind {
  */
 #define PREFETCH_MIN_BYTES ((size_t)8 << 20)
 
+/* Leaves apart below which consecutive events share all but the last few levels of their paths. */
+#define PREFETCH_NEAR_LEAVES 32
+
+/*
+ * Whether the event of step st (not the first) runs within a few leaves of the one before it, as
+ * stacks of thin bars in y order do: its paths are then those just walked, in the cache, and
+ * computing them again to prefetch them, and what the source reads there, would only add
+ * instructions (a fifth of the sweep on the grid).
+ */
+static inline bool near_previous(const struct step *st)
+{
+	uint32_t d_lo = st->lo > st[-1].lo ? st->lo - st[-1].lo : st[-1].lo - st->lo;
+	uint32_t d_hi = st->hi > st[-1].hi ? st->hi - st[-1].hi : st[-1].hi - st->hi;
+	return d_lo < PREFETCH_NEAR_LEAVES && d_hi < PREFETCH_NEAR_LEAVES;
+}
+
 /* Whether a tree over m leaves is large enough for prefetching to pay. */
 static inline bool prefetch_pays(uint32_t m)
 {
@@ -236,25 +252,37 @@ static void walk_delete(struct sweep *s, const struct step *st, uint32_t m)
 }
 
 /*
- * Prefetches the records on the path from the root toward leaf x that an event over [a, b) passes
- * through. Its turns are data, not branches: this walk has nothing else to do, and a walk's turns
- * are coin tosses that would cost it a misprediction a level.
+ * Prefetches the records on the path from node v covering [lo, hi) toward leaf x that an event
+ * over [a, b) passes through. Its turns are data, not branches: this walk has nothing else to do,
+ * and a walk's turns are coin tosses that would cost it a misprediction a level.
  */
-static inline void prefetch_path(const struct sweep *s, uint32_t m, uint32_t a, uint32_t b,
-				 uint32_t x)
+static inline void prefetch_path(const struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi,
+				 uint32_t a, uint32_t b, uint32_t x)
 {
-	uint32_t v = 0, lo = 0, hi = m;
 	while (!(a <= lo && hi <= b)) {
 		__builtin_prefetch(&s->rec[v - lo]);
 		v = vis_segtree_down(v, &lo, &hi, x >= vis_segtree_mid(lo, hi));
 	}
 }
 
-/* Prefetches the records of the path nodes of the event of step st. */
+/*
+ * Prefetches the records of the path nodes of the event of step st: down to the split node once,
+ * then along each side.
+ */
 static void prefetch_nodes(struct sweep *s, const struct step *st, uint32_t m)
 {
-	prefetch_path(s, m, st->lo, st->hi, st->lo);
-	prefetch_path(s, m, st->lo, st->hi, st->hi - 1);
+	uint32_t a = st->lo, b = st->hi, v = 0, lo = 0, hi = m, mid;
+	for (;;) {
+		if (a <= lo && hi <= b)
+			return;
+		__builtin_prefetch(&s->rec[v - lo]);
+		mid = vis_segtree_mid(lo, hi);
+		if (a < mid && b > mid)
+			break;
+		v = vis_segtree_down(v, &lo, &hi, a >= mid);
+	}
+	prefetch_path(s, vis_segtree_left(v), lo, mid, a, b, a);
+	prefetch_path(s, vis_segtree_right(v, lo, mid), mid, hi, a, b, b - 1);
 }
 
 static void prefetch_source(struct sweep *s, const struct step *st, uint32_t m)
