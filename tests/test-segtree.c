@@ -23,6 +23,12 @@ static void walk(uint32_t v, uint32_t lo, uint32_t hi, uint32_t e, uint32_t *nlo
 	nent[v] = e;
 	if (hi - lo > 1) {
 		uint32_t mid = vis_segtree_mid(lo, hi);
+		/* The branchless descent lands where the layout says. */
+		uint32_t llo = lo, lhi = hi, rlo = lo, rhi = hi;
+		CHECK(vis_segtree_down(v, &llo, &lhi, false) == vis_segtree_left(v));
+		CHECK(llo == lo && lhi == mid);
+		CHECK(vis_segtree_down(v, &rlo, &rhi, true) == vis_segtree_right(v, lo, mid));
+		CHECK(rlo == mid && rhi == hi);
 		walk(vis_segtree_left(v), lo, mid, 2 * (v - lo), nlo, nhi, nent, nodes);
 		walk(vis_segtree_right(v, lo, mid), mid, hi, 2 * (v - lo) + 1, nlo, nhi, nent, nodes);
 	}
