@@ -79,9 +79,10 @@ static void source_free(struct source *src)
 }
 
 /*
- * The union-find root, the first unfilled slot at or after s, or a slot at or after limit before
- * it: the caller wants no slot there, and reading whether it is filled would be a cache miss (the
- * links reach far, and most of a window's slots are filled before it comes).
+ * The union-find root: the first unfilled slot at or after s, unless a link reaches limit or
+ * beyond first, in which case where it lands. The caller wants no slot there, and reading whether
+ * it is filled would be a cache miss: links reach far, and most of a window's slots are filled
+ * before it comes.
  */
 static inline uint32_t next_free(uint32_t *next, uint32_t s, uint32_t limit)
 {

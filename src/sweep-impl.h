@@ -425,6 +425,32 @@ static struct step *make_steps(const struct vis_events *ev, const uint32_t *sche
 }
 
 /*
+ * Prefetches, ahead of the event of step st (left steps from it on), what later events will read
+ * at random: their windows' flags, then their paths' records, then what the top source reads at
+ * their canonical nodes, each far enough ahead for the next to find it in the cache.
+ */
+static inline void prefetch_ahead(struct sweep *s, const struct step *st, size_t left,
+				  const uint8_t *onscreen, uint32_t m)
+{
+	if (PREFETCH_WINDOW_AHEAD < left) {
+		/* Read at random z, and out of the L2 on large stacks. */
+		const struct step *ahead = st + PREFETCH_WINDOW_AHEAD;
+		uint32_t z = STEP_Z(ahead->zf);
+		if (SOURCE_LAZY_DELETE)
+			__builtin_prefetch(&s->ntop[z]);
+		__builtin_prefetch(&s->cstate[z]);
+		if (!(ahead->zf & STEP_DELETE))
+			__builtin_prefetch(&onscreen[z - 1]);
+	}
+	if (PREFETCH_NODES_AHEAD < left && !near_previous(st + PREFETCH_NODES_AHEAD) &&
+	    walks(s, st + PREFETCH_NODES_AHEAD))
+		prefetch_nodes(s, st + PREFETCH_NODES_AHEAD, m);
+	if (SOURCE_PREFETCH && PREFETCH_SOURCE_AHEAD < left &&
+	    !near_previous(st + PREFETCH_SOURCE_AHEAD) && walks(s, st + PREFETCH_SOURCE_AHEAD))
+		prefetch_source(s, st + PREFETCH_SOURCE_AHEAD, m);
+}
+
+/*
  * Runs the sweep over the scheduled events and writes the state of every kept
  * window k into states[ev->idx[k]]; onscreen[k] says whether k lies wholly on the screen.
  * Returns 0, or -1 (ENOMEM). O(n log n) node visits, plus what the top source costs.
@@ -464,21 +490,8 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 	bool prefetch = prefetch_pays(m);
 	for (size_t i = 0; i < 2 * n; i++) {
 		const struct step *st = &steps[i];
-		if (prefetch && i + PREFETCH_WINDOW_AHEAD < 2 * n) {
-			/* The window's flags: read at random z, and out of the L2 on large stacks. */
-			uint32_t z = STEP_Z(st[PREFETCH_WINDOW_AHEAD].zf);
-			if (SOURCE_LAZY_DELETE)
-				__builtin_prefetch(&s.ntop[z]);
-			__builtin_prefetch(&s.cstate[z]);
-			if (!(st[PREFETCH_WINDOW_AHEAD].zf & STEP_DELETE))
-				__builtin_prefetch(&onscreen[z - 1]);
-		}
-		if (prefetch && SOURCE_PREFETCH && i + PREFETCH_SOURCE_AHEAD < 2 * n &&
-		    !near_previous(st + PREFETCH_SOURCE_AHEAD) && walks(&s, st + PREFETCH_SOURCE_AHEAD))
-			prefetch_source(&s, st + PREFETCH_SOURCE_AHEAD, m);
-		if (prefetch && i + PREFETCH_NODES_AHEAD < 2 * n &&
-		    !near_previous(st + PREFETCH_NODES_AHEAD) && walks(&s, st + PREFETCH_NODES_AHEAD))
-			prefetch_nodes(&s, st + PREFETCH_NODES_AHEAD, m);
+		if (prefetch)
+			prefetch_ahead(&s, st, 2 * n - i, onscreen, m);
 		set_step(&s, st);
 		if (st->zf & STEP_DELETE) {
 			source_deleted(&src, s.z);
