@@ -4,7 +4,9 @@
 #include <event2/bufferevent.h>
 #include <stdlib.h>
 #include <string.h>
+#include <stdio.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/un.h>
 #include <unistd.h>
 
@@ -68,24 +70,50 @@ static void on_accept_error(struct evconnlistener *l, void *data)
 	evtimer_add(server->listener_retry, &delay);
 }
 
-/* Opens one listening socket at an already-locked path. */
-static struct evconnlistener *listen_at(struct server *server, const char *path)
+/*
+ * Binds fd to path; if it fits, under path + ".new" first, which is renamed to path once listening.
+ * Returns the name bound (path or tmp), or NULL after logging why.
+ */
+static const char *bind_at(int fd, const char *path, char *tmp, size_t tmp_size)
 {
 	struct sockaddr_un addr = { .sun_family = AF_UNIX };
-	if (strlen(path) >= sizeof addr.sun_path) {
-		log_error("socket path '%s' is longer than %zu bytes", path,
-			  sizeof addr.sun_path - 1);
-		return NULL;
+	struct stat st;
+	unlink(path); /* stale: the lock says no other daemon serves it */
+	/* Only a socket there can be a stale one of ours: anything else is left alone. */
+	if (snprintf(tmp, tmp_size, "%s.new", path) < (int)sizeof addr.sun_path &&
+	    (lstat(tmp, &st) < 0 || (S_ISSOCK(st.st_mode) && unlink(tmp) == 0))) {
+		strcpy(addr.sun_path, tmp);
+		if (bind(fd, (struct sockaddr *)&addr, sizeof addr) == 0)
+			return tmp;
 	}
 	strcpy(addr.sun_path, path);
+	if (bind(fd, (struct sockaddr *)&addr, sizeof addr) < 0) {
+		log_error("cannot bind '%s': %s", path, strerror(errno));
+		return NULL;
+	}
+	return path;
+}
+
+/*
+ * Opens one listening socket at an already-locked path. bind() creates the socket's file and only
+ * listen() makes it answer: a client that connects as soon as the path appears (as scripts that
+ * start visd do) would be refused in between. So the socket is bound under a temporary name and
+ * renamed into place once it listens, when the name fits.
+ */
+static struct evconnlistener *listen_at(struct server *server, const char *path)
+{
+	char tmp[sizeof((struct sockaddr_un *)0)->sun_path];
+	if (strlen(path) >= sizeof tmp) {
+		log_error("socket path '%s' is longer than %zu bytes", path, sizeof tmp - 1);
+		return NULL;
+	}
 	int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
 	if (fd < 0) {
 		log_error("socket: %s", strerror(errno));
 		return NULL;
 	}
-	unlink(path); /* stale: the lock says no other daemon serves it */
-	if (bind(fd, (struct sockaddr *)&addr, sizeof addr) < 0) {
-		log_error("cannot bind '%s': %s", path, strerror(errno));
+	const char *bound = bind_at(fd, path, tmp, sizeof tmp);
+	if (!bound) {
 		close(fd);
 		return NULL;
 	}
@@ -95,7 +123,13 @@ static struct evconnlistener *listen_at(struct server *server, const char *path)
 	if (!l) {
 		log_error("cannot listen on '%s': %s", path, strerror(errno));
 		close(fd);
-		unlink(path);
+		unlink(bound);
+		return NULL;
+	}
+	if (bound == tmp && rename(tmp, path) < 0) {
+		log_error("cannot rename '%s' to '%s': %s", tmp, path, strerror(errno));
+		evconnlistener_free(l);
+		unlink(tmp);
 		return NULL;
 	}
 	evconnlistener_set_error_cb(l, on_accept_error);

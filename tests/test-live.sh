@@ -237,6 +237,27 @@ for _ in $(seq 100); do [ -S "$dir/open/s" ] && break; sleep 0.05; done
 [ -S "$dir/open/s" ] || fail "a sticky directory was refused: $(cat "$dir/err")"
 kill $spid
 wait $spid || fail "visd in a sticky directory exited $?"
+# The socket appears only once it answers (bound as SOCKET.new, renamed when listening), so a
+# client may connect the moment it sees the path. A file named SOCKET.new that is not a socket
+# is left alone, and the socket is then bound in place.
+echo keep >"$dir/kept.new"
+"$visd" --socket "$dir/pub.new" 2>/dev/null & # killed outright: leaves a stale socket there
+npid=$!
+for _ in $(seq 500); do [ -S "$dir/pub.new" ] && break; sleep 0.01; done
+kill -9 $npid
+wait $npid 2>/dev/null
+[ -S "$dir/pub.new" ] || fail "no stale socket to test with"
+for name in pub kept; do
+	"$visd" --socket "$dir/$name" 2>"$dir/err" &
+	npid=$!
+	for _ in $(seq 500); do [ -S "$dir/$name" ] && break; sleep 0.01; done
+	"$visctl" -s "$dir/$name" states >/dev/null 2>"$dir/err.c" ||
+		fail "$name: refused as the socket appeared: $(cat "$dir/err.c" "$dir/err")"
+	kill $npid
+	wait $npid || fail "visd --socket $dir/$name exited $?"
+done
+[ ! -e "$dir/pub.new" ] || fail "the temporary socket name was left behind"
+[ "$(cat "$dir/kept.new")" = keep ] || fail "a file named like the temporary socket was removed"
 # A client past --max-clients hears why, even when its hello meets a closed socket.
 "$visd" --socket "$dir/lim" --max-clients 1 2>/dev/null &
 lpid=$!
