@@ -1,6 +1,7 @@
 /* The daemon's shared state: listeners, the window tree, recomputes and the notice fan-out. */
 #include <errno.h>
 #include <fcntl.h>
+#include <stdbool.h>
 #include <event2/bufferevent.h>
 #include <stdlib.h>
 #include <string.h>
@@ -70,6 +71,19 @@ static void on_accept_error(struct evconnlistener *l, void *data)
 	evtimer_add(server->listener_retry, &delay);
 }
 
+/* Whether something listens at the socket path: a live socket, not a stale one. */
+static bool socket_answers(const char *path)
+{
+	struct sockaddr_un addr = { .sun_family = AF_UNIX };
+	strcpy(addr.sun_path, path);
+	int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+	if (fd < 0)
+		return true; /* cannot tell: leave it */
+	bool live = connect(fd, (struct sockaddr *)&addr, sizeof addr) == 0 || errno == EAGAIN;
+	close(fd);
+	return live;
+}
+
 /*
  * Binds fd to path; if it fits, under path + ".new" first, which is renamed to path once listening.
  * Returns the name bound (path or tmp), or NULL after logging why.
@@ -79,9 +93,13 @@ static const char *bind_at(int fd, const char *path, char *tmp, size_t tmp_size)
 	struct sockaddr_un addr = { .sun_family = AF_UNIX };
 	struct stat st;
 	unlink(path); /* stale: the lock says no other daemon serves it */
-	/* Only a socket there can be a stale one of ours: anything else is left alone. */
+	/*
+	 * Only a socket nobody listens on can be a stale one of ours: anything else there (a file,
+	 * another daemon's socket) is left alone.
+	 */
 	if (snprintf(tmp, tmp_size, "%s.new", path) < (int)sizeof addr.sun_path &&
-	    (lstat(tmp, &st) < 0 || (S_ISSOCK(st.st_mode) && unlink(tmp) == 0))) {
+	    (lstat(tmp, &st) < 0 ||
+	     (S_ISSOCK(st.st_mode) && !socket_answers(tmp) && unlink(tmp) == 0))) {
 		strcpy(addr.sun_path, tmp);
 		if (bind(fd, (struct sockaddr *)&addr, sizeof addr) == 0)
 			return tmp;

@@ -238,19 +238,23 @@ for _ in $(seq 100); do [ -S "$dir/open/s" ] && break; sleep 0.05; done
 kill $spid
 wait $spid || fail "visd in a sticky directory exited $?"
 # The socket appears only once it answers (bound as SOCKET.new, renamed when listening), so a
-# client may connect the moment it sees the path. A file named SOCKET.new that is not a socket
-# is left alone, and the socket is then bound in place.
-echo keep >"$dir/kept.new"
+# client may connect the moment it sees the path. A stale socket named SOCKET.new is replaced;
+# anything else there (a file, another daemon's socket) is left alone, the socket bound in place.
+wait_socket() { for _ in $(seq 500); do [ -S "$1" ] && return; sleep 0.01; done; }
 "$visd" --socket "$dir/pub.new" 2>/dev/null & # killed outright: leaves a stale socket there
 npid=$!
-for _ in $(seq 500); do [ -S "$dir/pub.new" ] && break; sleep 0.01; done
+wait_socket "$dir/pub.new"
 kill -9 $npid
 wait $npid 2>/dev/null
 [ -S "$dir/pub.new" ] || fail "no stale socket to test with"
-for name in pub kept; do
+echo keep >"$dir/kept.new"
+"$visd" --socket "$dir/live.new" 2>/dev/null &
+livepid=$!
+wait_socket "$dir/live.new"
+for name in pub kept live; do
 	"$visd" --socket "$dir/$name" 2>"$dir/err" &
 	npid=$!
-	for _ in $(seq 500); do [ -S "$dir/$name" ] && break; sleep 0.01; done
+	wait_socket "$dir/$name"
 	"$visctl" -s "$dir/$name" states >/dev/null 2>"$dir/err.c" ||
 		fail "$name: refused as the socket appeared: $(cat "$dir/err.c" "$dir/err")"
 	kill $npid
@@ -258,6 +262,9 @@ for name in pub kept; do
 done
 [ ! -e "$dir/pub.new" ] || fail "the temporary socket name was left behind"
 [ "$(cat "$dir/kept.new")" = keep ] || fail "a file named like the temporary socket was removed"
+"$visctl" -s "$dir/live.new" states >/dev/null || fail "another daemon's socket was taken"
+kill $livepid
+wait $livepid || fail "visd --socket $dir/live.new exited $?"
 # A client past --max-clients hears why, even when its hello meets a closed socket.
 "$visd" --socket "$dir/lim" --max-clients 1 2>/dev/null &
 lpid=$!
