@@ -85,25 +85,35 @@ static bool socket_answers(const char *path)
 }
 
 /*
- * Binds fd to path; if it fits, under path + ".new" first, which is renamed to path once listening.
- * Returns the name bound (path or tmp), or NULL after logging why.
+ * Binds fd to the temporary name tmp, unless it is too long or taken: only a socket nobody listens
+ * on there is a stale one of ours, and anything else (a file, another daemon's socket) is left
+ * alone.
  */
-static const char *bind_at(int fd, const char *path, char *tmp, size_t tmp_size)
+static bool bind_staged(int fd, const char *tmp, int len)
 {
 	struct sockaddr_un addr = { .sun_family = AF_UNIX };
 	struct stat st;
+	if (len < 0 || len >= (int)sizeof addr.sun_path)
+		return false;
+	if (lstat(tmp, &st) == 0 &&
+	    (!S_ISSOCK(st.st_mode) || socket_answers(tmp) || unlink(tmp) < 0))
+		return false;
+	strcpy(addr.sun_path, tmp);
+	return bind(fd, (struct sockaddr *)&addr, sizeof addr) == 0;
+}
+
+/*
+ * Binds fd under a temporary name, path + ".new" or, if that is taken, path + ".PID.new", to be
+ * renamed to path once listening; else, at path itself. Returns the name bound (path or tmp), or
+ * NULL after logging why.
+ */
+static const char *bind_at(int fd, const char *path, char *tmp, size_t tmp_size)
+{
 	unlink(path); /* stale: the lock says no other daemon serves it */
-	/*
-	 * Only a socket nobody listens on can be a stale one of ours: anything else there (a file,
-	 * another daemon's socket) is left alone.
-	 */
-	if (snprintf(tmp, tmp_size, "%s.new", path) < (int)sizeof addr.sun_path &&
-	    (lstat(tmp, &st) < 0 ||
-	     (S_ISSOCK(st.st_mode) && !socket_answers(tmp) && unlink(tmp) == 0))) {
-		strcpy(addr.sun_path, tmp);
-		if (bind(fd, (struct sockaddr *)&addr, sizeof addr) == 0)
-			return tmp;
-	}
+	if (bind_staged(fd, tmp, snprintf(tmp, tmp_size, "%s.new", path)) ||
+	    bind_staged(fd, tmp, snprintf(tmp, tmp_size, "%s.%ld.new", path, (long)getpid())))
+		return tmp;
+	struct sockaddr_un addr = { .sun_family = AF_UNIX };
 	strcpy(addr.sun_path, path);
 	if (bind(fd, (struct sockaddr *)&addr, sizeof addr) < 0) {
 		log_error("cannot bind '%s': %s", path, strerror(errno));
@@ -116,7 +126,7 @@ static const char *bind_at(int fd, const char *path, char *tmp, size_t tmp_size)
  * Opens one listening socket at an already-locked path. bind() creates the socket's file and only
  * listen() makes it answer: a client that connects as soon as the path appears (as scripts that
  * start visd do) would be refused in between. So the socket is bound under a temporary name and
- * renamed into place once it listens, when the name fits.
+ * renamed into place once it listens, when such a name fits and is free.
  */
 static struct evconnlistener *listen_at(struct server *server, const char *path)
 {

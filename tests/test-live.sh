@@ -239,7 +239,7 @@ kill $spid
 wait $spid || fail "visd in a sticky directory exited $?"
 # The socket appears only once it answers (bound as SOCKET.new, renamed when listening), so a
 # client may connect the moment it sees the path. A stale socket named SOCKET.new is replaced;
-# anything else there (a file, another daemon's socket) is left alone, the socket bound in place.
+# anything else there (a file, another daemon's socket) is left alone for SOCKET.PID.new.
 wait_socket() { for _ in $(seq 500); do [ -S "$1" ] && return; sleep 0.01; done; }
 "$visd" --socket "$dir/pub.new" 2>/dev/null & # killed outright: leaves a stale socket there
 npid=$!
@@ -260,7 +260,9 @@ for name in pub kept live; do
 	kill $npid
 	wait $npid || fail "visd --socket $dir/$name exited $?"
 done
-[ ! -e "$dir/pub.new" ] || fail "the temporary socket name was left behind"
+for left in "$dir/pub.new" "$dir"/*.[0-9]*.new; do
+	[ ! -e "$left" ] || fail "a temporary socket name was left behind: $left"
+done
 [ "$(cat "$dir/kept.new")" = keep ] || fail "a file named like the temporary socket was removed"
 "$visctl" -s "$dir/live.new" states >/dev/null || fail "another daemon's socket was taken"
 kill $livepid
