@@ -18,10 +18,12 @@ fail() {
 	echo "FAIL: $*" >&2
 	failures=$((failures + 1))
 }
+# Waits up to 5 s for a socket to appear at $1.
+wait_socket() { for _ in $(seq 500); do [ -S "$1" ] && return; sleep 0.01; done; }
 
 "$visd" --socket "$sock" --screen 3840x2160 2>"$dir/visd.log" &
 pid=$!
-for _ in $(seq 100); do [ -S "$sock" ] && break; sleep 0.05; done
+wait_socket "$sock"
 [ -S "$sock" ] || { echo "visd did not start" >&2; cat "$dir/visd.log" >&2; exit 1; }
 v() { "$visctl" -s "$sock" "$@"; }
 
@@ -233,14 +235,13 @@ chmod 777 "$dir/open"
 chmod 1777 "$dir/open"
 "$visd" --socket "$dir/open/s" 2>"$dir/err" &
 spid=$!
-for _ in $(seq 100); do [ -S "$dir/open/s" ] && break; sleep 0.05; done
+wait_socket "$dir/open/s"
 [ -S "$dir/open/s" ] || fail "a sticky directory was refused: $(cat "$dir/err")"
 kill $spid
 wait $spid || fail "visd in a sticky directory exited $?"
 # The socket appears only once it answers (bound as SOCKET.new, renamed when listening), so a
 # client may connect the moment it sees the path. A stale socket named SOCKET.new is replaced;
 # anything else there (a file, another daemon's socket) is left alone for SOCKET.PID.new.
-wait_socket() { for _ in $(seq 500); do [ -S "$1" ] && return; sleep 0.01; done; }
 "$visd" --socket "$dir/pub.new" 2>/dev/null & # killed outright: leaves a stale socket there
 npid=$!
 wait_socket "$dir/pub.new"
@@ -270,7 +271,7 @@ wait $livepid || fail "visd --socket $dir/live.new exited $?"
 # A client past --max-clients hears why, even when its hello meets a closed socket.
 "$visd" --socket "$dir/lim" --max-clients 1 2>/dev/null &
 lpid=$!
-for _ in $(seq 100); do [ -S "$dir/lim" ] && break; sleep 0.05; done
+wait_socket "$dir/lim"
 "$visctl" -s "$dir/lim" watch >/dev/null &
 wpid=$!
 sleep 0.3
