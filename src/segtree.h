@@ -61,8 +61,9 @@ static inline uint32_t vis_segtree_right(uint32_t v, uint32_t lo, uint32_t mid)
 
 /*
  * Moves node v covering [*lo, *hi) (*hi − *lo ≥ 2) to its right child if right, else to its left
- * one, and returns the child. Without a branch: a walk's turns are coin tosses that the branch
- * predictor loses, at some 15 cycles each. O(1).
+ * one, and returns the child. Without a branch: for ranges in random order a walk's turns are coin
+ * tosses that the branch predictor loses, at some 15 cycles each; where consecutive walks turn
+ * alike, a branch is cheaper (see near_previous() in sweep-walk.h). O(1).
  */
 static inline uint32_t vis_segtree_down(uint32_t v, uint32_t *lo, uint32_t *hi, bool right)
 {
