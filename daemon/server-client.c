@@ -58,9 +58,9 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 	}
 	struct client *c = calloc(1, sizeof *c);
 	struct bufferevent *bev = bufferevent_socket_new(server->base, fd, BEV_OPT_CLOSE_ON_FREE);
-	struct evbuffer *batch = evbuffer_new();
+	struct evbuffer *batch = evbuffer_new(), *answers = evbuffer_new();
 	struct event *resume = evtimer_new(server->base, on_resume, c);
-	if (!c || !bev || !batch || !resume) {
+	if (!c || !bev || !batch || !answers || !resume) {
 		log_error("refusing a connection: out of memory");
 		free(c);
 		if (bev)
@@ -69,6 +69,8 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 			close(fd);
 		if (batch)
 			evbuffer_free(batch);
+		if (answers)
+			evbuffer_free(answers);
 		if (resume)
 			event_free(resume);
 		return;
@@ -77,6 +79,7 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 	c->server = server;
 	c->bev = bev;
 	c->batch = batch;
+	c->answers = answers;
 	c->uid = cred.uid;
 	c->restricted = restricted;
 	c->id = server->next_client++;
@@ -86,6 +89,7 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 		log_error("refusing a connection: out of memory");
 		bufferevent_free(bev);
 		evbuffer_free(batch);
+		evbuffer_free(answers);
 		event_free(resume);
 		free(c);
 		return;
@@ -112,6 +116,8 @@ static void drop_windows(struct client *c)
 	struct server *server = c->server;
 	size_t n = 0, cap = 0;
 	uint32_t *ids = NULL;
+	if (!c->n_windows)
+		return; /* no walk of the tree for each connection that made no window */
 	for (struct vis_window *w = server->tree.root.bottom; w; w = vis_wtree_next(w)) {
 		if (w->owner == c->id) {
 			if (n == cap) {
@@ -155,6 +161,7 @@ void server_client_free(struct client *c)
 	server_output_finish(c);
 	bufferevent_free(c->bev);
 	evbuffer_free(c->batch);
+	evbuffer_free(c->answers);
 	event_free(c->resume);
 	free(c);
 	server_schedule_flush(server);
@@ -169,6 +176,17 @@ void server_client_close(struct client *c)
 
 void server_client_send(struct client *c, uint32_t opcode, const union vis_arg *args)
 {
+	if (c->capture) {
+		/* A batch's change: the reply waits in answers for the replies before it. */
+		struct vis_buf *b = &c->server->scratch;
+		b->len = 0;
+		if (vis_msg_encode(b, opcode, args) < 0 || evbuffer_add(c->capture, b->data, b->len) < 0) {
+			log_error("client %u: cannot hold a %s reply", c->id,
+				  vis_msg_type_find(opcode)->name);
+			server_client_close(c);
+		}
+		return;
+	}
 	server_output_release(c); /* replies come after the notices of earlier requests */
 	server_client_write(c, opcode, args);
 }
@@ -179,9 +197,21 @@ void server_client_write(struct client *c, uint32_t opcode, const union vis_arg 
 	b->len = 0;
 	if (c->closing && opcode != VIS_OP_ERROR)
 		return;
-	if (vis_msg_encode(b, opcode, args) < 0 || bufferevent_write(c->bev, b->data, b->len) < 0) {
-		log_error("client %u: cannot queue a %s message: %s", c->id,
-			  vis_msg_type_find(opcode)->name, strerror(errno));
+	if (vis_msg_encode(b, opcode, args) < 0) {
+		log_error("client %u: cannot encode a %s message", c->id,
+			  vis_msg_type_find(opcode)->name);
+		server_client_close(c);
+		return;
+	}
+	server_client_queue(c, b->data, b->len);
+}
+
+void server_client_queue(struct client *c, const void *data, size_t len)
+{
+	if (c->write_failed)
+		return;
+	if (bufferevent_write(c->bev, data, len) < 0) {
+		log_error("client %u: cannot queue %zu bytes: %s", c->id, len, strerror(errno));
 		server_client_close(c);
 	}
 }
@@ -226,17 +256,74 @@ const struct sub *server_client_sub_for(const struct client *c, const struct vis
 	return all;
 }
 
+/* An answer record: kind, request number, size of what follows, then the bytes. */
+enum { ANSWER_REPLY, ANSWER_REQUEST };
+#define ANSWER_HEADER 12
+
+static void add_answer(struct client *c, uint32_t kind, uint32_t seq, const void *data,
+		       size_t size, struct evbuffer *from)
+{
+	uint8_t h[ANSWER_HEADER];
+	vis_wire_put_u32(h, kind);
+	vis_wire_put_u32(h + 4, seq);
+	vis_wire_put_u32(h + 8, (uint32_t)size);
+	if (evbuffer_add(c->answers, h, sizeof h) < 0 ||
+	    (from ? evbuffer_add_buffer(c->answers, from) : evbuffer_add(c->answers, data, size)) <
+		    0) {
+		log_error("client %u: out of memory holding a batch's answers", c->id);
+		server_client_close(c);
+	}
+}
+
 /*
- * Runs the requests held since batch-begin in order, with one recompute at the end: queries met on
- * the way answer from the states computed before the batch, so that replies keep request order
- * and nobody sees a state between the batch's changes.
+ * Whether a held request is one of the batch's changes, applied at commit with one recompute;
+ * queries, syncs and subscriptions run after them, as if sent just after the commit.
+ */
+static bool batch_change(uint32_t op)
+{
+	switch (op) {
+	case VIS_OP_CREATE:
+	case VIS_OP_DESTROY:
+	case VIS_OP_MAP:
+	case VIS_OP_UNMAP:
+	case VIS_OP_MOVE:
+	case VIS_OP_RESIZE:
+	case VIS_OP_RAISE:
+	case VIS_OP_LOWER:
+	case VIS_OP_RESTACK:
+	case VIS_OP_REPARENT:
+	case VIS_OP_BATCH_BEGIN:
+		return true;
+	default:
+		return false;
+	}
+}
+
+/* Whether a request does nothing but answer or send notices: queries, sync, subscriptions. */
+static bool no_effect(uint32_t op)
+{
+	return !batch_change(op) && op != VIS_OP_HELLO && op != VIS_OP_BATCH_COMMIT;
+}
+
+/*
+ * Applies the changes held since batch-begin in order, then recomputes once, all in this turn:
+ * nobody sees a state between them. Their replies, and the held requests that are not changes,
+ * go to answers in request order, for serve() to send and run at the connection's fair rate: a
+ * batch of a million queries must not hold everyone else up.
  */
 static void commit_batch(struct client *c)
 {
 	struct server *server = c->server;
+	size_t bound = (size_t)server->opt.max_pending + server->opt.max_batch;
+	struct evbuffer *capture = evbuffer_new();
 	c->in_batch = false;
+	if (!capture) {
+		log_error("client %u: out of memory committing a batch", c->id);
+		server_client_close(c);
+	}
 	server->deferring = true;
-	while (evbuffer_get_length(c->batch) && !c->closing) {
+	server->walk_left = SERVER_BATCH_WORK;
+	while (evbuffer_get_length(c->batch) && !c->closing && !c->close_after_answers) {
 		uint8_t *p = evbuffer_pullup(c->batch, 4 + VIS_MSG_HEADER);
 		uint32_t seq = vis_wire_get_u32(p), size = vis_wire_get_u32(p + 4);
 		p = evbuffer_pullup(c->batch, 4 + (ssize_t)size);
@@ -244,23 +331,34 @@ static void commit_batch(struct client *c)
 		char why[200];
 		if (vis_msg_decode(p + 4, size, size, 1, &m, why, sizeof why) != VIS_DECODE_OK) {
 			log_error("client %u: a held request no longer decodes: %s", c->id, why);
-		} else if (server_output_pending(c) >
-			   (size_t)server->opt.max_pending + server->opt.max_batch) {
-			/* Replies are never dropped and a batch cannot wait for the output to drain:
-			 * its replies may pass the bound by what the batch may hold, no more. */
-			server_client_error(c, seq, m.type->opcode, VIS_ERROR_LIMIT,
-					    "the batch's replies take over %zu bytes; closing the "
-					    "connection",
-					    (size_t)server->opt.max_pending + server->opt.max_batch);
-			server_client_close(c);
-		} else if (m.type->opcode == VIS_OP_BATCH_BEGIN)
-			server_client_error(c, seq, VIS_OP_BATCH_BEGIN, VIS_ERROR_STATE,
-					    "batch-begin inside a batch");
-		else
-			server_client_dispatch(c, seq, &m);
+		} else if (!batch_change(m.type->opcode)) {
+			add_answer(c, ANSWER_REQUEST, seq, p + 4, size, NULL);
+		} else {
+			c->capture = capture;
+			if (evbuffer_get_length(c->answers) > bound) {
+				/* Replies are never dropped: past this, the connection ends. */
+				server_client_error(c, seq, m.type->opcode, VIS_ERROR_LIMIT,
+						    "the batch's replies take over %zu bytes; closing the "
+						    "connection",
+						    bound);
+				c->close_after_answers = true;
+			} else if (m.type->opcode == VIS_OP_BATCH_BEGIN) {
+				server_client_error(c, seq, VIS_OP_BATCH_BEGIN, VIS_ERROR_STATE,
+						    "batch-begin inside a batch");
+			} else {
+				server_client_dispatch(c, seq, &m);
+			}
+			c->capture = NULL;
+			if (evbuffer_get_length(capture))
+				add_answer(c, ANSWER_REPLY, seq, NULL, evbuffer_get_length(capture),
+					   capture);
+		}
 		evbuffer_drain(c->batch, 4 + (size_t)size);
 	}
 	evbuffer_drain(c->batch, evbuffer_get_length(c->batch));
+	if (capture)
+		evbuffer_free(capture);
+	server->walk_left = UINT64_MAX;
 	server->deferring = false;
 	server_flush(server);
 }
@@ -279,6 +377,8 @@ static void handle(struct client *c, uint32_t seq, const struct vis_msg *m, cons
 		return;
 	}
 	if (!c->in_batch) {
+		if (c->write_failed && no_effect(op))
+			return; /* nobody can read its answer: it would be work for nothing */
 		if (op == VIS_OP_BATCH_COMMIT)
 			server_client_error(c, seq, op, VIS_ERROR_STATE, "batch-commit without a batch");
 		else if (op == VIS_OP_BATCH_BEGIN)
@@ -312,6 +412,27 @@ static void resume_next_turn(struct client *c)
 	evtimer_add(c->resume, &now);
 }
 
+/* What one connection has spent of its turn of the event loop. */
+struct turn {
+	int budget;          /* requests it may still run */
+	uint64_t recomputes; /* the server's counts when the turn began */
+	uint64_t work;
+};
+
+/*
+ * Whether c may run another request in this turn: not past the budget, nor once a request made
+ * the daemon recompute or walk SERVER_TURN_WORK windows. If not, c is served again next turn.
+ */
+static bool turn_left(struct client *c, struct turn *t)
+{
+	struct server *server = c->server;
+	if (t->budget > 0 && server->recomputes == t->recomputes &&
+	    server->work - t->work < SERVER_TURN_WORK)
+		return true;
+	resume_next_turn(c);
+	return false;
+}
+
 /*
  * Whether a request that reports states should wait for the recompute at the end of this turn,
  * which the others' changes of the turn share, rather than force one of its own now. A request
@@ -338,35 +459,101 @@ static bool wait_for_recompute(struct client *c, uint32_t op)
 }
 
 /*
- * Runs the complete requests that have arrived, up to the budget, then leaves the recompute to the
- * end of this turn of the event loop, so that others' requests read in the same turn share it. A
- * connection whose output is full is not read from until it drains.
+ * Sends and runs what a committed batch left in answers, in request order, as requests read after
+ * the commit would run: within the turn's budget, and not while the output is full. True once
+ * answers is empty.
+ */
+static bool run_answers(struct client *c, struct turn *t)
+{
+	struct server *server = c->server;
+	int replies = SERVER_REPLY_BUDGET;
+	while (evbuffer_get_length(c->answers) && !c->closing) {
+		if (server_output_pending(c) >= server->opt.max_pending) {
+			c->read_blocked = true;
+			return false;
+		}
+		uint8_t *p = evbuffer_pullup(c->answers, ANSWER_HEADER);
+		uint32_t kind = vis_wire_get_u32(p), seq = vis_wire_get_u32(p + 4);
+		uint32_t size = vis_wire_get_u32(p + 8);
+		if (kind == ANSWER_REPLY ? !replies-- : !turn_left(c, t)) {
+			if (kind == ANSWER_REPLY)
+				resume_next_turn(c);
+			return false;
+		}
+		p = evbuffer_pullup(c->answers, ANSWER_HEADER + (ssize_t)size);
+		struct vis_msg m;
+		char why[200];
+		if (kind == ANSWER_REPLY) {
+			server_output_release(c); /* as server_client_send() */
+			server_client_queue(c, p + ANSWER_HEADER, size);
+		} else if (vis_msg_decode(p + ANSWER_HEADER, size, size, 1, &m, why, sizeof why) !=
+			   VIS_DECODE_OK) {
+			log_error("client %u: a held request no longer decodes: %s", c->id, why);
+		} else if (c->write_failed) {
+			/* Nobody can read its answer. */
+		} else if (wait_for_recompute(c, m.type->opcode)) {
+			resume_next_turn(c);
+			return false;
+		} else {
+			c->waited = false;
+			t->budget--;
+			server_client_dispatch(c, seq, &m);
+		}
+		evbuffer_drain(c->answers, ANSWER_HEADER + (size_t)size);
+	}
+	if (c->close_after_answers)
+		server_client_close(c);
+	return !c->closing;
+}
+
+/* The peer hung up and everything it sent has run: say what could not, and close. */
+static void finish_hangup(struct client *c)
+{
+	size_t left = evbuffer_get_length(bufferevent_get_input(c->bev));
+	if (left)
+		log_info("client %u hung up in the middle of a request: %zu bytes dropped", c->id,
+			 left);
+	if (c->in_batch)
+		log_info("client %u hung up inside a batch: %zu bytes of held requests dropped",
+			 c->id, evbuffer_get_length(c->batch));
+	server_client_close(c);
+}
+
+/*
+ * Runs the complete requests that have arrived, up to the turn's budget, then leaves the
+ * recompute to the end of this turn of the event loop, so that others' requests read in the same
+ * turn share it. A connection whose output is full is not read from until it drains. A committed
+ * batch's answers go first: nothing new is read until they are done.
  */
 static void serve(struct client *c)
 {
 	struct server *server = c->server;
 	struct evbuffer *in = bufferevent_get_input(c->bev);
 	uint32_t max = server->opt.max_request;
-	uint64_t recomputes = server->recomputes;
-	for (int budget = SERVER_REQUEST_BUDGET; !c->closing; budget--) {
+	struct turn t = { SERVER_REQUEST_BUDGET, server->recomputes, server->work };
+	bool starved = false; /* stopped for want of a whole request */
+	while (run_answers(c, &t)) {
 		size_t avail = evbuffer_get_length(in);
-		if (avail < VIS_MSG_HEADER)
-			break;
 		if (server_output_pending(c) >= server->opt.max_pending) {
 			c->read_blocked = true;
 			break;
 		}
-		const uint8_t *p = evbuffer_pullup(in, VIS_MSG_HEADER);
+		const uint8_t *p = evbuffer_pullup(in, avail < VIS_MSG_HEADER ? (ssize_t)avail
+									     : VIS_MSG_HEADER);
 		uint32_t size;
 		char why[200];
 		struct vis_msg m;
+		if (avail < VIS_MSG_HEADER) {
+			starved = true;
+			break;
+		}
 		if (vis_msg_peek(p, avail, max, &size, why, sizeof why) == VIS_DECODE_OK) {
-			if (avail < size)
-				break;
-			if (!budget || server->recomputes != recomputes) {
-				resume_next_turn(c);
+			if (avail < size) {
+				starved = true;
 				break;
 			}
+			if (!turn_left(c, &t))
+				break;
 			p = evbuffer_pullup(in, size);
 		}
 		enum vis_decode r = vis_msg_decode(p, avail, max, 1, &m, why, sizeof why);
@@ -375,11 +562,12 @@ static void serve(struct client *c)
 			break;
 		}
 		c->waited = false;
+		t.budget--;
 		uint32_t seq = ++c->seq;
 		if (r == VIS_DECODE_MALFORMED) {
 			uint32_t op = vis_wire_get_u16(p + 4);
-			const struct vis_msg_type *t = vis_msg_type_find(op);
-			bool known = t && t->dir == VIS_DIR_REQUEST;
+			const struct vis_msg_type *ty = vis_msg_type_find(op);
+			bool known = ty && ty->dir == VIS_DIR_REQUEST;
 			server_client_error(c, seq, op, known ? VIS_ERROR_MALFORMED : VIS_ERROR_OPCODE,
 					    "%s", why);
 			break;
@@ -388,7 +576,9 @@ static void serve(struct client *c)
 		evbuffer_drain(in, size);
 	}
 	server_schedule_flush(server);
-	if (c->closing && !server_output_pending(c))
+	if (c->hung_up && starved && !c->closing)
+		finish_hangup(c);
+	if (c->closing && (c->write_failed || !server_output_pending(c)))
 		server_client_free(c);
 }
 
@@ -424,13 +614,33 @@ static void on_write(struct bufferevent *bev, void *data)
 		server_client_free(c);
 }
 
-/* The peer hung up or the socket failed: the connection ends, its windows with it. */
+/*
+ * The peer hung up or the socket failed. What the peer sent before still runs, in order, as if it
+ * had stayed (a client may create retained windows and exit at once); after a half-close every
+ * reply is delivered first. Once writing fails, what it would be sent is dropped instead.
+ */
 static void on_event(struct bufferevent *bev, short what, void *data)
 {
-	(void)bev;
 	struct client *c = data;
+	if (!(what & (BEV_EVENT_EOF | BEV_EVENT_ERROR)))
+		return;
 	if (what & BEV_EVENT_ERROR)
-		log_debug("client %u: %s", c->id, strerror(EVUTIL_SOCKET_ERROR()));
-	if (what & (BEV_EVENT_EOF | BEV_EVENT_ERROR))
-		server_client_free(c);
+		log_debug("client %u: %s while %s", c->id, strerror(EVUTIL_SOCKET_ERROR()),
+			  what & BEV_EVENT_WRITING ? "writing" : "reading");
+	if (what & BEV_EVENT_WRITING) {
+		struct evbuffer *out = bufferevent_get_output(bev);
+		c->write_failed = true;
+		c->read_blocked = false;
+		evbuffer_drain(out, evbuffer_get_length(out));
+	} else {
+		c->hung_up = true;
+	}
+	if (c->closing) {
+		if (c->write_failed || !server_output_pending(c))
+			server_client_free(c);
+		return;
+	}
+	if (c->read_blocked)
+		return; /* on_write resumes it */
+	serve(c);
 }

@@ -130,7 +130,6 @@ static struct held *held_entry(struct client *c, uint32_t window)
 	return h;
 }
 
-/* Writes one visibility notice now. */
 /*
  * Writes a notice of fixed words after the serial, laid out by hand: the fan-out's hot path, where
  * the generic encoder's walk of the signature cost a third of the daemon's time. Every suite that
@@ -148,10 +147,7 @@ static void write_words(struct client *c, uint32_t opcode, const uint32_t *words
 	vis_wire_put_u64(b + 8, ++c->serial);
 	for (size_t i = 0; i < n; i++)
 		vis_wire_put_u32(b + 16 + 4 * i, words[i]);
-	if (bufferevent_write(c->bev, b, size) < 0) {
-		log_error("client %u: cannot queue a notice", c->id);
-		server_client_close(c);
-	}
+	server_client_queue(c, b, size);
 }
 
 static void write_visibility(struct client *c, uint32_t window, uint32_t state, uint32_t previous,

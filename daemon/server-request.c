@@ -227,22 +227,31 @@ static void do_restack(struct client *c, uint32_t seq, const union vis_arg *a)
 	changed(c, w, VIS_STACK_RESTACK);
 }
 
-/* How many levels w's subtree holds below w. O(size of the subtree). */
-static uint32_t subtree_height(const struct vis_window *w)
+/*
+ * How many levels w's subtree holds below w, walking at most *budget windows (charged to the
+ * turn's work); -1 when it would walk more. O(size of the subtree).
+ */
+static long subtree_height(struct server *server, const struct vis_window *w, uint64_t *budget)
 {
 	uint32_t most = w->depth;
 	const struct vis_window *end = w;
 	while (end->top)
 		end = end->top; /* the subtree's last window in pre-order */
-	for (const struct vis_window *v = w; v; v = v == end ? NULL : vis_wtree_next(v))
+	for (const struct vis_window *v = w; v; v = v == end ? NULL : vis_wtree_next(v)) {
+		if (!*budget)
+			return -1;
+		--*budget;
+		server->work++;
 		if (v->depth > most)
 			most = v->depth;
+	}
 	return most - w->depth;
 }
 
 static void do_reparent(struct client *c, uint32_t seq, const union vis_arg *a)
 {
 	uint32_t op = VIS_OP_REPARENT;
+	struct server *server = c->server;
 	struct vis_window *w = changeable_arg(c, seq, op, a[0].u);
 	struct vis_window *p = w ? parent_arg(c, seq, op, a[1].u) : NULL;
 	if (!p)
@@ -253,15 +262,26 @@ static void do_reparent(struct client *c, uint32_t seq, const union vis_arg *a)
 				    p->id);
 		return;
 	}
-	uint32_t deepest = p->depth + 1 + subtree_height(w);
-	if (deepest > c->server->opt.max_depth) {
-		server_client_error(c, seq, op, VIS_ERROR_LIMIT,
-				    "under %u, window %u's subtree would reach depth %u, past the limit "
-				    "of %u (visd --max-depth)",
-				    p->id, w->id, deepest, c->server->opt.max_depth);
-		return;
+	/* Only a window that goes deeper can take its subtree past the limit. */
+	if (p->depth + 1 > w->depth) {
+		long height = subtree_height(server, w, &server->walk_left);
+		if (height < 0) {
+			server_client_error(c, seq, op, VIS_ERROR_LIMIT,
+					    "the batch's reparents walked over %u windows; send the "
+					    "rest in another batch",
+					    SERVER_BATCH_WORK);
+			return;
+		}
+		uint32_t deepest = p->depth + 1 + (uint32_t)height;
+		if (deepest > server->opt.max_depth) {
+			server_client_error(c, seq, op, VIS_ERROR_LIMIT,
+					    "under %u, window %u's subtree would reach depth %u, past "
+					    "the limit of %u (visd --max-depth)",
+					    p->id, w->id, deepest, server->opt.max_depth);
+			return;
+		}
 	}
-	server_damage(c->server, w); /* where it was */
+	server_damage(server, w); /* where it was */
 	vis_wtree_reparent(w, p, a[2].i, a[3].i);
 	changed(c, w, VIS_STACK_REPARENT);
 }
@@ -434,6 +454,9 @@ void server_client_dispatch(struct client *c, uint32_t seq, const struct vis_msg
 	}
 	/* Queries and sync answer for the current states: recompute first if needed. */
 	server_flush(c->server);
+	/* What a query walks, for the turn's work: every window, whatever it may see. */
+	if (op != VIS_OP_SYNC && op != VIS_OP_GET_STATE)
+		c->server->work += c->server->tree.count + 1;
 	switch (op) {
 	case VIS_OP_GET_STATE: {
 		struct vis_window *w = window_arg(c, seq, op, a[0].u);

@@ -36,6 +36,7 @@ static void track_covered(struct client *c, const struct sub *s)
 		server_track(vis_wtree_find(&server->tree, s->window), server);
 		return;
 	}
+	server->work += server->tree.n_order;
 	for (size_t i = 0; i < server->tree.n_order; i++)
 		if (server->tree.order[i] && server_may_see(c, server->tree.order[i]))
 			server_track(server->tree.order[i], server);

@@ -247,6 +247,7 @@ int server_init(struct server *server, struct event_base *base, const struct ser
 	server->opt = *opt;
 	server->next_client = 1;
 	server->reserve_fd = -1;
+	server->walk_left = UINT64_MAX;
 	take_reserve(server);
 	TAILQ_INIT(&server->clients);
 	vis_idmap_init(&server->clients_by_id);

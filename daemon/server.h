@@ -36,6 +36,18 @@ struct server_options {
  * that made the daemon recompute (a query or sync after a change) ends the turn too.
  */
 #define SERVER_REQUEST_BUDGET 64
+/*
+ * Windows one connection's requests may walk per turn (queries that list every window, reparents
+ * that walk a subtree): past it, the turn ends. About a millisecond of work.
+ */
+#define SERVER_TURN_WORK (1u << 17)
+/* Replies held by a committed batch that go out per turn, after the changes' one recompute. */
+#define SERVER_REPLY_BUDGET 4096
+/*
+ * Windows the changes of one batch may walk in all (reparents walk the subtree they move): the
+ * changes run in one turn, atomically, so this bounds how long others wait for them.
+ */
+#define SERVER_BATCH_WORK (1u << 22)
 
 /* A subscription: window 0 means every window the connection may see. */
 struct sub {
@@ -79,9 +91,12 @@ struct output {
 /*
  * One connection. Invariants: requests are numbered from 1 in arrival order (seq is the last one
  * received); serial is the last notice's number; while in_batch, requests wait in batch, each
- * prefixed with its number, until batch-commit; once closing, nothing more is read and the
- * connection ends when its output has drained; read_blocked while its output is full (no
- * requests are read until it drains).
+ * prefixed with its number, until batch-commit; after a commit, answers holds, in request order,
+ * the replies of the batch's changes and the held requests that run after them, and nothing new
+ * is read until it is empty; once closing, nothing more is read and the connection ends when its
+ * output has drained; read_blocked while its output is full (no requests are read until it
+ * drains); once hung_up, the peer sends no more: what it sent runs, then the connection closes;
+ * once write_failed, nothing more can reach the peer and output is dropped.
  */
 struct client {
 	struct server *server;
@@ -89,12 +104,15 @@ struct client {
 	TAILQ_ENTRY(client) link;
 	uint32_t id;
 	uid_t uid;
-	bool restricted, hello_done, in_batch, closing, read_blocked;
+	bool restricted, hello_done, in_batch, closing, read_blocked, hung_up, write_failed;
+	bool close_after_answers; /* a batch's fatal error waits in answers */
 	bool waited; /* its next request waited a turn for the shared recompute */
 	uint32_t role;
 	uint32_t seq;
 	uint64_t serial;
 	struct evbuffer *batch;
+	struct evbuffer *answers;
+	struct evbuffer *capture; /* while a batch's change runs: where its reply goes */
 	struct sub *subs;
 	size_t n_subs, cap_subs;
 	bool all_exposure; /* holds a subscription to every window with exposures */
@@ -135,6 +153,8 @@ struct server {
 	size_t n_damage;
 	bool damage_all;
 	bool deferring; /* replaying a batch: recompute once at its end */
+	uint64_t work;  /* windows walked by requests so far (see SERVER_TURN_WORK) */
+	uint64_t walk_left; /* windows the batch being committed may still walk */
 	struct event *flush_event; /* the recompute after this turn's requests */
 	struct vis_buf scratch;
 };
@@ -185,6 +205,8 @@ void server_client_free(struct client *c);
 void server_client_send(struct client *c, uint32_t opcode, const union vis_arg *args);
 /* Encodes and queues one message to c now; on failure the connection is closed. */
 void server_client_write(struct client *c, uint32_t opcode, const union vis_arg *args);
+/* Queues encoded bytes to c (nothing once the peer cannot read); on failure it is closed. */
+void server_client_queue(struct client *c, const void *data, size_t len);
 /* Ends the connection once what is queued has been written. */
 void server_client_close(struct client *c);
 /* Sends an error reply; fatal ones close the connection once the error is written. */

@@ -30,6 +30,9 @@ size_t hostile_request_words(const struct vis_msg_type *t, uint32_t own, uint32_
 /* Whether a field names a window: window, parent, sibling. */
 bool hostile_is_window_field(const char *name);
 
+/* Destroys, as the manager, every window that is not the innocent's (retained leftovers). */
+void hostile_destroy_leftovers(void);
+
 /* Expects hello asking for the observer and then the manager role on path to be refused. */
 void hostile_expect_no_role(const char *path, const char *reason);
 
@@ -37,5 +40,9 @@ void hostile_expect_no_role(const char *path, const char *reason);
 void hostile_access_window_ids(void);
 void hostile_access_isolation(void);
 void hostile_access_other_uid(void);
+/* Batches that are too large, or hold work meant to stall the daemon (hostile-batch.c). */
+void hostile_batch(void);
+/* Clients that hang up with requests in flight (hostile-hangup.c). */
+void hostile_hangup(void);
 
 #endif

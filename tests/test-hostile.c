@@ -126,8 +126,7 @@ void hostile_check_unaffected(void)
 	harness_wait_fds(&hostile_visd, base_fds);
 }
 
-/* Destroys, as the manager, every window that is not the innocent's (retained leftovers). */
-static void destroy_leftovers(void)
+void hostile_destroy_leftovers(void)
 {
 	struct harness_conn mgr;
 	harness_open_as(&mgr, hostile_visd.sock, VIS_ROLE_MANAGER);
@@ -343,7 +342,7 @@ static void test_lying_lengths(void)
 	CHECK(found == 2, "%zu of the 2 retained windows are left", found);
 	free(t);
 	harness_close(&obs);
-	destroy_leftovers();
+	hostile_destroy_leftovers();
 	hostile_check_unaffected();
 }
 
@@ -515,77 +514,6 @@ static void test_extremes(void)
 	hostile_check_unaffected();
 }
 
-/* A batch that would hold more than 16 MiB: a limit error that ends the connection. */
-static void test_batch_limit(void)
-{
-	harness_context("a batch over its limit");
-	struct harness_conn c;
-	harness_open_as(&c, hostile_visd.sock, VIS_ROLE_CLIENT);
-	harness_req(&c, VIS_OP_BATCH_BEGIN);
-	/* Each held create takes its 32 bytes and its 4-byte sequence number. */
-	enum { PER = 1024, HELD = 32 + 4 };
-	uint32_t full = (16u << 20) / HELD;
-	uint8_t *b = malloc((size_t)PER * 32);
-	CHECK(b, "out of memory");
-	for (size_t i = 0; i < PER; i++)
-		harness_put(b + 32 * i, VIS_OP_CREATE, 0, 300, 200, 1, 1, VIS_CREATE_RETAIN);
-	for (uint32_t sent = 0; sent <= full; sent += PER) {
-		CHECK(harness_send(&c, b, (size_t)PER * 32) == 0, "send: %s", strerror(errno));
-		c.seq += PER;
-	}
-	free(b);
-	harness_expect_error(&c, 2 + full + 1, VIS_OP_CREATE, VIS_ERROR_LIMIT,
-			     "the batch holds over 16777216 bytes", true);
-	harness_close(&c);
-	hostile_check_unaffected(); /* nothing held was run: no retained window is left */
-}
-
-/*
- * A batch whose replies would pass the bound on pending output by more than a batch's 16 MiB:
- * 2,000 held get-tree requests, 32 KB of reply each. Replies are never dropped and a batch cannot
- * wait for the output to drain, so the daemon must end the connection with a limit error before
- * the replies run away with its memory.
- */
-static void test_batch_replies(void)
-{
-	harness_context("a batch whose replies pass the bound");
-	enum { WINDOWS = 1000, QUERIES = 2000, REPLY = 20 + 32 * WINDOWS };
-	const size_t bound = (4u << 20) + (16u << 20); /* --max-pending's default, the batch's */
-	struct harness_conn c;
-	harness_open_as(&c, hostile_visd.sock, VIS_ROLE_CLIENT);
-	for (int i = 0; i < WINDOWS; i++)
-		harness_req(&c, VIS_OP_CREATE, 0, 300, 200, 5, 5, 0);
-	for (uint32_t i = 0; i < WINDOWS; i++) {
-		struct vis_msg m;
-		harness_expect(&c, 2 + i, VIS_OP_CREATED, &m);
-	}
-	harness_req(&c, VIS_OP_BATCH_BEGIN);
-	uint32_t first = c.seq + 1;
-	for (int i = 0; i < QUERIES; i++)
-		harness_req(&c, VIS_OP_GET_TREE);
-	harness_req(&c, VIS_OP_BATCH_COMMIT);
-	struct vis_msg m;
-	uint32_t trees = 0;
-	size_t bytes = 0;
-	int r;
-	while ((r = harness_recv(&c, 20000, &m)) > 0 && m.type->opcode == VIS_OP_TREE) {
-		CHECK(m.args[0].u == first + trees && m.args[2].a.n == WINDOWS,
-		      "tree reply %u answers request %u", trees, m.args[0].u);
-		trees++;
-		bytes += m.size;
-	}
-	CHECK(r > 0 && m.type->opcode == VIS_OP_ERROR && m.args[0].u == first + trees &&
-		      m.args[1].u == VIS_OP_GET_TREE && m.args[2].u == VIS_ERROR_LIMIT &&
-		      memmem(m.args[3].s.p, m.args[3].s.len, "the batch's replies", 19),
-	      "after %u tree replies (%zu bytes), no limit error for request %u", trees, bytes,
-	      first + trees);
-	CHECK(bytes <= bound + REPLY, "the batch's replies took %zu bytes, over %zu", bytes,
-	      bound + REPLY);
-	CHECK(harness_recv(&c, 20000, &m) == 0, "the connection went on after the limit error");
-	harness_close(&c);
-	hostile_check_unaffected();
-}
-
 int main(int argc, char **argv)
 {
 	if (argc != 2) {
@@ -610,8 +538,8 @@ int main(int argc, char **argv)
 	hostile_access_isolation();
 	hostile_access_other_uid();
 	test_extremes();
-	test_batch_limit();
-	test_batch_replies();
+	hostile_batch();
+	hostile_hangup();
 	harness_context("shutdown");
 	harness_close(&hostile_innocent);
 	harness_stop(&hostile_visd);
