@@ -412,6 +412,25 @@ static void resume_next_turn(struct client *c)
 	evtimer_add(c->resume, &now);
 }
 
+/*
+ * Stops reading from c until its output drains. The socket's read event goes too: with it, a
+ * client that sends without reading kept the event loop spinning on its unread input.
+ */
+static void block_reading(struct client *c)
+{
+	c->read_blocked = true;
+	bufferevent_disable(c->bev, EV_READ);
+}
+
+/* Reads from c again, and serves what waits, next turn. */
+static void unblock_reading(struct client *c)
+{
+	c->read_blocked = false;
+	if (!c->hung_up && !c->closing)
+		bufferevent_enable(c->bev, EV_READ);
+	resume_next_turn(c);
+}
+
 /* What one connection has spent of its turn of the event loop. */
 struct turn {
 	int budget;          /* requests it may still run */
@@ -469,7 +488,7 @@ static bool run_answers(struct client *c, struct turn *t)
 	int replies = SERVER_REPLY_BUDGET;
 	while (evbuffer_get_length(c->answers) && !c->closing) {
 		if (server_output_pending(c) >= server->opt.max_pending) {
-			c->read_blocked = true;
+			block_reading(c);
 			return false;
 		}
 		uint8_t *p = evbuffer_pullup(c->answers, ANSWER_HEADER);
@@ -535,7 +554,7 @@ static void serve(struct client *c)
 	while (run_answers(c, &t)) {
 		size_t avail = evbuffer_get_length(in);
 		if (server_output_pending(c) >= server->opt.max_pending) {
-			c->read_blocked = true;
+			block_reading(c);
 			break;
 		}
 		const uint8_t *p = evbuffer_pullup(in, avail < VIS_MSG_HEADER ? (ssize_t)avail
@@ -606,10 +625,8 @@ static void on_write(struct bufferevent *bev, void *data)
 	struct client *c = data;
 	if (!c->closing)
 		server_output_release(c);
-	if (c->read_blocked && server_output_pending(c) < c->server->opt.max_pending / 2) {
-		c->read_blocked = false;
-		resume_next_turn(c);
-	}
+	if (c->read_blocked && server_output_pending(c) < c->server->opt.max_pending / 2)
+		unblock_reading(c);
 	if (c->closing && !server_output_pending(c))
 		server_client_free(c);
 }
@@ -630,8 +647,9 @@ static void on_event(struct bufferevent *bev, short what, void *data)
 	if (what & BEV_EVENT_WRITING) {
 		struct evbuffer *out = bufferevent_get_output(bev);
 		c->write_failed = true;
-		c->read_blocked = false;
 		evbuffer_drain(out, evbuffer_get_length(out));
+		if (c->read_blocked)
+			unblock_reading(c);
 	} else {
 		c->hung_up = true;
 	}
@@ -640,7 +658,6 @@ static void on_event(struct bufferevent *bev, short what, void *data)
 			server_client_free(c);
 		return;
 	}
-	if (c->read_blocked)
-		return; /* on_write resumes it */
-	serve(c);
+	if (!c->read_blocked)
+		serve(c); /* else on_write or the resume does */
 }

@@ -7,7 +7,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/socket.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "hostile.h"
 #include "vis/protocol.h"
@@ -198,10 +200,70 @@ static void test_batch_stall(void)
 	hostile_check_unaffected();
 }
 
+/* The daemon's CPU time so far, in ms (user and system, from /proc). */
+static double daemon_cpu_ms(void)
+{
+	char path[64], buf[1024];
+	snprintf(path, sizeof path, "/proc/%d/stat", (int)hostile_visd.pid);
+	FILE *f = fopen(path, "r");
+	CHECK(f && fgets(buf, sizeof buf, f), "cannot read %s", path);
+	fclose(f);
+	unsigned long utime, stime;
+	const char *p = strrchr(buf, ')');
+	CHECK(p && sscanf(p + 2, "%*c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %lu %lu", &utime,
+			  &stime) == 2,
+	      "cannot parse %s", path);
+	return (double)(utime + stime) * 1000.0 / (double)sysconf(_SC_CLK_TCK);
+}
+
+/*
+ * A client that sends requests and never reads: once its replies fill the bound, the daemon stops
+ * reading it and must sit idle, not spin on its unread input (it did: 100% of a core).
+ */
+static void test_flood_unread(void)
+{
+	harness_context("a client that sends requests and never reads");
+	enum { WINDOWS = 1000 };
+	struct harness_conn c;
+	harness_open_as(&c, hostile_visd.sock, VIS_ROLE_CLIENT);
+	uint8_t create[32];
+	harness_put(create, VIS_OP_CREATE, 0, 300, 200, 5, 5, 0);
+	send_copies(&c, create, sizeof create, WINDOWS);
+	for (int i = 0; i < WINDOWS; i++) {
+		struct vis_msg m;
+		harness_next_reply(&c, &m, NULL);
+	}
+	/* 32 KB a reply: the bound fills after about 130; the rest wait unread, and the socket. */
+	uint8_t req[VIS_MSG_HEADER * 1024];
+	for (int i = 0; i < 1024; i++)
+		harness_put(req + VIS_MSG_HEADER * i, VIS_OP_GET_TREE);
+	size_t sent = 0;
+	for (int idle = 0; idle < 20;) {
+		ssize_t k = send(c.fd, req, sizeof req, MSG_DONTWAIT | MSG_NOSIGNAL);
+		if (k > 0)
+			sent += (size_t)k;
+		else if (errno == EAGAIN)
+			idle++, usleep(10000);
+		else
+			CHECK(0, "send: %s", strerror(errno));
+	}
+	usleep(200000);
+	double cpu = daemon_cpu_ms();
+	usleep(1000000);
+	cpu = daemon_cpu_ms() - cpu;
+	printf("hostile: %zu bytes of get-tree unread; the daemon used %.0f ms of CPU in 1 s\n",
+	       sent, cpu);
+	CHECK(cpu < 200, "the daemon used %.0f ms of CPU in 1 s while a client did not read", cpu);
+	harness_sync(&hostile_innocent, NULL);
+	harness_close(&c);
+	hostile_check_unaffected();
+}
+
 void hostile_batch(void)
 {
 	test_batch_limit();
 	test_batch_queries();
 	test_batch_reply_bound();
 	test_batch_stall();
+	test_flood_unread();
 }
