@@ -36,6 +36,7 @@ void hostile_expect_no_role(const char *path, const char *reason);
 /* The access cases (hostile-access.c). */
 void hostile_access_window_ids(void);
 void hostile_access_isolation(void);
+void hostile_access_stack_notices(void);
 void hostile_access_other_uid(void);
 
 #endif

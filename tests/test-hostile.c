@@ -608,6 +608,7 @@ int main(int argc, char **argv)
 	test_handshake();
 	test_mid_message();
 	hostile_access_isolation();
+	hostile_access_stack_notices();
 	hostile_access_other_uid();
 	test_extremes();
 	test_batch_limit();
