@@ -39,4 +39,10 @@ void hostile_access_isolation(void);
 void hostile_access_stack_notices(void);
 void hostile_access_other_uid(void);
 
+/*
+ * Hidden windows (hostile-hidden.c): seeded random runs on daemons of their own, checking that a
+ * client never receives the ID of a window it may not see. seed 0: the suite's fixed seeds.
+ */
+void hostile_hidden_windows(const char *visd, uint64_t seed);
+
 #endif
