@@ -338,7 +338,7 @@ static uint32_t resync(struct client *c, bool write)
 			n++;
 			if (write) {
 				uint32_t words[9];
-				server_stack_words(w, VIS_STACK_RESYNC, words);
+				server_stack_words(c, w, VIS_STACK_RESYNC, words);
 				write_stack(c, words);
 			}
 		}

@@ -362,7 +362,9 @@ static void do_get_tree(struct client *c, uint32_t seq)
 			uint32_t flags = (w->mapped ? VIS_WINDOW_MAPPED : 0) |
 					 (w->state != VIS_WTREE_STATE_NONE ? VIS_WINDOW_VIEWABLE : 0) |
 					 (w->retained ? VIS_WINDOW_RETAINED : 0);
-			uint32_t rec[8] = { w->id, w->parent->id, (uint32_t)w->x, (uint32_t)w->y,
+			/* A parent it may not see is 0, as in stack notices. */
+			uint32_t parent = server_seen_id(c, w->parent);
+			uint32_t rec[8] = { w->id, parent, (uint32_t)w->x, (uint32_t)w->y,
 					    (uint32_t)w->width, (uint32_t)w->height, flags, w->state };
 			if (!push_words(c, seq, VIS_OP_GET_TREE, &v, &n, &cap, rec, 8))
 				goto out;

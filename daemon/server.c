@@ -453,33 +453,53 @@ void server_flush(struct server *server)
 	server->damage_all = false;
 }
 
-void server_stack_words(const struct vis_window *w, uint32_t change, uint32_t words[9])
+uint32_t server_seen_id(const struct client *viewer, const struct vis_window *w)
 {
+	return w && (!viewer || server_may_see(viewer, w)) ? w->id : 0;
+}
+
+void server_stack_words(const struct client *viewer, const struct vis_window *w, uint32_t change,
+			uint32_t words[9])
+{
+	if (viewer && viewer->role != VIS_ROLE_CLIENT)
+		viewer = NULL; /* sees every window: the shared words */
+	const struct vis_window *sibling = w->below;
+	while (sibling && viewer && !server_may_see(viewer, sibling))
+		sibling = sibling->below;
 	words[0] = change;
 	words[1] = w->id;
-	words[2] = w->parent ? w->parent->id : 0;
+	words[2] = server_seen_id(viewer, w->parent); /* the root's ID is 0 */
 	words[3] = (uint32_t)w->x;
 	words[4] = (uint32_t)w->y;
 	words[5] = (uint32_t)w->width;
 	words[6] = (uint32_t)w->height;
-	words[7] = w->below ? w->below->id : 0;
+	words[7] = server_seen_id(viewer, sibling);
 	words[8] = (w->mapped ? VIS_WINDOW_MAPPED : 0) |
 		   (vis_wtree_viewable(w) ? VIS_WINDOW_VIEWABLE : 0) |
 		   (w->retained ? VIS_WINDOW_RETAINED : 0);
 }
 
+/*
+ * The fan-out is a hot path: the words are made once for all observers and managers; a client
+ * (only the window's owner may be subscribed to it) gets words of its own, made only when it is.
+ */
 void server_notify_stack(struct server *server, struct vis_window *w, uint32_t change)
 {
-	uint32_t words[9];
+	uint32_t shared[9], own[9];
 	bool made = false;
 	struct client *c;
 	TAILQ_FOREACH(c, &server->clients, link) {
 		if (c->closing || !server_client_sub_for(c, w, VIS_NOTICE_STACK))
 			continue;
+		if (c->role == VIS_ROLE_CLIENT) {
+			server_stack_words(c, w, change, own);
+			server_notice_stack(c, own);
+			continue;
+		}
 		if (!made)
-			server_stack_words(w, change, words);
+			server_stack_words(NULL, w, change, shared);
 		made = true;
-		server_notice_stack(c, words);
+		server_notice_stack(c, shared);
 	}
 }
 

@@ -178,9 +178,20 @@ void server_damage(struct server *server, const struct vis_window *w);
 /* Recomputes once every request read in this turn of the event loop has run. */
 void server_schedule_flush(struct server *server);
 
-/* A stack notice's words after the serial: change, window, parent, geometry, sibling, flags. */
-void server_stack_words(const struct vis_window *w, uint32_t change, uint32_t words[9]);
-/* Sends a stack notice about w to the connections subscribed to it. */
+/*
+ * A window's ID as viewer may know it: 0 for NULL, the screen, or a window viewer may not see,
+ * which does not exist for it. A NULL viewer sees every window.
+ */
+uint32_t server_seen_id(const struct client *viewer, const struct vis_window *w);
+/*
+ * A stack notice's words after the serial, as viewer may see them (NULL: as a connection that
+ * sees every window): change, window, parent, geometry, sibling, flags. For a client, parent is 0
+ * when it may not see the parent (x, y stay relative to it), and sibling is the nearest window
+ * below w among its siblings that the client may see, or 0: O(siblings passed over).
+ */
+void server_stack_words(const struct client *viewer, const struct vis_window *w, uint32_t change,
+			uint32_t words[9]);
+/* Sends a stack notice about w to the connections subscribed to it, each as it may see it. */
 void server_notify_stack(struct server *server, struct vis_window *w, uint32_t change);
 
 /* The window's daemon data, allocated on first use; NULL when memory runs out. */

@@ -208,6 +208,122 @@ void hostile_access_isolation(void)
 	hostile_check_unaffected();
 }
 
+/* A stack notice as a client got it. */
+struct stack_seen {
+	uint32_t change, window, parent, sibling;
+	int32_t x, y;
+};
+
+static struct stack_seen stack_seen[16];
+static size_t n_stack_seen;
+
+/* The notice hook of the stack cases: keeps the stack notices. */
+static void keep_stack(void *data, const struct vis_msg *m)
+{
+	(void)data;
+	if (m->type->opcode != VIS_OP_STACK)
+		return;
+	CHECK(n_stack_seen < sizeof stack_seen / sizeof *stack_seen, "too many stack notices");
+	const union vis_arg *a = m->args;
+	stack_seen[n_stack_seen++] =
+		(struct stack_seen){ a[1].u, a[2].u, a[3].u, a[8].u, a[4].i, a[5].i };
+}
+
+/* Syncs c and expects the stack notices it got since the last call to be want[0 … n − 1]. */
+static void expect_stack(struct harness_conn *c, const struct stack_seen *want, size_t n)
+{
+	harness_sync(c, NULL);
+	CHECK(n_stack_seen == n, "%zu stack notices, wanted %zu", n_stack_seen, n);
+	for (size_t i = 0; i < n; i++) {
+		const struct stack_seen *g = &stack_seen[i], *w = &want[i];
+		CHECK(g->change == w->change && g->window == w->window && g->parent == w->parent &&
+			      g->sibling == w->sibling && g->x == w->x && g->y == w->y,
+		      "stack notice %zu: change %u window %u parent %u at %d,%d sibling %u; wanted "
+		      "change %u window %u parent %u at %d,%d sibling %u",
+		      i, g->change, g->window, g->parent, g->x, g->y, g->sibling, w->change,
+		      w->window, w->parent, w->x, w->y, w->sibling);
+	}
+	n_stack_seen = 0;
+}
+
+static void expect_one(struct harness_conn *c, struct stack_seen want)
+{
+	expect_stack(c, &want, 1);
+}
+
+/*
+ * A client's stack notices and tree name no window it may not see: its sibling is the nearest
+ * window of its own below, its parent 0 when the parent is not its own (x, y still relative to
+ * it). The innocent's windows lie below a new top-level window, the manager's between a client's
+ * windows under the manager's frame and under the client's own window; and the frame's
+ * destruction destroys the client's windows in it, top one first.
+ */
+void hostile_access_stack_notices(void)
+{
+	const char *paths[] = { hostile_visd.sock, hostile_visd.rsock };
+	for (size_t i = 0; i < 2; i++) {
+		harness_context("stack notices name no other client's window%s",
+				i ? " (restricted socket)" : "");
+		struct harness_conn b, mgr;
+		harness_open_as(&b, paths[i], VIS_ROLE_CLIENT);
+		b.on_notice = keep_stack;
+		n_stack_seen = 0;
+		harness_req(&b, VIS_OP_SUBSCRIBE, VIS_WINDOW_ALL, VIS_NOTICE_STACK, 0);
+		/* Above the innocent's top-level windows: none of them is b's sibling. */
+		uint32_t b1 = harness_create(&b, 0, 300, 200, 10, 10, VIS_CREATE_MAP);
+		expect_stack(&b,
+			     (const struct stack_seen[]){ { VIS_STACK_CREATE, b1, 0, 0, 300, 200 },
+							  { VIS_STACK_MAP, b1, 0, 0, 300, 200 } },
+			     2);
+		uint32_t seq = harness_req(&b, VIS_OP_GET_STATE, hostile_win[4]);
+		harness_expect_error(&b, seq, VIS_OP_GET_STATE, VIS_ERROR_WINDOW, "no such window",
+				     false);
+		uint32_t b2 = harness_create(&b, 0, 320, 200, 10, 10, 0);
+		expect_one(&b, (struct stack_seen){ VIS_STACK_CREATE, b2, 0, b1, 320, 200 });
+		harness_req(&b, VIS_OP_LOWER, b2);
+		expect_one(&b, (struct stack_seen){ VIS_STACK_RESTACK, b2, 0, 0, 320, 200 });
+
+		/* The manager's frame, with b2 in it above a window of the manager's. */
+		harness_open_as(&mgr, hostile_visd.sock, VIS_ROLE_MANAGER);
+		uint32_t frame = harness_create(&mgr, 0, 340, 200, 40, 40, VIS_CREATE_MAP);
+		uint32_t b3 = harness_create(&b, 0, 360, 200, 10, 10, 0);
+		harness_create(&mgr, frame, 0, 0, 5, 5, VIS_CREATE_MAP);
+		harness_req(&mgr, VIS_OP_REPARENT, b2, frame, 1, 2);
+		harness_create(&mgr, frame, 0, 0, 5, 5, 0);
+		harness_req(&mgr, VIS_OP_REPARENT, b3, frame, 3, 4);
+		harness_sync(&mgr, NULL);
+		expect_stack(&b,
+			     (const struct stack_seen[]){ { VIS_STACK_CREATE, b3, 0, b1, 360, 200 },
+							  { VIS_STACK_REPARENT, b2, 0, 0, 1, 2 },
+							  { VIS_STACK_REPARENT, b3, 0, b2, 3, 4 } },
+			     3);
+		/* A window of the manager's under b1, then one of b's above it. */
+		harness_create(&mgr, b1, 0, 0, 5, 5, VIS_CREATE_MAP);
+		uint32_t b4 = harness_create(&b, b1, 1, 1, 2, 2, 0);
+		expect_one(&b, (struct stack_seen){ VIS_STACK_CREATE, b4, b1, 0, 1, 1 });
+		size_t n;
+		struct harness_node *t = harness_get_tree(&b, &n);
+		CHECK(n == 4 && t[0].window == b1 && t[0].parent == 0 && t[1].window == b4 &&
+			      t[1].parent == b1 && t[2].window == b2 && t[2].parent == 0 &&
+			      t[2].x == 1 && t[3].window == b3 && t[3].parent == 0 && t[3].y == 4,
+		      "the client's tree: %zu windows, %u (parent %u), %u (parent %u), …", n,
+		      n ? t[0].window : 0, n ? t[0].parent : 0, n > 1 ? t[1].window : 0,
+		      n > 1 ? t[1].parent : 0);
+		free(t);
+		/* The frame goes: its windows with it, the top one first. */
+		harness_req(&mgr, VIS_OP_DESTROY, frame);
+		harness_sync(&mgr, NULL);
+		expect_stack(&b,
+			     (const struct stack_seen[]){ { VIS_STACK_DESTROY, b3, 0, b2, 3, 4 },
+							  { VIS_STACK_DESTROY, b2, 0, 0, 1, 2 } },
+			     2);
+		harness_close(&mgr);
+		expect_stack(&b, NULL, 0); /* the manager's window under b1 went: nothing to say */
+		harness_close(&b);
+		hostile_check_unaffected();
+	}
+}
+
 /* Runs check in a child process under another uid; returns false if it cannot switch. */
 static bool as_other_uid(void (*check)(void))
 {

@@ -39,10 +39,17 @@ void hostile_expect_no_role(const char *path, const char *reason);
 /* The access cases (hostile-access.c). */
 void hostile_access_window_ids(void);
 void hostile_access_isolation(void);
+void hostile_access_stack_notices(void);
 void hostile_access_other_uid(void);
 /* Batches that are too large, or hold work meant to stall the daemon (hostile-batch.c). */
 void hostile_batch(void);
 /* Clients that hang up with requests in flight (hostile-hangup.c). */
 void hostile_hangup(void);
+
+/*
+ * Hidden windows (hostile-hidden.c): seeded random runs on daemons of their own, checking that a
+ * client never receives the ID of a window it may not see. seed 0: the suite's fixed seeds.
+ */
+void hostile_hidden_windows(const char *visd, uint64_t seed);
 
 #endif

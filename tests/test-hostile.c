@@ -3,10 +3,12 @@
  * error naming the request (its sequence number and opcode) and the reason, then the end of that
  * connection; bad and foreign window IDs get a window error and the connection stays; clients
  * without a role can neither change nor see another client's windows; no role on the restricted
- * socket or for another uid. After each case an innocent client, whose windows have known states,
- * must find them unchanged and get no notice, a new connection must work, the daemon must hold its
- * descriptors of before (the dropped connections are freed), and its stderr must hold no
- * sanitizer report. Usage: test-hostile VISD
+ * socket or for another uid; no message to a client names a window it may not see (seeded random
+ * runs: a failure prints the seed; `test-hostile VISD --seed S` reruns one alone). After each case
+ * an innocent client, whose windows have known states, must find them unchanged and get no
+ * notice, a new connection must work, the daemon must hold its descriptors of before (the dropped
+ * connections are freed), and its stderr must hold no sanitizer report.
+ * Usage: test-hostile VISD [--seed S]
  */
 #include <errno.h>
 #include <grp.h>
@@ -522,11 +524,17 @@ static void test_extremes(void)
 
 int main(int argc, char **argv)
 {
-	if (argc != 2) {
-		fprintf(stderr, "usage: test-hostile VISD\n");
+	if (argc != 2 && (argc != 4 || strcmp(argv[2], "--seed") || !atoll(argv[3]))) {
+		fprintf(stderr, "usage: test-hostile VISD [--seed S]\n");
 		return 2;
 	}
 	signal(SIGPIPE, SIG_IGN);
+	if (argc == 4) {
+		/* A failure of the hidden windows' random runs, again on its own. */
+		hostile_hidden_windows(argv[1], strtoull(argv[3], NULL, 10));
+		printf("hostile: hidden windows, seed %s: the client saw none\n", argv[3]);
+		return 0;
+	}
 	harness_start(&hostile_visd, argv[1], (const char *const[]){ "--screen", "400x300", NULL });
 	setup();
 	test_lengths(hostile_visd.sock, 65536);
@@ -542,10 +550,12 @@ int main(int argc, char **argv)
 	test_handshake();
 	test_mid_message();
 	hostile_access_isolation();
+	hostile_access_stack_notices();
 	hostile_access_other_uid();
 	test_extremes();
 	hostile_batch();
 	hostile_hangup();
+	hostile_hidden_windows(argv[1], 0);
 	harness_context("shutdown");
 	harness_close(&hostile_innocent);
 	harness_stop(&hostile_visd);

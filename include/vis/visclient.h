@@ -46,7 +46,7 @@ struct vis_rect32 {
 
 /* One window of the tree, as get-tree returns it (pre-order: bottom to top). */
 struct vis_window_info {
-	uint32_t window, parent; /* parent 0: the screen */
+	uint32_t window, parent; /* parent 0: the screen, or a window this connection may not see */
 	int32_t x, y;
 	uint32_t width, height;
 	uint32_t flags; /* enum vis_window_flags */
@@ -83,10 +83,11 @@ struct vis_notice {
 		} exposure;
 		struct {
 			uint32_t change; /* enum vis_stack_change */
-			uint32_t parent;
+			uint32_t parent; /* as in vis_window_info */
 			int32_t x, y;
 			uint32_t width, height;
-			uint32_t sibling; /* the sibling just below, 0 if none */
+			/* The sibling just below, 0 if none; for a client, the nearest of its own. */
+			uint32_t sibling;
 			uint32_t flags;   /* enum vis_window_flags */
 		} stack;
 		struct {
