@@ -463,9 +463,6 @@ void server_stack_words(const struct client *viewer, const struct vis_window *w,
 {
 	if (viewer && viewer->role != VIS_ROLE_CLIENT)
 		viewer = NULL; /* sees every window: the shared words */
-	const struct vis_window *sibling = w->below;
-	while (sibling && viewer && !server_may_see(viewer, sibling))
-		sibling = sibling->below;
 	words[0] = change;
 	words[1] = w->id;
 	words[2] = server_seen_id(viewer, w->parent); /* the root's ID is 0 */
@@ -473,7 +470,7 @@ void server_stack_words(const struct client *viewer, const struct vis_window *w,
 	words[4] = (uint32_t)w->y;
 	words[5] = (uint32_t)w->width;
 	words[6] = (uint32_t)w->height;
-	words[7] = server_seen_id(viewer, sibling);
+	words[7] = server_seen_id(viewer, w->below); /* O(1): no walk past others' windows */
 	words[8] = (w->mapped ? VIS_WINDOW_MAPPED : 0) |
 		   (vis_wtree_viewable(w) ? VIS_WINDOW_VIEWABLE : 0) |
 		   (w->retained ? VIS_WINDOW_RETAINED : 0);

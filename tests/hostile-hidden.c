@@ -6,7 +6,7 @@
  * everything, also queries the whole screen and names the others' windows: every window ID of
  * every message b receives — replies, errors, notices, the resync after an overflow — must be 0
  * or one of b's, and its stack notices must say what PROTOCOL.md says: the parent if it is b's,
- * else 0; the nearest window of b's below among the window's siblings, else 0. The truth is the
+ * else 0; the window just below among the window's siblings if it is b's, else 0. The truth is the
  * manager's tree, read after every operation.
  */
 #include <ctype.h>
@@ -218,14 +218,14 @@ static uint32_t seen(uint32_t id)
 	return id && owner_of(id) == B ? id : 0;
 }
 
-/* The nearest window of b's below the one at i among its siblings, or 0. */
+/* The window just below the one at i among its siblings if it is b's, else 0. */
 static uint32_t b_sibling(const struct truth *tr, size_t i)
 {
-	uint32_t want = 0;
+	uint32_t below = 0;
 	for (size_t k = 0; k < i; k++)
-		if (tr->t[k].parent == tr->t[i].parent && owner_of(tr->t[k].window) == B)
-			want = tr->t[k].window;
-	return want;
+		if (tr->t[k].parent == tr->t[i].parent)
+			below = tr->t[k].window;
+	return seen(below);
 }
 
 /* Counts what the notice about the window at i covers: a hidden parent, hidden siblings passed. */

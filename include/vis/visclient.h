@@ -86,7 +86,7 @@ struct vis_notice {
 			uint32_t parent; /* as in vis_window_info */
 			int32_t x, y;
 			uint32_t width, height;
-			/* The sibling just below, 0 if none; for a client, the nearest of its own. */
+			/* The sibling just below, 0 if none (for a client: or if not its own). */
 			uint32_t sibling;
 			uint32_t flags;   /* enum vis_window_flags */
 		} stack;
