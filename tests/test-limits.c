@@ -265,10 +265,11 @@ static void view_check(struct view *v, struct harness_conn *o, bool stack)
  * A subscriber stops reading while a manager sweeps a cover across a grid of windows: every
  * sweep changes most states. Then it reads everything and must agree with the daemon.
  */
-static void run_slow_reader(uint32_t mask, int sweeps, struct view *v)
+static void run_slow_reader(uint32_t mask, int sweeps, const char *pending, struct view *v)
 {
 	struct harness_daemon d = { 0 };
-	harness_start(&d, visd, (const char *[]){ "--max-pending", "65536", NULL });
+	harness_start(&d, visd,
+		      pending ? (const char *[]){ "--max-pending", pending, NULL } : NULL);
 	struct harness_conn m, o;
 	harness_open(&m, d.sock);
 	harness_hello(&m, VIS_ROLE_MANAGER);
@@ -298,7 +299,7 @@ static void test_slow_readers(void)
 {
 	struct view v;
 	harness_context("slow reader: coalescing");
-	run_slow_reader(VIS_NOTICE_VISIBILITY | VIS_NOTICE_EXPOSURE, 60, &v);
+	run_slow_reader(VIS_NOTICE_VISIBILITY | VIS_NOTICE_EXPOSURE, 60, "65536", &v);
 	CHECK(v.coalesced > 0 && !v.overflows,
 	      "a lagging subscriber of states: %u coalesced, %u overflows", v.coalesced,
 	      v.overflows);
@@ -308,10 +309,21 @@ static void test_slow_readers(void)
 	free(v.exists);
 
 	harness_context("slow reader: overflow");
-	run_slow_reader(VIS_NOTICE_ALL, 60, &v);
+	run_slow_reader(VIS_NOTICE_ALL, 60, "65536", &v);
 	CHECK(v.overflows > 0 && v.dropped > 0, "a stalled stack subscriber never overflowed");
 	printf("slow reader of everything: %llu notices, %u overflows dropping %u\n",
 	       (unsigned long long)v.serial, v.overflows, v.dropped);
+	free(v.state);
+	free(v.exists);
+
+	/* The default bound: half of 4 MiB must wait before notices coalesce, and they do. */
+	harness_context("slow reader: coalescing under the default --max-pending");
+	run_slow_reader(VIS_NOTICE_VISIBILITY | VIS_NOTICE_EXPOSURE, 400, NULL, &v);
+	CHECK(v.coalesced > 0 && !v.overflows,
+	      "a lagging subscriber of states, default bound: %u coalesced, %u overflows",
+	      v.coalesced, v.overflows);
+	printf("slow reader of states, default bound: %llu notices, standing for %u more\n",
+	       (unsigned long long)v.serial, v.coalesced);
 	free(v.state);
 	free(v.exists);
 }
