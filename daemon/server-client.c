@@ -276,8 +276,9 @@ static void add_answer(struct client *c, uint32_t kind, uint32_t seq, const void
 }
 
 /*
- * Whether a held request is one of the batch's changes, applied at commit with one recompute;
- * queries, syncs and subscriptions run after them, as if sent just after the commit.
+ * Whether a held request is one of the batch's changes (or a nested batch-begin, answered with
+ * them), applied at commit with one recompute; queries, syncs and subscriptions run after them,
+ * as if sent just after the commit.
  */
 static bool batch_change(uint32_t op)
 {
