@@ -44,11 +44,7 @@ void server_refuse(struct server *server, int fd, const char *fmt, ...)
 
 void server_client_accept(struct server *server, int fd, bool restricted)
 {
-	if (server->n_clients >= server->opt.max_clients) {
-		server_refuse(server, fd, "too many clients: the limit is %u (visd --max-clients)",
-			      server->opt.max_clients);
-		return;
-	}
+	/* The peer's uid first: the bounds on connections depend on it. */
 	struct ucred cred;
 	socklen_t len = sizeof cred;
 	if (getsockopt(fd, SOL_SOCKET, SO_PEERCRED, &cred, &len) < 0) {
@@ -56,12 +52,15 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 		close(fd);
 		return;
 	}
+	if (!server_quota_admit(server, fd, cred.uid, restricted))
+		return;
 	struct client *c = calloc(1, sizeof *c);
 	struct bufferevent *bev = bufferevent_socket_new(server->base, fd, BEV_OPT_CLOSE_ON_FREE);
 	struct evbuffer *batch = evbuffer_new();
 	struct event *resume = evtimer_new(server->base, on_resume, c);
 	if (!c || !bev || !batch || !resume) {
 		log_error("refusing a connection: out of memory");
+		server_quota_leave(server, cred.uid, restricted);
 		free(c);
 		if (bev)
 			bufferevent_free(bev);
@@ -84,6 +83,7 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 		server->next_client = 1; /* 0 is "no owner" */
 	if (vis_idmap_put(&server->clients_by_id, c->id, c) < 0) {
 		log_error("refusing a connection: out of memory");
+		server_quota_leave(server, cred.uid, restricted);
 		bufferevent_free(bev);
 		evbuffer_free(batch);
 		event_free(resume);
@@ -156,6 +156,7 @@ void server_client_free(struct client *c)
 	bufferevent_free(c->bev);
 	evbuffer_free(c->batch);
 	event_free(c->resume);
+	server_quota_leave(server, c->uid, c->restricted);
 	free(c);
 	server_schedule_flush(server);
 }

@@ -250,6 +250,7 @@ int server_init(struct server *server, struct event_base *base, const struct ser
 	take_reserve(server);
 	TAILQ_INIT(&server->clients);
 	vis_idmap_init(&server->clients_by_id);
+	vis_idmap_init(&server->quotas);
 	vis_buf_init(&server->scratch);
 	vis_wtree_init(&server->tree, opt->screen_width, opt->screen_height);
 	server->listener_retry = evtimer_new(base, on_listener_retry, server);
@@ -303,6 +304,7 @@ void server_finish(struct server *server)
 		event_free(server->flush_event);
 	vis_wtree_finish(&server->tree);
 	vis_idmap_finish(&server->clients_by_id);
+	server_quota_finish(server);
 	if (server->reserve_fd >= 0)
 		close(server->reserve_fd);
 	vis_buf_finish(&server->scratch);

@@ -19,6 +19,9 @@ struct server_options {
 	uint32_t max_request;   /* bytes, header included */
 	uint32_t max_batch;     /* bytes held by one open batch */
 	uint32_t max_clients;   /* connections at once */
+	uint32_t owner_reserve; /* of max_clients, slots kept for allowed_uid on the main socket */
+	uint32_t max_clients_per_uid;    /* connections of one uid other than allowed_uid */
+	uint32_t max_restricted_clients; /* connections on the restricted socket */
 	uint32_t max_windows;   /* windows one connection owns */
 	uint32_t max_depth;     /* window tree depth (top-level windows: 1) */
 	uint32_t max_subs;      /* subscriptions per connection */
@@ -122,6 +125,8 @@ struct server {
 	struct vis_wtree tree;
 	struct client_list clients;
 	uint32_t n_clients;
+	uint32_t n_restricted; /* connections on the restricted socket */
+	struct vis_idmap quotas; /* uid + 1 → what it holds (server-quota.c) */
 	uint64_t refused; /* connections refused so far */
 	struct vis_idmap clients_by_id; /* window owners' connections, by ID */
 	uint32_t next_client;
@@ -199,6 +204,18 @@ void server_subscription(struct client *c, uint32_t seq, uint32_t op, const unio
 void server_unsubscribe_all(struct client *c);
 /* Runs one decoded request. */
 void server_client_dispatch(struct client *c, uint32_t seq, const struct vis_msg *m);
+
+/* Per-uid quotas (server-quota.c). */
+/*
+ * Counts a new connection of uid, or refuses it with server_refuse() when a bound is reached:
+ * --max-restricted-clients, --max-clients-per-uid (uids other than the daemon's), --max-clients,
+ * and --owner-reserve (the last slots, for the daemon's uid on the main socket).
+ */
+bool server_quota_admit(struct server *server, int fd, uid_t uid, bool restricted);
+/* Counts off a connection that server_quota_admit() counted. */
+void server_quota_leave(struct server *server, uid_t uid, bool restricted);
+/* Frees what is kept per uid. */
+void server_quota_finish(struct server *server);
 
 /* Notices and the bound on pending output (server-output.c). */
 void server_output_init(struct client *c);

@@ -1,0 +1,174 @@
+/*
+ * The limits suite's per-uid cases: another uid flooding the restricted socket cannot lock the
+ * daemon's owner out, and each bound on connections refuses with its option's name. The cases of
+ * other uids run in children that setuid to them, so only as root; otherwise they are skipped
+ * with a note.
+ */
+#include <errno.h>
+#include <grp.h>
+#include <signal.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/prctl.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "limits.h"
+#include "vis/protocol.h"
+
+/* More connections than any case's bound allows: a flood that gets them all was never refused. */
+#define FLOOD_MAX 64
+
+/* A child that holds connections of another uid open until killed. */
+struct flood {
+	pid_t pid;
+	int accepted;
+};
+
+/*
+ * Forks a child that becomes uid (and its gid) and connects to sock until refused, with a refusal
+ * naming reason (any when NULL); it reports how many it holds and keeps them until killed.
+ * False, with nothing started, when it cannot become uid (not root).
+ */
+static bool flood_as(struct flood *f, uid_t uid, const char *sock, const char *reason)
+{
+	int report[2];
+	CHECK(pipe(report) == 0, "pipe: %s", strerror(errno));
+	fflush(NULL);
+	f->pid = fork();
+	CHECK(f->pid >= 0, "fork: %s", strerror(errno));
+	if (f->pid == 0) {
+		close(report[0]);
+		if (setgroups(0, NULL) < 0 || setgid(uid) < 0 || setuid(uid) < 0)
+			_exit(77);
+		/* A failing test must not leave it behind; after setuid(), which clears this. */
+		prctl(PR_SET_PDEATHSIG, SIGKILL);
+		static struct harness_conn conn[FLOOD_MAX + 1];
+		int n = 0;
+		while (limits_try_hello(&conn[n], sock, reason))
+			CHECK(++n <= FLOOD_MAX, "uid %u: %d connections and never refused",
+			      (unsigned)uid, n);
+		CHECK(write(report[1], &n, sizeof n) == sizeof n, "write: %s", strerror(errno));
+		for (;;)
+			pause();
+	}
+	close(report[1]);
+	ssize_t got = read(report[0], &f->accepted, sizeof f->accepted);
+	close(report[0]);
+	if (got == sizeof f->accepted)
+		return true;
+	int status;
+	CHECK(waitpid(f->pid, &status, 0) == f->pid, "waitpid: %s", strerror(errno));
+	CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 77,
+	      "the flood as uid %u failed (status %#x)", (unsigned)uid, status);
+	return false;
+}
+
+/* Ends a flood: its connections close with it. */
+static void flood_stop(struct flood *f)
+{
+	kill(f->pid, SIGKILL);
+	CHECK(waitpid(f->pid, NULL, 0) == f->pid, "waitpid: %s", strerror(errno));
+}
+
+/* Lets other uids reach both sockets, as a daemon serving them would (the harness's are 0600). */
+static void open_sockets(const struct harness_daemon *d)
+{
+	CHECK(chmod(d->dir, 0711) == 0 && chmod(d->sock, 0666) == 0 && chmod(d->rsock, 0666) == 0,
+	      "chmod: %s", strerror(errno));
+}
+
+/* Opens connections of the daemon's uid to sock until refused for reason; returns how many. */
+static int fill(struct harness_conn *conn, int max, const char *sock, const char *reason)
+{
+	int n = 0;
+	while (limits_try_hello(&conn[n], sock, reason))
+		CHECK(++n < max, "%d connections and never refused", n);
+	return n;
+}
+
+static void close_all(struct harness_conn *conn, int n)
+{
+	for (int i = 0; i < n; i++)
+		harness_close(&conn[i]);
+}
+
+/*
+ * The lockout: another uid opens connections on the restricted socket until refused; the owner
+ * must still get in on the main socket. Only --max-clients is given, which every visd takes: the
+ * case is the attack itself, whichever bound stops it (here the default reserve, half of 40).
+ */
+void limits_quota_lockout(void)
+{
+	harness_context("another uid floods the restricted socket");
+	if (geteuid() != 0) {
+		printf("limits: not root: the other-uid flood is skipped\n");
+		return;
+	}
+	struct harness_daemon d = { 0 };
+	harness_start(&d, limits_visd, (const char *[]){ "--max-clients", "40", NULL });
+	open_sockets(&d);
+	struct flood f;
+	CHECK(flood_as(&f, 65534, d.rsock, NULL), "cannot run as uid 65534");
+	struct harness_conn c;
+	CHECK(limits_try_hello(&c, d.sock, NULL),
+	      "uid 65534 holds %d connections and the owner is refused", f.accepted);
+	harness_create(&c, 0, 0, 0, 10, 10, VIS_CREATE_MAP);
+	printf("limits: uid 65534 got %d of 40 slots; the owner got in\n", f.accepted);
+	harness_close(&c);
+	flood_stop(&f);
+	harness_stop(&d);
+}
+
+/*
+ * Each bound on connections refuses with its option's name: the restricted socket's (24) for the
+ * owner too; then, as root, one uid's (16), the restricted socket's again across uids, the owner's
+ * reserve (the last 8 of 40) against a third uid on the main socket, and --max-clients for the
+ * owner, who alone may fill the reserve.
+ */
+void limits_quota_connections(void)
+{
+	struct harness_daemon d = { 0 };
+	harness_start(&d, limits_visd,
+		      (const char *[]){ "--max-clients", "40", "--owner-reserve", "8",
+					"--max-clients-per-uid", "16", "--max-restricted-clients",
+					"24", NULL });
+	static struct harness_conn conn[41];
+	int base_fds = harness_count_fds(&d);
+
+	harness_context("connections on the restricted socket");
+	int n = fill(conn, 41, d.rsock, "--max-restricted-clients");
+	CHECK(n == 24, "the restricted socket took %d connections, not 24", n);
+	CHECK(strstr(limits_read_log(&d), "--max-restricted-clients"), "the refusal is not logged");
+	close_all(conn, n);
+	harness_wait_fds(&d, base_fds);
+
+	harness_context("connections per uid and the owner's reserve");
+	open_sockets(&d);
+	struct flood a, b, c;
+	if (!flood_as(&a, 65534, d.rsock, "--max-clients-per-uid")) {
+		printf("limits: not root: the per-uid bounds are skipped\n");
+		harness_stop(&d);
+		return;
+	}
+	CHECK(a.accepted == 16, "uid 65534 got %d connections, not 16", a.accepted);
+	CHECK(flood_as(&b, 65533, d.rsock, "--max-restricted-clients") && b.accepted == 8,
+	      "uid 65533 got %d connections on the restricted socket, not the 8 left", b.accepted);
+	CHECK(flood_as(&c, 65532, d.sock, "--owner-reserve") && c.accepted == 8,
+	      "uid 65532 got %d connections on the main socket, not 8 before the reserve",
+	      c.accepted);
+	n = fill(conn, 41, d.sock, "--max-clients");
+	CHECK(n == 8, "the owner got %d of the reserve's 8 slots", n);
+	harness_sync(&conn[0], NULL);
+	close_all(conn, n);
+	flood_stop(&a);
+	flood_stop(&b);
+	flood_stop(&c);
+	harness_wait_fds(&d, base_fds);
+	/* Every count went back: each uid gets its share again. */
+	CHECK(flood_as(&a, 65534, d.rsock, "--max-clients-per-uid") && a.accepted == 16,
+	      "after the floods, uid 65534 got %d connections, not 16", a.accepted);
+	flood_stop(&a);
+	harness_stop(&d);
+}
