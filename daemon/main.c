@@ -36,6 +36,8 @@ static const char usage_text[] =
 	"                            (default 256)\n"
 	"  --max-restricted-clients N\n"
 	"                            connections on the restricted socket (default 256)\n"
+	"  --hello-timeout SECONDS   how long a connection may take to complete hello\n"
+	"                            before it is closed (default 10)\n"
 	"  --max-windows N           windows one connection may own (default 262144)\n"
 	"  --max-depth N             depth of the window tree (default 64)\n"
 	"  --max-subscriptions N     subscriptions per connection (default 1024)\n"
@@ -57,6 +59,7 @@ static const struct number_option number_options[] = {
 	{ "--max-clients-per-uid", 1, 1000000, offsetof(struct server_options, max_clients_per_uid) },
 	{ "--max-restricted-clients", 1, 1000000,
 	  offsetof(struct server_options, max_restricted_clients) },
+	{ "--hello-timeout", 1, 86400, offsetof(struct server_options, hello_timeout) },
 	{ "--max-windows", 1, INT32_MAX, offsetof(struct server_options, max_windows) },
 	{ "--max-depth", 1, 4096, offsetof(struct server_options, max_depth) },
 	{ "--max-subscriptions", 1, 1000000, offsetof(struct server_options, max_subs) },
@@ -225,6 +228,7 @@ int main(int argc, char **argv)
 		.owner_reserve = UINT32_MAX, /* unless given: 32, at most half of max_clients */
 		.max_clients_per_uid = 256,
 		.max_restricted_clients = 256,
+		.hello_timeout = 10,
 		.max_windows = 262144,
 		.max_depth = 64,
 		.max_subs = 1024,

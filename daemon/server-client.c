@@ -42,6 +42,18 @@ void server_refuse(struct server *server, int fd, const char *fmt, ...)
 	close(fd);
 }
 
+/* A connection that has not completed hello in time is closed, saying why. */
+static void on_hello_timeout(evutil_socket_t fd, short what, void *data)
+{
+	(void)fd;
+	(void)what;
+	struct client *c = data;
+	if (!c->hello_done && !c->closing)
+		server_client_error(c, c->seq + 1, VIS_OP_HELLO, VIS_ERROR_HANDSHAKE,
+				    "no hello within %u s (visd --hello-timeout)",
+				    c->server->opt.hello_timeout);
+}
+
 void server_client_accept(struct server *server, int fd, bool restricted)
 {
 	/* The peer's uid first: the bounds on connections depend on it. */
@@ -58,7 +70,8 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 	struct bufferevent *bev = bufferevent_socket_new(server->base, fd, BEV_OPT_CLOSE_ON_FREE);
 	struct evbuffer *batch = evbuffer_new();
 	struct event *resume = evtimer_new(server->base, on_resume, c);
-	if (!c || !bev || !batch || !resume) {
+	struct event *hello_timer = evtimer_new(server->base, on_hello_timeout, c);
+	if (!c || !bev || !batch || !resume || !hello_timer) {
 		log_error("refusing a connection: out of memory");
 		server_quota_leave(server, cred.uid, restricted);
 		free(c);
@@ -70,9 +83,12 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 			evbuffer_free(batch);
 		if (resume)
 			event_free(resume);
+		if (hello_timer)
+			event_free(hello_timer);
 		return;
 	}
 	c->resume = resume;
+	c->hello_timer = hello_timer;
 	c->server = server;
 	c->bev = bev;
 	c->batch = batch;
@@ -87,6 +103,7 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 		bufferevent_free(bev);
 		evbuffer_free(batch);
 		event_free(resume);
+		event_free(hello_timer);
 		free(c);
 		return;
 	}
@@ -102,6 +119,7 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 	bufferevent_setwatermark(bev, EV_READ, 0, (max < 65536 ? 65536 : max) + 65536);
 	bufferevent_setwatermark(bev, EV_WRITE, server->opt.max_pending / 4, 0);
 	bufferevent_enable(bev, EV_READ | EV_WRITE);
+	evtimer_add(hello_timer, &(struct timeval){ .tv_sec = server->opt.hello_timeout });
 	log_debug("client %u connected (uid %u, pid %d%s)", c->id, (unsigned)cred.uid,
 		  (int)cred.pid, restricted ? ", restricted socket" : "");
 }
@@ -156,6 +174,7 @@ void server_client_free(struct client *c)
 	bufferevent_free(c->bev);
 	evbuffer_free(c->batch);
 	event_free(c->resume);
+	event_free(c->hello_timer);
 	server_quota_leave(server, c->uid, c->restricted);
 	free(c);
 	server_schedule_flush(server);

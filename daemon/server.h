@@ -22,6 +22,7 @@ struct server_options {
 	uint32_t owner_reserve; /* of max_clients, slots kept for allowed_uid on the main socket */
 	uint32_t max_clients_per_uid;    /* connections of one uid other than allowed_uid */
 	uint32_t max_restricted_clients; /* connections on the restricted socket */
+	uint32_t hello_timeout; /* seconds a connection has to complete hello */
 	uint32_t max_windows;   /* windows one connection owns */
 	uint32_t max_depth;     /* window tree depth (top-level windows: 1) */
 	uint32_t max_subs;      /* subscriptions per connection */
@@ -104,6 +105,7 @@ struct client {
 	uint32_t n_windows; /* windows it owns */
 	struct output out;
 	struct event *resume; /* runs the requests left over by the budget, next turn */
+	struct event *hello_timer; /* ends it if hello has not succeeded within hello_timeout */
 };
 
 TAILQ_HEAD(client_list, client);

@@ -1,6 +1,7 @@
 /*
- * The limits suite's per-uid cases: another uid flooding the restricted socket cannot lock the
- * daemon's owner out, and each bound on connections refuses with its option's name. The cases of
+ * The limits suite's cases on connections that others hold: another uid flooding the restricted
+ * socket cannot lock the daemon's owner out, each bound on connections refuses with its option's
+ * name, and a connection that never completes hello is closed after --hello-timeout. The cases of
  * other uids run in children that setuid to them, so only as root; otherwise they are skipped
  * with a note.
  */
@@ -12,6 +13,7 @@
 #include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "limits.h"
@@ -170,5 +172,49 @@ void limits_quota_connections(void)
 	CHECK(flood_as(&a, 65534, d.rsock, "--max-clients-per-uid") && a.accepted == 16,
 	      "after the floods, uid 65534 got %d connections, not 16", a.accepted);
 	flood_stop(&a);
+	harness_stop(&d);
+}
+
+static double now_s(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_MONOTONIC, &t);
+	return (double)t.tv_sec + t.tv_nsec / 1e9;
+}
+
+/*
+ * --hello-timeout 1: a connection that sends nothing, and one that sends half a hello, get a
+ * handshake error naming the option after a second, then the end; one that completed hello
+ * before them and idles since is served still.
+ */
+void limits_quota_hello_timeout(void)
+{
+	harness_context("hello timeout");
+	struct harness_daemon d = { 0 };
+	harness_start(&d, limits_visd, (const char *[]){ "--hello-timeout", "1", NULL });
+	struct harness_conn idle, silent, partial;
+	harness_open(&idle, d.sock);
+	harness_hello(&idle, VIS_ROLE_CLIENT);
+	double start = now_s();
+	harness_open(&silent, d.sock);
+	harness_open(&partial, d.rsock);
+	uint8_t hello[VIS_MSG_HEADER + 12];
+	harness_build(hello, VIS_OP_HELLO,
+		      (const uint32_t[]){ VIS_PROTOCOL_MAGIC, VIS_PROTOCOL_VERSION, 0 }, 3);
+	CHECK(harness_send(&partial, hello, 10) == 0, "send: %s", strerror(errno));
+	harness_expect_error(&silent, 1, VIS_OP_HELLO, VIS_ERROR_HANDSHAKE,
+			     "no hello within 1 s (visd --hello-timeout)", true);
+	double waited = now_s() - start;
+	CHECK(waited > 0.9, "a silent connection was closed after %.2f s, before its deadline",
+	      waited);
+	harness_expect_error(&partial, 1, VIS_OP_HELLO, VIS_ERROR_HANDSHAKE, "--hello-timeout",
+			     true);
+	/* Its deadline passed before theirs: it would have been closed by now. */
+	harness_create(&idle, 0, 0, 0, 10, 10, VIS_CREATE_MAP);
+	CHECK(strstr(limits_read_log(&d), "no hello within 1 s (visd --hello-timeout)"),
+	      "the timeout is not logged");
+	harness_close(&silent);
+	harness_close(&partial);
+	harness_close(&idle);
 	harness_stop(&d);
 }

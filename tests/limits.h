@@ -1,6 +1,6 @@
 /*
- * The limits suite's shared helpers (test-limits.c) and its cases on per-uid quotas
- * (limits-quota.c): connections per uid, on the restricted socket, the owner's reserve.
+ * The limits suite's shared helpers (test-limits.c) and its cases on connections that others hold
+ * (limits-quota.c): per uid, on the restricted socket, the owner's reserve, the hello deadline.
  */
 #ifndef VIS_TESTS_LIMITS_H
 #define VIS_TESTS_LIMITS_H
@@ -24,5 +24,6 @@ void limits_expect_limit(struct harness_conn *c, uint32_t seq, uint32_t op, cons
 /* The cases of limits-quota.c. */
 void limits_quota_lockout(void);
 void limits_quota_connections(void);
+void limits_quota_hello_timeout(void);
 
 #endif

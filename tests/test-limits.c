@@ -448,6 +448,7 @@ int main(int argc, char **argv)
 	test_configured_limits();
 	limits_quota_lockout();
 	limits_quota_connections();
+	limits_quota_hello_timeout();
 	test_descriptor_shortage();
 	test_slow_readers();
 	test_fairness();
