@@ -39,6 +39,9 @@ static const char usage_text[] =
 	"  --hello-timeout SECONDS   how long a connection may take to complete hello\n"
 	"                            before it is closed (default 10)\n"
 	"  --max-windows N           windows one connection may own (default 262144)\n"
+	"  --max-retained-per-uid N  retained windows that exist, made by connections of\n"
+	"                            one uid, alive or gone (default 262144)\n"
+	"  --max-retained N          retained windows that exist (default 1048576)\n"
 	"  --max-depth N             depth of the window tree (default 64)\n"
 	"  --max-subscriptions N     subscriptions per connection (default 1024)\n"
 	"  --max-pending BYTES       output waiting for one connection before its notices\n"
@@ -61,6 +64,9 @@ static const struct number_option number_options[] = {
 	  offsetof(struct server_options, max_restricted_clients) },
 	{ "--hello-timeout", 1, 86400, offsetof(struct server_options, hello_timeout) },
 	{ "--max-windows", 1, INT32_MAX, offsetof(struct server_options, max_windows) },
+	{ "--max-retained-per-uid", 0, INT32_MAX,
+	  offsetof(struct server_options, max_retained_per_uid) },
+	{ "--max-retained", 0, INT32_MAX, offsetof(struct server_options, max_retained) },
 	{ "--max-depth", 1, 4096, offsetof(struct server_options, max_depth) },
 	{ "--max-subscriptions", 1, 1000000, offsetof(struct server_options, max_subs) },
 	{ "--max-pending", 65536, 1u << 30, offsetof(struct server_options, max_pending) },
@@ -230,6 +236,8 @@ int main(int argc, char **argv)
 		.max_restricted_clients = 256,
 		.hello_timeout = 10,
 		.max_windows = 262144,
+		.max_retained_per_uid = 262144,
+		.max_retained = 1048576,
 		.max_depth = 64,
 		.max_subs = 1024,
 		.max_pending = 4u << 20,

@@ -492,6 +492,8 @@ static void window_gone(void *data, struct vis_window *w)
 	struct client *owner = vis_idmap_get(&server->clients_by_id, w->owner);
 	if (owner)
 		owner->n_windows--;
+	if (w->retained)
+		server_quota_release(server, w);
 	struct window_data *d = w->data;
 	if (d && d->subs) {
 		struct client *c;

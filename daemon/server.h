@@ -27,6 +27,8 @@ struct server_options {
 	uint32_t max_depth;     /* window tree depth (top-level windows: 1) */
 	uint32_t max_subs;      /* subscriptions per connection */
 	uint32_t max_pending;   /* bytes waiting to be written to one connection */
+	uint32_t max_retained_per_uid; /* retained windows that exist, made by one uid */
+	uint32_t max_retained;  /* retained windows that exist */
 	uid_t allowed_uid;      /* peers with this uid may take roles */
 };
 
@@ -110,11 +112,15 @@ struct client {
 
 TAILQ_HEAD(client_list, client);
 
-/* What the daemon keeps for a window (vis_window.data). */
+/*
+ * What the daemon keeps for a window (vis_window.data). Every retained window has it from its
+ * creation on: its count must be found after the connection that made it is gone.
+ */
 struct window_data {
 	uint32_t exposure_subs; /* subscriptions naming this window with exposures */
 	uint32_t subs;          /* subscriptions naming this window */
 	bool tracked;           /* region holds the visible region last reported */
+	uid_t retained_by;      /* a retained window's creator, whose quota counts it */
 	pixman_region32_t region;
 };
 
@@ -128,6 +134,7 @@ struct server {
 	struct client_list clients;
 	uint32_t n_clients;
 	uint32_t n_restricted; /* connections on the restricted socket */
+	uint32_t n_retained;   /* retained windows */
 	struct vis_idmap quotas; /* uid + 1 → what it holds (server-quota.c) */
 	uint64_t refused; /* connections refused so far */
 	struct vis_idmap clients_by_id; /* window owners' connections, by ID */
@@ -216,6 +223,16 @@ void server_client_dispatch(struct client *c, uint32_t seq, const struct vis_msg
 bool server_quota_admit(struct server *server, int fd, uid_t uid, bool restricted);
 /* Counts off a connection that server_quota_admit() counted. */
 void server_quota_leave(struct server *server, uid_t uid, bool restricted);
+/*
+ * Whether c may create one more retained window under --max-retained-per-uid (its uid's retained
+ * windows that exist, whether their connections are alive or gone) and --max-retained (all that
+ * exist); if not, sends the limit error for request seq.
+ */
+bool server_quota_may_retain(struct client *c, uint32_t seq);
+/* Marks w (just created by c) retained and counts it against c's uid; -1 when memory ran out. */
+int server_quota_retain(struct client *c, struct vis_window *w);
+/* Counts off a retained window as it is destroyed, alone or with a subtree (before its data goes). */
+void server_quota_release(struct server *server, struct vis_window *w);
 /* Frees what is kept per uid. */
 void server_quota_finish(struct server *server);
 

@@ -9,6 +9,7 @@
 #include <grp.h>
 #include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/prctl.h>
 #include <sys/stat.h>
@@ -216,5 +217,132 @@ void limits_quota_hello_timeout(void)
 	harness_close(&silent);
 	harness_close(&partial);
 	harness_close(&idle);
+	harness_stop(&d);
+}
+
+/* Waits until the manager sees n windows: the daemon has dropped a departed client's windows. */
+static void wait_windows(struct harness_conn *m, size_t n)
+{
+	for (int tries = 0;; tries++) {
+		size_t k;
+		free(harness_get_tree(m, &k));
+		if (k == n)
+			return;
+		CHECK(tries < 1000, "the manager sees %zu windows, not %zu", k, n);
+		usleep(5000);
+	}
+}
+
+/* Expects a retained window's creation on c to be refused for reason, and c to go on. */
+static void refused_retain(struct harness_conn *c, const char *reason)
+{
+	uint32_t seq = harness_req(c, VIS_OP_CREATE, 0, 500, 0, 5, 5, VIS_CREATE_RETAIN);
+	limits_expect_limit(c, seq, VIS_OP_CREATE, reason);
+}
+
+/* The socket another uid's retained windows are made on. */
+static const char *other_sock;
+
+/* As uid 65534: two retained windows fill the total of 8, a third is refused for it. */
+static void retain_as_other(void)
+{
+	struct harness_conn c;
+	harness_open_as(&c, other_sock, VIS_ROLE_CLIENT);
+	harness_create(&c, 0, 600, 0, 5, 5, VIS_CREATE_RETAIN);
+	harness_create(&c, 0, 610, 0, 5, 5, VIS_CREATE_RETAIN);
+	refused_retain(&c, "8 retained windows exist, the limit (visd --max-retained)");
+	harness_close(&c);
+}
+
+/*
+ * Retained windows outlive their connections, so they are bounded per uid and in all, whether
+ * their connections are alive or gone: with --max-retained-per-uid 6 --max-retained 8, the
+ * owner's connections come and go, leaving retained windows, until one is refused; destroying
+ * some, alone or as part of a subtree, makes room again. As root, another uid is refused once
+ * the total is reached. Then, with --max-retained 3 alone, the total for one uid.
+ */
+void limits_quota_retained(void)
+{
+	harness_context("retained windows per uid");
+	struct harness_daemon d = { 0 };
+	harness_start(&d, limits_visd,
+		      (const char *[]){ "--max-retained-per-uid", "6", "--max-retained", "8", NULL });
+	const char *per_uid = "has 6 retained windows, the limit (visd --max-retained-per-uid)";
+	struct harness_conn m, a, b;
+	harness_open_as(&m, d.sock, VIS_ROLE_MANAGER);
+	harness_open_as(&a, d.sock, VIS_ROLE_CLIENT);
+	uint32_t r1 = harness_create(&a, 0, 0, 0, 50, 50, VIS_CREATE_RETAIN);
+	harness_create(&a, r1, 0, 0, 5, 5, VIS_CREATE_RETAIN);
+	uint32_t r3 = harness_create(&a, 0, 60, 0, 5, 5, VIS_CREATE_RETAIN);
+	harness_create(&a, 0, 70, 0, 5, 5, VIS_CREATE_RETAIN);
+	harness_create(&a, 0, 80, 0, 5, 5, 0); /* not retained: counts for nothing */
+	harness_close(&a);
+	wait_windows(&m, 4);
+	harness_open_as(&b, d.sock, VIS_ROLE_CLIENT);
+	harness_create(&b, 0, 100, 0, 5, 5, VIS_CREATE_RETAIN);
+	harness_create(&b, 0, 110, 0, 5, 5, VIS_CREATE_RETAIN);
+	refused_retain(&b, per_uid);
+	harness_create(&b, 0, 120, 0, 5, 5, VIS_CREATE_MAP);
+
+	harness_context("destroyed retained windows make room");
+	harness_req(&m, VIS_OP_DESTROY, r1); /* and its retained child */
+	harness_sync(&m, NULL);
+	harness_create(&b, 0, 130, 0, 5, 5, VIS_CREATE_RETAIN);
+	uint32_t b4 = harness_create(&b, 0, 140, 0, 5, 5, VIS_CREATE_RETAIN);
+	refused_retain(&b, per_uid);
+	harness_req(&b, VIS_OP_DESTROY, b4);
+	harness_create(&b, 0, 150, 0, 5, 5, VIS_CREATE_RETAIN);
+	refused_retain(&b, per_uid);
+	harness_close(&b);
+	wait_windows(&m, 6);
+	harness_open_as(&b, d.sock, VIS_ROLE_CLIENT);
+	refused_retain(&b, per_uid);
+
+	harness_context("retained windows in all, across uids");
+	open_sockets(&d);
+	other_sock = d.rsock;
+	fflush(NULL);
+	pid_t pid = fork();
+	CHECK(pid >= 0, "fork: %s", strerror(errno));
+	if (pid == 0) {
+		if (setgroups(0, NULL) < 0 || setgid(65534) < 0 || setuid(65534) < 0)
+			_exit(77);
+		retain_as_other();
+		_exit(0);
+	}
+	int status;
+	CHECK(waitpid(pid, &status, 0) == pid, "waitpid: %s", strerror(errno));
+	CHECK(WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 77),
+	      "the case as uid 65534 failed (status %#x)", status);
+	if (WEXITSTATUS(status) == 77) {
+		printf("limits: not root: retained windows of another uid are skipped\n");
+	} else {
+		wait_windows(&m, 8); /* its retained windows stay */
+		harness_req(&m, VIS_OP_DESTROY, r3);
+		harness_create(&b, 0, 160, 0, 5, 5, VIS_CREATE_RETAIN);
+		refused_retain(&b, per_uid);
+	}
+	harness_close(&b);
+	harness_close(&m);
+	harness_stop(&d);
+
+	harness_context("retained windows in all");
+	harness_start(&d, limits_visd, (const char *[]){ "--max-retained", "3", NULL });
+	const char *total = "3 retained windows exist, the limit (visd --max-retained)";
+	harness_open_as(&m, d.sock, VIS_ROLE_MANAGER);
+	harness_open_as(&a, d.sock, VIS_ROLE_CLIENT);
+	harness_create(&a, 0, 0, 0, 5, 5, VIS_CREATE_RETAIN);
+	uint32_t gone = harness_create(&a, 0, 10, 0, 5, 5, VIS_CREATE_RETAIN);
+	harness_close(&a);
+	wait_windows(&m, 2);
+	harness_open_as(&b, d.sock, VIS_ROLE_CLIENT);
+	harness_create(&b, 0, 20, 0, 5, 5, VIS_CREATE_RETAIN);
+	refused_retain(&b, total);
+	harness_req(&m, VIS_OP_DESTROY, gone);
+	harness_sync(&m, NULL);
+	harness_create(&b, 0, 30, 0, 5, 5, VIS_CREATE_RETAIN);
+	refused_retain(&b, total);
+	harness_close(&b);
+	harness_close(&m);
 	harness_stop(&d);
 }

@@ -1,6 +1,7 @@
 /*
- * The limits suite's shared helpers (test-limits.c) and its cases on connections that others hold
- * (limits-quota.c): per uid, on the restricted socket, the owner's reserve, the hello deadline.
+ * The limits suite's shared helpers (test-limits.c) and its cases on what others may hold
+ * (limits-quota.c): connections per uid, on the restricted socket, the owner's reserve, the hello
+ * deadline; retained windows per uid and in all.
  */
 #ifndef VIS_TESTS_LIMITS_H
 #define VIS_TESTS_LIMITS_H
@@ -25,5 +26,6 @@ void limits_expect_limit(struct harness_conn *c, uint32_t seq, uint32_t op, cons
 void limits_quota_lockout(void);
 void limits_quota_connections(void);
 void limits_quota_hello_timeout(void);
+void limits_quota_retained(void);
 
 #endif

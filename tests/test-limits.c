@@ -449,6 +449,7 @@ int main(int argc, char **argv)
 	limits_quota_lockout();
 	limits_quota_connections();
 	limits_quota_hello_timeout();
+	limits_quota_retained();
 	test_descriptor_shortage();
 	test_slow_readers();
 	test_fairness();
