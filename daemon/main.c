@@ -29,7 +29,19 @@ static const char usage_text[] =
 	"  --max-request BYTES       the largest request accepted (default 65536)\n"
 	"  --max-clients N           connections at once (default 1024, fewer when\n"
 	"                            descriptors are short: see ulimit -n)\n"
+	"  --owner-reserve N         of those, slots only the daemon's uid may take, on\n"
+	"                            the main socket (below --max-clients; default 32,\n"
+	"                            or half of --max-clients if less)\n"
+	"  --max-clients-per-uid N   connections of one uid other than the daemon's\n"
+	"                            (default 256)\n"
+	"  --max-restricted-clients N\n"
+	"                            connections on the restricted socket (default 256)\n"
+	"  --hello-timeout SECONDS   how long a connection may take to complete hello\n"
+	"                            before it is closed (default 10)\n"
 	"  --max-windows N           windows one connection may own (default 262144)\n"
+	"  --max-retained-per-uid N  retained windows that exist, made by connections of\n"
+	"                            one uid, alive or gone (default 262144)\n"
+	"  --max-retained N          retained windows that exist (default 1048576)\n"
 	"  --max-depth N             depth of the window tree (default 64)\n"
 	"  --max-subscriptions N     subscriptions per connection (default 1024)\n"
 	"  --max-pending BYTES       output waiting for one connection before its notices\n"
@@ -46,7 +58,15 @@ static const struct number_option number_options[] = {
 	{ "--max-request", VIS_PROTOCOL_MIN_MAX_REQUEST, VIS_PROTOCOL_MAX_MESSAGE,
 	  offsetof(struct server_options, max_request) },
 	{ "--max-clients", 1, 1000000, offsetof(struct server_options, max_clients) },
+	{ "--owner-reserve", 0, 999999, offsetof(struct server_options, owner_reserve) },
+	{ "--max-clients-per-uid", 1, 1000000, offsetof(struct server_options, max_clients_per_uid) },
+	{ "--max-restricted-clients", 1, 1000000,
+	  offsetof(struct server_options, max_restricted_clients) },
+	{ "--hello-timeout", 1, 86400, offsetof(struct server_options, hello_timeout) },
 	{ "--max-windows", 1, INT32_MAX, offsetof(struct server_options, max_windows) },
+	{ "--max-retained-per-uid", 0, INT32_MAX,
+	  offsetof(struct server_options, max_retained_per_uid) },
+	{ "--max-retained", 0, INT32_MAX, offsetof(struct server_options, max_retained) },
 	{ "--max-depth", 1, 4096, offsetof(struct server_options, max_depth) },
 	{ "--max-subscriptions", 1, 1000000, offsetof(struct server_options, max_subs) },
 	{ "--max-pending", 65536, 1u << 30, offsetof(struct server_options, max_pending) },
@@ -152,7 +172,9 @@ static int check_socket_dir(const char *path)
 
 /*
  * Raises the descriptor limit as far as the clients need and the hard limit allows, and lowers
- * max_clients to what the descriptors left can serve.
+ * max_clients to what the descriptors left can serve. The owner's reserve then shrinks to half of
+ * that at most, so that other uids keep some slots and the owner some of its own; the per-uid and
+ * restricted bounds stay, as the slots left to others bound them anyway.
  */
 static void fit_descriptors(struct server_options *opt)
 {
@@ -171,6 +193,11 @@ static void fit_descriptors(struct server_options *opt)
 		log_warn("only %llu file descriptors (ulimit -n): serving at most %u clients, not %u",
 			 (unsigned long long)rl.rlim_cur, fit, opt->max_clients);
 		opt->max_clients = fit;
+		if (opt->owner_reserve > fit / 2) {
+			log_warn("keeping %u of them for the daemon's uid, not %u (--owner-reserve)",
+				 fit / 2, opt->owner_reserve);
+			opt->owner_reserve = fit / 2;
+		}
 	}
 }
 
@@ -204,7 +231,13 @@ int main(int argc, char **argv)
 		.max_request = 65536,
 		.max_batch = 16u << 20,
 		.max_clients = 1024,
+		.owner_reserve = UINT32_MAX, /* unless given: 32, at most half of max_clients */
+		.max_clients_per_uid = 256,
+		.max_restricted_clients = 256,
+		.hello_timeout = 10,
 		.max_windows = 262144,
+		.max_retained_per_uid = 262144,
+		.max_retained = 1048576,
 		.max_depth = 64,
 		.max_subs = 1024,
 		.max_pending = 4u << 20,
@@ -261,6 +294,14 @@ int main(int argc, char **argv)
 		}
 	}
 
+	if (opt.owner_reserve == UINT32_MAX)
+		opt.owner_reserve = opt.max_clients / 2 < 32 ? opt.max_clients / 2 : 32;
+	else if (opt.owner_reserve >= opt.max_clients) {
+		fprintf(stderr, "visd: --owner-reserve %u leaves no slot for others: it must be below "
+				"--max-clients (%u)\n%s",
+			opt.owner_reserve, opt.max_clients, usage_text);
+		return 2;
+	}
 	if (check_socket_dir(opt.socket_path) < 0 ||
 	    (opt.restricted_path && check_socket_dir(opt.restricted_path) < 0))
 		return 1;

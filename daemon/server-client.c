@@ -42,13 +42,21 @@ void server_refuse(struct server *server, int fd, const char *fmt, ...)
 	close(fd);
 }
 
+/* A connection that has not completed hello in time is closed, saying why. */
+static void on_hello_timeout(evutil_socket_t fd, short what, void *data)
+{
+	(void)fd;
+	(void)what;
+	struct client *c = data;
+	if (!c->hello_done && !c->closing)
+		server_client_error(c, c->seq + 1, VIS_OP_HELLO, VIS_ERROR_HANDSHAKE,
+				    "no hello within %u s (visd --hello-timeout)",
+				    c->server->opt.hello_timeout);
+}
+
 void server_client_accept(struct server *server, int fd, bool restricted)
 {
-	if (server->n_clients >= server->opt.max_clients) {
-		server_refuse(server, fd, "too many clients: the limit is %u (visd --max-clients)",
-			      server->opt.max_clients);
-		return;
-	}
+	/* The peer's uid first: the bounds on connections depend on it. */
 	struct ucred cred;
 	socklen_t len = sizeof cred;
 	if (getsockopt(fd, SOL_SOCKET, SO_PEERCRED, &cred, &len) < 0) {
@@ -56,12 +64,16 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 		close(fd);
 		return;
 	}
+	if (!server_quota_admit(server, fd, cred.uid, restricted))
+		return;
 	struct client *c = calloc(1, sizeof *c);
 	struct bufferevent *bev = bufferevent_socket_new(server->base, fd, BEV_OPT_CLOSE_ON_FREE);
 	struct evbuffer *batch = evbuffer_new(), *answers = evbuffer_new();
 	struct event *resume = evtimer_new(server->base, on_resume, c);
-	if (!c || !bev || !batch || !answers || !resume) {
+	struct event *hello_timer = evtimer_new(server->base, on_hello_timeout, c);
+	if (!c || !bev || !batch || !answers || !resume || !hello_timer) {
 		log_error("refusing a connection: out of memory");
+		server_quota_leave(server, cred.uid, restricted);
 		free(c);
 		if (bev)
 			bufferevent_free(bev);
@@ -73,9 +85,12 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 			evbuffer_free(answers);
 		if (resume)
 			event_free(resume);
+		if (hello_timer)
+			event_free(hello_timer);
 		return;
 	}
 	c->resume = resume;
+	c->hello_timer = hello_timer;
 	c->server = server;
 	c->bev = bev;
 	c->batch = batch;
@@ -87,10 +102,12 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 		server->next_client = 1; /* 0 is "no owner" */
 	if (vis_idmap_put(&server->clients_by_id, c->id, c) < 0) {
 		log_error("refusing a connection: out of memory");
+		server_quota_leave(server, cred.uid, restricted);
 		bufferevent_free(bev);
 		evbuffer_free(batch);
 		evbuffer_free(answers);
 		event_free(resume);
+		event_free(hello_timer);
 		free(c);
 		return;
 	}
@@ -106,6 +123,7 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 	bufferevent_setwatermark(bev, EV_READ, 0, (max < 65536 ? 65536 : max) + 65536);
 	bufferevent_setwatermark(bev, EV_WRITE, server->opt.max_pending / 4, 0);
 	bufferevent_enable(bev, EV_READ | EV_WRITE);
+	evtimer_add(hello_timer, &(struct timeval){ .tv_sec = server->opt.hello_timeout });
 	log_debug("client %u connected (uid %u, pid %d%s)", c->id, (unsigned)cred.uid,
 		  (int)cred.pid, restricted ? ", restricted socket" : "");
 }
@@ -163,6 +181,8 @@ void server_client_free(struct client *c)
 	evbuffer_free(c->batch);
 	evbuffer_free(c->answers);
 	event_free(c->resume);
+	event_free(c->hello_timer);
+	server_quota_leave(server, c->uid, c->restricted);
 	free(c);
 	server_schedule_flush(server);
 }

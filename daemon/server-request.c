@@ -135,14 +135,19 @@ static void do_create(struct client *c, uint32_t seq, const union vis_arg *a)
 				    parent->id, parent->depth + 1, opt->max_depth);
 		return;
 	}
+	bool retain = a[5].u & VIS_CREATE_RETAIN;
+	if (retain && !server_quota_may_retain(c, seq))
+		return;
 	struct vis_window *w = vis_wtree_create(&c->server->tree, parent, a[1].i, a[2].i,
 						(int32_t)a[3].u, (int32_t)a[4].u, c->id);
-	if (!w) {
+	if (!w || (retain && server_quota_retain(c, w) < 0)) {
+		if (w) /* nobody has heard of it yet */
+			vis_wtree_destroy(&c->server->tree, w, NULL, NULL);
 		server_client_error(c, seq, op, VIS_ERROR_LIMIT, "cannot create a window: %s",
-				    errno == EOVERFLOW ? "window IDs are exhausted" : "out of memory");
+				    !w && errno == EOVERFLOW ? "window IDs are exhausted"
+							     : "out of memory");
 		return;
 	}
-	w->retained = a[5].u & VIS_CREATE_RETAIN;
 	c->n_windows++;
 	changed(c, w, VIS_STACK_CREATE);
 	if (a[5].u & VIS_CREATE_MAP) {

@@ -251,6 +251,7 @@ int server_init(struct server *server, struct event_base *base, const struct ser
 	take_reserve(server);
 	TAILQ_INIT(&server->clients);
 	vis_idmap_init(&server->clients_by_id);
+	vis_idmap_init(&server->quotas);
 	vis_buf_init(&server->scratch);
 	vis_wtree_init(&server->tree, opt->screen_width, opt->screen_height);
 	server->listener_retry = evtimer_new(base, on_listener_retry, server);
@@ -304,6 +305,7 @@ void server_finish(struct server *server)
 		event_free(server->flush_event);
 	vis_wtree_finish(&server->tree);
 	vis_idmap_finish(&server->clients_by_id);
+	server_quota_finish(server);
 	if (server->reserve_fd >= 0)
 		close(server->reserve_fd);
 	vis_buf_finish(&server->scratch);
@@ -508,6 +510,8 @@ static void window_gone(void *data, struct vis_window *w)
 	struct client *owner = vis_idmap_get(&server->clients_by_id, w->owner);
 	if (owner)
 		owner->n_windows--;
+	if (w->retained)
+		server_quota_release(server, w);
 	struct window_data *d = w->data;
 	if (d && d->subs) {
 		struct client *c;

@@ -19,10 +19,16 @@ struct server_options {
 	uint32_t max_request;   /* bytes, header included */
 	uint32_t max_batch;     /* bytes held by one open batch */
 	uint32_t max_clients;   /* connections at once */
+	uint32_t owner_reserve; /* of max_clients, slots kept for allowed_uid on the main socket */
+	uint32_t max_clients_per_uid;    /* connections of one uid other than allowed_uid */
+	uint32_t max_restricted_clients; /* connections on the restricted socket */
+	uint32_t hello_timeout; /* seconds a connection has to complete hello */
 	uint32_t max_windows;   /* windows one connection owns */
 	uint32_t max_depth;     /* window tree depth (top-level windows: 1) */
 	uint32_t max_subs;      /* subscriptions per connection */
 	uint32_t max_pending;   /* bytes waiting to be written to one connection */
+	uint32_t max_retained_per_uid; /* retained windows that exist, made by one uid */
+	uint32_t max_retained;  /* retained windows that exist */
 	uid_t allowed_uid;      /* peers with this uid may take roles */
 };
 
@@ -119,15 +125,20 @@ struct client {
 	uint32_t n_windows; /* windows it owns */
 	struct output out;
 	struct event *resume; /* runs the requests left over by the budget, next turn */
+	struct event *hello_timer; /* ends it if hello has not succeeded within hello_timeout */
 };
 
 TAILQ_HEAD(client_list, client);
 
-/* What the daemon keeps for a window (vis_window.data). */
+/*
+ * What the daemon keeps for a window (vis_window.data). Every retained window has it from its
+ * creation on: its count must be found after the connection that made it is gone.
+ */
 struct window_data {
 	uint32_t exposure_subs; /* subscriptions naming this window with exposures */
 	uint32_t subs;          /* subscriptions naming this window */
 	bool tracked;           /* region holds the visible region last reported */
+	uid_t retained_by;      /* a retained window's creator, whose quota counts it */
 	pixman_region32_t region;
 };
 
@@ -140,6 +151,9 @@ struct server {
 	struct vis_wtree tree;
 	struct client_list clients;
 	uint32_t n_clients;
+	uint32_t n_restricted; /* connections on the restricted socket */
+	uint32_t n_retained;   /* retained windows */
+	struct vis_idmap quotas; /* uid + 1 → what it holds (server-quota.c) */
 	uint64_t refused; /* connections refused so far */
 	struct vis_idmap clients_by_id; /* window owners' connections, by ID */
 	uint32_t next_client;
@@ -232,6 +246,28 @@ void server_subscription(struct client *c, uint32_t seq, uint32_t op, const unio
 void server_unsubscribe_all(struct client *c);
 /* Runs one decoded request. */
 void server_client_dispatch(struct client *c, uint32_t seq, const struct vis_msg *m);
+
+/* Per-uid quotas (server-quota.c). */
+/*
+ * Counts a new connection of uid, or refuses it with server_refuse() when a bound is reached:
+ * --max-restricted-clients, --max-clients-per-uid (uids other than the daemon's), --max-clients,
+ * and --owner-reserve (the last slots, for the daemon's uid on the main socket).
+ */
+bool server_quota_admit(struct server *server, int fd, uid_t uid, bool restricted);
+/* Counts off a connection that server_quota_admit() counted. */
+void server_quota_leave(struct server *server, uid_t uid, bool restricted);
+/*
+ * Whether c may create one more retained window under --max-retained-per-uid (its uid's retained
+ * windows that exist, whether their connections are alive or gone) and --max-retained (all that
+ * exist); if not, sends the limit error for request seq.
+ */
+bool server_quota_may_retain(struct client *c, uint32_t seq);
+/* Marks w (just created by c) retained and counts it against c's uid; -1 when memory ran out. */
+int server_quota_retain(struct client *c, struct vis_window *w);
+/* Counts off a retained window as it is destroyed, alone or with a subtree (before its data goes). */
+void server_quota_release(struct server *server, struct vis_window *w);
+/* Frees what is kept per uid. */
+void server_quota_finish(struct server *server);
 
 /* Notices and the bound on pending output (server-output.c). */
 void server_output_init(struct client *c);

@@ -19,16 +19,12 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "harness.h"
+#include "limits.h"
 #include "vis/protocol.h"
 
-static const char *visd;
+const char *limits_visd;
 
-/*
- * Connects and says hello for role client, tolerating a connection refused (and closed) before the
- * hello is written: true when the daemon accepted, false when it refused with a limit error.
- */
-static bool try_hello(struct harness_conn *c, const char *sock)
+bool limits_try_hello(struct harness_conn *c, const char *sock, const char *reason)
 {
 	uint8_t hello[VIS_MSG_HEADER + 12];
 	size_t len = harness_build(hello, VIS_OP_HELLO,
@@ -43,13 +39,14 @@ static bool try_hello(struct harness_conn *c, const char *sock)
 	CHECK(r.type->opcode == VIS_OP_ERROR && r.args[0].u == 1 && r.args[1].u == VIS_OP_HELLO &&
 		      r.args[2].u == VIS_ERROR_LIMIT,
 	      "wanted hello-reply or a limit error, got %s", r.type->name);
+	CHECK(!reason || memmem(r.args[3].s.p, r.args[3].s.len, reason, strlen(reason)),
+	      "refused with '%.*s', not for %s", (int)r.args[3].s.len, r.args[3].s.p, reason);
 	CHECK(harness_recv(c, 5000, &r) == 0, "a refused connection stayed open");
 	harness_close(c);
 	return false;
 }
 
-/* What the daemon wrote to stderr so far. */
-static const char *read_log(const struct harness_daemon *d)
+const char *limits_read_log(const struct harness_daemon *d)
 {
 	static char text[1 << 16];
 	FILE *f = fopen(d->log, "r");
@@ -59,8 +56,7 @@ static const char *read_log(const struct harness_daemon *d)
 	return text;
 }
 
-/* Expects a limit error naming the option for request seq, on a connection that stays. */
-static void expect_limit(struct harness_conn *c, uint32_t seq, uint32_t op, const char *option)
+void limits_expect_limit(struct harness_conn *c, uint32_t seq, uint32_t op, const char *option)
 {
 	harness_expect_error(c, seq, op, VIS_ERROR_LIMIT, option, false);
 	harness_sync(c, NULL);
@@ -69,7 +65,7 @@ static void expect_limit(struct harness_conn *c, uint32_t seq, uint32_t op, cons
 static void test_configured_limits(void)
 {
 	struct harness_daemon d = { 0 };
-	harness_start(&d, visd,
+	harness_start(&d, limits_visd,
 		      (const char *[]){ "--max-clients", "4", "--max-windows", "4", "--max-depth",
 					"2", "--max-subscriptions", "2", NULL });
 	struct harness_conn m, c;
@@ -83,7 +79,7 @@ static void test_configured_limits(void)
 	for (int i = 0; i < 4; i++)
 		w[i] = harness_create(&c, 0, 10 * i, 0, 5, 5, VIS_CREATE_MAP);
 	uint32_t seq = harness_req(&c, VIS_OP_CREATE, 0, 0, 0, 5, 5, 0);
-	expect_limit(&c, seq, VIS_OP_CREATE, "--max-windows");
+	limits_expect_limit(&c, seq, VIS_OP_CREATE, "--max-windows");
 	harness_req(&c, VIS_OP_DESTROY, w[3]);
 	w[3] = harness_create(&c, 0, 0, 0, 5, 5, 0); /* room again */
 
@@ -92,9 +88,9 @@ static void test_configured_limits(void)
 	uint32_t b = harness_create(&m, a, 1, 1, 10, 10, VIS_CREATE_MAP);
 	uint32_t x = harness_create(&m, 0, 60, 0, 50, 50, VIS_CREATE_MAP);
 	seq = harness_req(&m, VIS_OP_CREATE, b, 0, 0, 2, 2, 0);
-	expect_limit(&m, seq, VIS_OP_CREATE, "--max-depth");
+	limits_expect_limit(&m, seq, VIS_OP_CREATE, "--max-depth");
 	seq = harness_req(&m, VIS_OP_REPARENT, a, x, 0, 0);
-	expect_limit(&m, seq, VIS_OP_REPARENT, "--max-depth");
+	limits_expect_limit(&m, seq, VIS_OP_REPARENT, "--max-depth");
 	harness_req(&m, VIS_OP_REPARENT, b, x, 0, 0); /* b alone fits under x */
 	harness_sync(&m, NULL);
 	size_t n;
@@ -110,7 +106,7 @@ static void test_configured_limits(void)
 	harness_req(&c, VIS_OP_SUBSCRIBE, w[1], VIS_NOTICE_VISIBILITY, 0);
 	harness_req(&c, VIS_OP_SUBSCRIBE, w[1], VIS_NOTICE_ALL, 0); /* replaces: no new one */
 	seq = harness_req(&c, VIS_OP_SUBSCRIBE, 0, VIS_NOTICE_VISIBILITY, 0);
-	expect_limit(&c, seq, VIS_OP_SUBSCRIBE, "--max-subscriptions");
+	limits_expect_limit(&c, seq, VIS_OP_SUBSCRIBE, "--max-subscriptions");
 
 	harness_context("clients");
 	struct harness_conn more[2], extra;
@@ -118,11 +114,11 @@ static void test_configured_limits(void)
 		harness_open(&more[i], d.sock);
 		harness_hello(&more[i], VIS_ROLE_CLIENT);
 	}
-	CHECK(!try_hello(&extra, d.sock), "a fifth client was accepted");
-	CHECK(strstr(read_log(&d), "--max-clients"), "the refusal is not logged");
+	CHECK(!limits_try_hello(&extra, d.sock, "--max-clients"), "a fifth client was accepted");
+	CHECK(strstr(limits_read_log(&d), "--max-clients"), "the refusal is not logged");
 	harness_close(&more[1]);
 	/* The daemon frees the slot when it sees the hang-up: retry until it has. */
-	for (int tries = 0; !try_hello(&extra, d.sock); tries++) {
+	for (int tries = 0; !limits_try_hello(&extra, d.sock, "--max-clients"); tries++) {
 		CHECK(tries < 100, "a freed client slot was never reused");
 		usleep(10000);
 	}
@@ -140,20 +136,22 @@ static void test_descriptor_shortage(void)
 {
 	harness_context("descriptor shortage");
 	struct harness_daemon d = { .nofile = 48 };
-	harness_start(&d, visd, NULL);
+	harness_start(&d, limits_visd, NULL);
 	enum { FLOOD = 100 };
 	static struct harness_conn conn[FLOOD];
 	static bool accepted[FLOOD];
 	int served = 0;
 	for (int i = 0; i < FLOOD; i++)
-		served += accepted[i] = try_hello(&conn[i], d.sock);
+		served += accepted[i] = limits_try_hello(&conn[i], d.sock, NULL);
 	CHECK(served == 16, "48 descriptors should serve 16 clients; served %d", served);
+	CHECK(strstr(limits_read_log(&d), "keeping 8 of them for the daemon's uid, not 32"),
+	      "the owner's reserve was not cut to half of the 16 slots");
 	harness_check_alive(&d);
 	for (int i = 0; i < FLOOD; i++)
 		if (accepted[i])
 			harness_close(&conn[i]);
 	struct harness_conn c;
-	for (int tries = 0; !try_hello(&c, d.sock); tries++) {
+	for (int tries = 0; !limits_try_hello(&c, d.sock, NULL); tries++) {
 		CHECK(tries < 100, "the daemon did not recover after the flood");
 		usleep(10000);
 	}
@@ -268,7 +266,7 @@ static void view_check(struct view *v, struct harness_conn *o, bool stack)
 static void run_slow_reader(uint32_t mask, int sweeps, const char *pending, struct view *v)
 {
 	struct harness_daemon d = { 0 };
-	harness_start(&d, visd,
+	harness_start(&d, limits_visd,
 		      pending ? (const char *[]){ "--max-pending", pending, NULL } : NULL);
 	struct harness_conn m, o;
 	harness_open(&m, d.sock);
@@ -403,7 +401,7 @@ static void test_fairness(void)
 {
 	harness_context("fairness");
 	struct harness_daemon d = { 0 };
-	harness_start(&d, visd, NULL);
+	harness_start(&d, limits_visd, NULL);
 	pid_t flooder = start_flooder(d.sock);
 	struct harness_conn c;
 	harness_open(&c, d.sock);
@@ -457,9 +455,13 @@ int main(int argc, char **argv)
 		fprintf(stderr, "usage: test-limits VISD\n");
 		return 2;
 	}
-	visd = argv[1];
+	limits_visd = argv[1];
 	signal(SIGPIPE, SIG_IGN);
 	test_configured_limits();
+	limits_quota_lockout();
+	limits_quota_connections();
+	limits_quota_hello_timeout();
+	limits_quota_retained();
 	test_descriptor_shortage();
 	test_slow_readers();
 	test_fairness();

@@ -222,7 +222,8 @@ wait $wpid
 [ $? -eq 2 ] || fail "visd --screen 0x5 was accepted"
 env -u VISD_SOCKET -u XDG_RUNTIME_DIR "$visd" 2>"$dir/err"
 [ $? -eq 2 ] && grep -q "VISD_SOCKET" "$dir/err" || fail "no socket path: $(cat "$dir/err")"
-for opt in "--max-clients 0" "--max-depth 4097" "--max-pending 100" "--max-windows x" "--max-request"; do
+for opt in "--max-clients 0" "--max-depth 4097" "--max-pending 100" "--max-windows x" "--max-request" \
+	"--owner-reserve 8 --max-clients 8" "--max-clients-per-uid 0" "--max-restricted-clients 0"; do
 	# shellcheck disable=SC2086
 	"$visd" --socket "$dir/x" $opt 2>"$dir/err"
 	[ $? -eq 2 ] && grep -q -- "${opt%% *}" "$dir/err" || fail "visd $opt: $(cat "$dir/err")"
