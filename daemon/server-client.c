@@ -276,114 +276,6 @@ const struct sub *server_client_sub_for(const struct client *c, const struct vis
 	return all;
 }
 
-/* An answer record: kind, request number, size of what follows, then the bytes. */
-enum { ANSWER_REPLY, ANSWER_REQUEST };
-#define ANSWER_HEADER 12
-
-static void add_answer(struct client *c, uint32_t kind, uint32_t seq, const void *data,
-		       size_t size, struct evbuffer *from)
-{
-	uint8_t h[ANSWER_HEADER];
-	vis_wire_put_u32(h, kind);
-	vis_wire_put_u32(h + 4, seq);
-	vis_wire_put_u32(h + 8, (uint32_t)size);
-	if (evbuffer_add(c->answers, h, sizeof h) < 0 ||
-	    (from ? evbuffer_add_buffer(c->answers, from) : evbuffer_add(c->answers, data, size)) <
-		    0) {
-		log_error("client %u: out of memory holding a batch's answers", c->id);
-		server_client_close(c);
-	}
-}
-
-/*
- * Whether a held request is one of the batch's changes (or a nested batch-begin, answered with
- * them), applied at commit with one recompute; queries, syncs and subscriptions run after them,
- * as if sent just after the commit.
- */
-static bool batch_change(uint32_t op)
-{
-	switch (op) {
-	case VIS_OP_CREATE:
-	case VIS_OP_DESTROY:
-	case VIS_OP_MAP:
-	case VIS_OP_UNMAP:
-	case VIS_OP_MOVE:
-	case VIS_OP_RESIZE:
-	case VIS_OP_RAISE:
-	case VIS_OP_LOWER:
-	case VIS_OP_RESTACK:
-	case VIS_OP_REPARENT:
-	case VIS_OP_BATCH_BEGIN:
-		return true;
-	default:
-		return false;
-	}
-}
-
-/* Whether a request does nothing but answer or send notices: queries, sync, subscriptions. */
-static bool no_effect(uint32_t op)
-{
-	return !batch_change(op) && op != VIS_OP_HELLO && op != VIS_OP_BATCH_COMMIT;
-}
-
-/*
- * Applies the changes held since batch-begin in order, then recomputes once, all in this turn:
- * nobody sees a state between them. Their replies, and the held requests that are not changes,
- * go to answers in request order, for serve() to send and run at the connection's fair rate: a
- * batch of a million queries must not hold everyone else up.
- */
-static void commit_batch(struct client *c)
-{
-	struct server *server = c->server;
-	size_t bound = (size_t)server->opt.max_pending + server->opt.max_batch;
-	struct evbuffer *capture = evbuffer_new();
-	c->in_batch = false;
-	if (!capture) {
-		log_error("client %u: out of memory committing a batch", c->id);
-		server_client_close(c);
-	}
-	server->deferring = true;
-	server->walk_left = SERVER_BATCH_WORK;
-	while (evbuffer_get_length(c->batch) && !c->closing && !c->close_after_answers) {
-		uint8_t *p = evbuffer_pullup(c->batch, 4 + VIS_MSG_HEADER);
-		uint32_t seq = vis_wire_get_u32(p), size = vis_wire_get_u32(p + 4);
-		p = evbuffer_pullup(c->batch, 4 + (ssize_t)size);
-		struct vis_msg m;
-		char why[200];
-		if (vis_msg_decode(p + 4, size, size, 1, &m, why, sizeof why) != VIS_DECODE_OK) {
-			log_error("client %u: a held request no longer decodes: %s", c->id, why);
-		} else if (!batch_change(m.type->opcode)) {
-			add_answer(c, ANSWER_REQUEST, seq, p + 4, size, NULL);
-		} else {
-			c->capture = capture;
-			if (evbuffer_get_length(c->answers) > bound) {
-				/* Replies are never dropped: past this, the connection ends. */
-				server_client_error(c, seq, m.type->opcode, VIS_ERROR_LIMIT,
-						    "the batch's replies take over %zu bytes; closing the "
-						    "connection",
-						    bound);
-				c->close_after_answers = true;
-			} else if (m.type->opcode == VIS_OP_BATCH_BEGIN) {
-				server_client_error(c, seq, VIS_OP_BATCH_BEGIN, VIS_ERROR_STATE,
-						    "batch-begin inside a batch");
-			} else {
-				server_client_dispatch(c, seq, &m);
-			}
-			c->capture = NULL;
-			if (evbuffer_get_length(capture))
-				add_answer(c, ANSWER_REPLY, seq, NULL, evbuffer_get_length(capture),
-					   capture);
-		}
-		evbuffer_drain(c->batch, 4 + (size_t)size);
-	}
-	evbuffer_drain(c->batch, evbuffer_get_length(c->batch));
-	if (capture)
-		evbuffer_free(capture);
-	server->walk_left = UINT64_MAX;
-	server->deferring = false;
-	server_flush(server);
-}
-
 /* Routes one well-formed request: the handshake first, batches, then the request itself. */
 static void handle(struct client *c, uint32_t seq, const struct vis_msg *m, const uint8_t *raw)
 {
@@ -398,7 +290,7 @@ static void handle(struct client *c, uint32_t seq, const struct vis_msg *m, cons
 		return;
 	}
 	if (!c->in_batch) {
-		if (c->write_failed && no_effect(op))
+		if (c->write_failed && server_batch_no_effect(op))
 			return; /* nobody can read its answer: it would be work for nothing */
 		if (op == VIS_OP_BATCH_COMMIT)
 			server_client_error(c, seq, op, VIS_ERROR_STATE, "batch-commit without a batch");
@@ -409,7 +301,7 @@ static void handle(struct client *c, uint32_t seq, const struct vis_msg *m, cons
 		return;
 	}
 	if (op == VIS_OP_BATCH_COMMIT) {
-		commit_batch(c);
+		server_batch_commit(c);
 	} else if (evbuffer_get_length(c->batch) + 4 + m->size > c->server->opt.max_batch) {
 		/* Fatal: answering now would break the order of the replies to what is held. */
 		server_client_error(c, seq, op, VIS_ERROR_LIMIT,
@@ -512,22 +404,22 @@ static bool run_answers(struct client *c, struct turn *t)
 			block_reading(c);
 			return false;
 		}
-		uint8_t *p = evbuffer_pullup(c->answers, ANSWER_HEADER);
+		uint8_t *p = evbuffer_pullup(c->answers, SERVER_ANSWER_HEADER);
 		uint32_t kind = vis_wire_get_u32(p), seq = vis_wire_get_u32(p + 4);
 		uint32_t size = vis_wire_get_u32(p + 8);
-		if (kind == ANSWER_REPLY ? !replies-- : !turn_left(c, t)) {
-			if (kind == ANSWER_REPLY)
+		if (kind == SERVER_ANSWER_REPLY ? !replies-- : !turn_left(c, t)) {
+			if (kind == SERVER_ANSWER_REPLY)
 				resume_next_turn(c);
 			return false;
 		}
-		p = evbuffer_pullup(c->answers, ANSWER_HEADER + (ssize_t)size);
+		p = evbuffer_pullup(c->answers, SERVER_ANSWER_HEADER + (ssize_t)size);
 		struct vis_msg m;
 		char why[200];
-		if (kind == ANSWER_REPLY) {
+		if (kind == SERVER_ANSWER_REPLY) {
 			server_output_release(c); /* as server_client_send() */
-			server_client_queue(c, p + ANSWER_HEADER, size);
-		} else if (vis_msg_decode(p + ANSWER_HEADER, size, size, 1, &m, why, sizeof why) !=
-			   VIS_DECODE_OK) {
+			server_client_queue(c, p + SERVER_ANSWER_HEADER, size);
+		} else if (vis_msg_decode(p + SERVER_ANSWER_HEADER, size, size, 1, &m, why,
+					  sizeof why) != VIS_DECODE_OK) {
 			log_error("client %u: a held request no longer decodes: %s", c->id, why);
 		} else if (c->write_failed) {
 			/* Nobody can read its answer. */
@@ -539,7 +431,7 @@ static bool run_answers(struct client *c, struct turn *t)
 			t->budget--;
 			server_client_dispatch(c, seq, &m);
 		}
-		evbuffer_drain(c->answers, ANSWER_HEADER + (size_t)size);
+		evbuffer_drain(c->answers, SERVER_ANSWER_HEADER + (size_t)size);
 	}
 	if (c->close_after_answers)
 		server_client_close(c);

@@ -264,10 +264,33 @@ void server_quota_leave(struct server *server, uid_t uid, bool restricted);
 bool server_quota_may_retain(struct client *c, uint32_t seq);
 /* Marks w (just created by c) retained and counts it against c's uid; -1 when memory ran out. */
 int server_quota_retain(struct client *c, struct vis_window *w);
-/* Counts off a retained window as it is destroyed, alone or with a subtree (before its data goes). */
+/* Counts off a retained window as it is destroyed, alone or with a subtree (before its data
+ * goes). */
 void server_quota_release(struct server *server, struct vis_window *w);
 /* Frees what is kept per uid. */
 void server_quota_finish(struct server *server);
+
+/*
+ * A committed batch's answers (server-batch.c): records of kind, request number and size (12
+ * bytes), then the bytes: an encoded reply to send, or a held request to run.
+ */
+enum { SERVER_ANSWER_REPLY, SERVER_ANSWER_REQUEST };
+#define SERVER_ANSWER_HEADER 12
+/*
+ * Whether a request is one of a batch's changes (or a nested batch-begin, answered with them),
+ * applied at commit with one recompute; queries, syncs and subscriptions run after them, as if
+ * sent just after the commit.
+ */
+bool server_batch_change(uint32_t op);
+/* Whether a request does nothing but answer or send notices: queries, sync, subscriptions. */
+bool server_batch_no_effect(uint32_t op);
+/*
+ * Applies the changes held since batch-begin in order, then recomputes once, all in this turn:
+ * nobody sees a state between them. Their replies, and the held requests that are not changes,
+ * go to c->answers in request order, for serve() to send and run at the connection's fair rate:
+ * a batch of a million queries must not hold everyone else up.
+ */
+void server_batch_commit(struct client *c);
 
 /* Notices and the bound on pending output (server-output.c). */
 void server_output_init(struct client *c);
