@@ -75,7 +75,7 @@ static int add_windows(struct stack_svg *pic, const struct vis_window_info *w, s
 		goto out;
 	for (size_t i = 0; i < n; i++) {
 		const struct vis_box *parent = w[i].parent ? vis_idmap_get(&placed, w[i].parent) : NULL;
-		if (w[i].parent && parent == NULL) {
+		if ((w[i].parent && parent == NULL) || (w[i].flags & VIS_WINDOW_PARENT_HIDDEN)) {
 			/* Its parent is not ours to see: where it is cannot be known. */
 			orphans++;
 			continue;

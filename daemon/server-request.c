@@ -364,11 +364,12 @@ static void do_get_tree(struct client *c, uint32_t seq)
 	size_t n = 0, cap = 0;
 	for (struct vis_window *w = c->server->tree.root.bottom; w; w = vis_wtree_next(w)) {
 		if (server_may_see(c, w)) {
-			uint32_t flags = (w->mapped ? VIS_WINDOW_MAPPED : 0) |
-					 (w->state != VIS_WTREE_STATE_NONE ? VIS_WINDOW_VIEWABLE : 0) |
-					 (w->retained ? VIS_WINDOW_RETAINED : 0);
 			/* A parent it may not see is 0, as in stack notices. */
 			uint32_t parent = server_seen_id(c, w->parent);
+			uint32_t flags = (w->mapped ? VIS_WINDOW_MAPPED : 0) |
+					 (w->state != VIS_WTREE_STATE_NONE ? VIS_WINDOW_VIEWABLE : 0) |
+					 (w->retained ? VIS_WINDOW_RETAINED : 0) |
+					 (!parent && w->parent->id ? VIS_WINDOW_PARENT_HIDDEN : 0);
 			uint32_t rec[8] = { w->id, parent, (uint32_t)w->x, (uint32_t)w->y,
 					    (uint32_t)w->width, (uint32_t)w->height, flags, w->state };
 			if (!push_words(c, seq, VIS_OP_GET_TREE, &v, &n, &cap, rec, 8))

@@ -475,7 +475,8 @@ void server_stack_words(const struct client *viewer, const struct vis_window *w,
 	words[7] = server_seen_id(viewer, w->below); /* O(1): no walk past others' windows */
 	words[8] = (w->mapped ? VIS_WINDOW_MAPPED : 0) |
 		   (vis_wtree_viewable(w) ? VIS_WINDOW_VIEWABLE : 0) |
-		   (w->retained ? VIS_WINDOW_RETAINED : 0);
+		   (w->retained ? VIS_WINDOW_RETAINED : 0) |
+		   (!words[2] && w->parent && w->parent->id ? VIS_WINDOW_PARENT_HIDDEN : 0);
 }
 
 /*

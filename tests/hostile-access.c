@@ -303,9 +303,12 @@ void hostile_access_stack_notices(void)
 		expect_one(&b, (struct stack_seen){ VIS_STACK_CREATE, b4, b1, 0, 1, 1 });
 		size_t n;
 		struct harness_node *t = harness_get_tree(&b, &n);
-		CHECK(n == 4 && t[0].window == b1 && t[0].parent == 0 && t[1].window == b4 &&
-			      t[1].parent == b1 && t[2].window == b2 && t[2].parent == 0 &&
-			      t[2].x == 1 && t[3].window == b3 && t[3].parent == 0 && t[3].y == 4,
+		const uint32_t hid = VIS_WINDOW_PARENT_HIDDEN;
+		CHECK(n == 4 && t[0].window == b1 && t[0].parent == 0 && !(t[0].flags & hid) &&
+			      t[1].window == b4 && t[1].parent == b1 && !(t[1].flags & hid) &&
+			      t[2].window == b2 && t[2].parent == 0 && t[2].x == 1 &&
+			      (t[2].flags & hid) && t[3].window == b3 && t[3].parent == 0 &&
+			      t[3].y == 4 && (t[3].flags & hid),
 		      "the client's tree: %zu windows, %u (parent %u), %u (parent %u), …", n,
 		      n ? t[0].window : 0, n ? t[0].parent : 0, n > 1 ? t[1].window : 0,
 		      n > 1 ? t[1].parent : 0);

@@ -218,6 +218,12 @@ static uint32_t seen(uint32_t id)
 	return id && owner_of(id) == B ? id : 0;
 }
 
+/* A window's flags as b gets them: the truth's, and whether its parent is hidden from b. */
+static uint32_t b_flags(const struct harness_node *t)
+{
+	return t->flags | (t->parent && !seen(t->parent) ? VIS_WINDOW_PARENT_HIDDEN : 0);
+}
+
 /* The window just below the one at i among its siblings if it is b's, else 0. */
 static uint32_t b_sibling(const struct truth *tr, size_t i)
 {
@@ -342,8 +348,10 @@ static void check_notices(const struct expect *e, const struct truth *before,
 		if (g->window != e->destroyed)
 			count_cover(g->change == VIS_STACK_DESTROY ? before : after, at, sibling);
 		covered.in_subtree += e->destroyed && g->window != e->destroyed;
+		const uint32_t hid = VIS_WINDOW_PARENT_HIDDEN;
 		CHECK(g->parent == seen(t->parent) && g->sibling == sibling && g->x == t->x &&
-			      g->y == t->y && g->width == t->width && g->height == t->height,
+			      g->y == t->y && g->width == t->width && g->height == t->height &&
+			      (g->flags & hid) == (b_flags(t) & hid),
 		      "stack notice %u of %u: parent %u, sibling %u at %d,%d %ux%u; wanted parent "
 		      "%u (really %u), sibling %u at %d,%d %ux%u",
 		      g->change, g->window, g->parent, g->sibling, g->x, g->y, g->width, g->height,
@@ -364,7 +372,7 @@ static void check_b_tree(const struct truth *tr)
 		const struct harness_node *g = &b_tree[k++];
 		CHECK(g->window == t->window && g->parent == seen(t->parent) && g->x == t->x &&
 			      g->y == t->y && g->width == t->width && g->height == t->height &&
-			      g->flags == t->flags && g->state == t->state,
+			      g->flags == b_flags(t) && g->state == t->state,
 		      "b's tree has %u (parent %u) where the truth has %u (parent %u, for b %u)",
 		      g->window, g->parent, t->window, t->parent, seen(t->parent));
 	}
@@ -598,7 +606,7 @@ static void overflow_b(void)
 			CHECK(g->parent == seen(t->parent) && g->sibling == b_sibling(&tr, at) &&
 				      (!exact || (g->x == t->x && g->y == t->y &&
 						  g->width == t->width && g->height == t->height &&
-						  g->flags == t->flags)),
+						  g->flags == b_flags(t))),
 			      "stack notice %u of %u: parent %u, sibling %u at %d,%d; wanted "
 			      "parent %u (really %u), sibling %u at %d,%d",
 			      g->change, g->window, g->parent, g->sibling, g->x, g->y,

@@ -74,11 +74,14 @@ enum vis_stack_change {
 	VIS_STACK_RESYNC = 7, /* restated after an overflow notice: the window as it is now */
 };
 
-/* Flags of a window in the tree reply. */
+/* Flags of a window in the tree reply and in stack notices. */
 enum vis_window_flags {
 	VIS_WINDOW_MAPPED = 1u << 0,
 	VIS_WINDOW_VIEWABLE = 1u << 1,
 	VIS_WINDOW_RETAINED = 1u << 2,
+	/* Its parent is a window the connection may not see: parent reads 0, x and y are still
+	 * relative to that parent (a client's window in a manager's frame). */
+	VIS_WINDOW_PARENT_HIDDEN = 1u << 3,
 };
 
 /* Error codes. Errors marked fatal close the connection once the error is sent. */
