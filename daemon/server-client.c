@@ -370,12 +370,15 @@ static bool turn_left(struct client *c, struct turn *t)
  * which the others' changes of the turn share, rather than force one of its own now. A request
  * waits once at most, so that others' changes cannot hold it back turn after turn.
  */
-static bool wait_for_recompute(struct client *c, uint32_t op)
+static bool wait_for_recompute(struct client *c, const struct vis_msg *m)
 {
 	if (!c->server->dirty || c->in_batch || c->waited)
 		return false;
-	switch (op) {
+	switch (m->type->opcode) {
 	case VIS_OP_CREATE:
+		if (!(m->args[5].u & VIS_CREATE_MAP))
+			return false; /* reports no state: created unmapped */
+		/* fall through */
 	case VIS_OP_SUBSCRIBE:
 	case VIS_OP_GET_STATE:
 	case VIS_OP_GET_STATES:
@@ -423,7 +426,7 @@ static bool run_answers(struct client *c, struct turn *t)
 			log_error("client %u: a held request no longer decodes: %s", c->id, why);
 		} else if (c->write_failed) {
 			/* Nobody can read its answer. */
-		} else if (wait_for_recompute(c, m.type->opcode)) {
+		} else if (wait_for_recompute(c, &m)) {
 			resume_next_turn(c);
 			return false;
 		} else {
@@ -489,7 +492,7 @@ static void serve(struct client *c)
 			p = evbuffer_pullup(in, size);
 		}
 		enum vis_decode r = vis_msg_decode(p, avail, max, 1, &m, why, sizeof why);
-		if (r == VIS_DECODE_OK && wait_for_recompute(c, m.type->opcode)) {
+		if (r == VIS_DECODE_OK && wait_for_recompute(c, &m)) {
 			resume_next_turn(c);
 			break;
 		}

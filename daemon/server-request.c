@@ -154,7 +154,9 @@ static void do_create(struct client *c, uint32_t seq, const union vis_arg *a)
 		w->mapped = true;
 		changed(c, w, VIS_STACK_MAP);
 	}
-	server_flush(c->server); /* the window's notices precede the reply */
+	/* The window's notices precede the reply: an unmapped one has none but its stack notice. */
+	if (w->mapped)
+		server_flush(c->server);
 	union vis_arg r[2] = { { .u = seq }, { .u = w->id } };
 	server_client_send(c, VIS_OP_CREATED, r);
 }
