@@ -13,40 +13,15 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "harness.h"
 #include "vis/protocol.h"
 
-static double now_ms(void)
-{
-	struct timespec t;
-	clock_gettime(CLOCK_MONOTONIC, &t);
-	return (double)t.tv_sec * 1e3 + (double)t.tv_nsec / 1e6;
-}
-
 static int by_value(const void *a, const void *b)
 {
 	double x = *(const double *)a, y = *(const double *)b;
 	return (x > y) - (x < y);
-}
-
-/* Sends n copies of one request as fast as the socket takes them. */
-static void flood(struct harness_conn *c, const uint8_t *req, size_t size, uint32_t n)
-{
-	enum { PER = 4096 };
-	uint8_t *b = malloc(PER * size);
-	CHECK(b, "out of memory");
-	for (size_t i = 0; i < PER; i++)
-		memcpy(b + i * size, req, size);
-	for (uint32_t sent = 0; sent < n;) {
-		uint32_t k = n - sent < PER ? n - sent : PER;
-		CHECK(harness_send(c, b, k * size) == 0, "send: %s", strerror(errno));
-		sent += k;
-		c->seq += k;
-	}
-	free(b);
 }
 
 /* One run: the attack, batched or not, with the prober's round trips; prints a table row. */
@@ -59,13 +34,13 @@ static void run(struct harness_daemon *d, uint32_t windows, uint32_t queries, bo
 	harness_put(get_tree, VIS_OP_GET_TREE);
 	/* A child writes the attack while this process reads it back: a client that sent without
 	 * reading would only stop itself once its replies fill the daemon's bound. */
-	double start = now_ms();
+	double start = harness_clock_ms();
 	pid_t writer = fork();
 	CHECK(writer >= 0, "fork: %s", strerror(errno));
 	if (writer == 0) {
 		if (batch)
 			harness_req(&attacker, VIS_OP_BATCH_BEGIN);
-		flood(&attacker, get_tree, sizeof get_tree, queries);
+		harness_send_copies(&attacker, get_tree, sizeof get_tree, queries);
 		if (batch)
 			harness_req(&attacker, VIS_OP_BATCH_COMMIT);
 		harness_req(&attacker, VIS_OP_SYNC);
@@ -76,18 +51,18 @@ static void run(struct harness_daemon *d, uint32_t windows, uint32_t queries, bo
 	double *rtt = malloc(cap * sizeof *rtt);
 	CHECK(rtt, "out of memory");
 	for (bool done = false; !done;) {
-		double t0 = now_ms();
+		double t0 = harness_clock_ms();
 		harness_sync(&prober, NULL);
 		if (n == cap) {
 			rtt = realloc(rtt, (cap *= 2) * sizeof *rtt);
 			CHECK(rtt, "out of memory");
 		}
-		rtt[n++] = now_ms() - t0;
+		rtt[n++] = harness_clock_ms() - t0;
 		struct vis_msg m;
 		while (!done && harness_recv(&attacker, 0, &m) > 0)
 			done = m.type->opcode == VIS_OP_SYNCED && m.args[0].u == last;
 	}
-	double total = now_ms() - start;
+	double total = harness_clock_ms() - start;
 	int status;
 	CHECK(waitpid(writer, &status, 0) == writer && WIFEXITED(status) && !WEXITSTATUS(status),
 	      "the writer failed");
@@ -122,13 +97,7 @@ int main(int argc, char **argv)
 	harness_start(&d, argv[1], NULL);
 	struct harness_conn owner;
 	harness_open_as(&owner, d.sock, VIS_ROLE_CLIENT);
-	uint8_t create[32];
-	harness_put(create, VIS_OP_CREATE, 0, 0, 0, 5, 5, 0);
-	flood(&owner, create, sizeof create, windows);
-	for (uint32_t i = 0; i < windows; i++) {
-		struct vis_msg m;
-		harness_next_reply(&owner, &m, NULL);
-	}
+	harness_create_many(&owner, windows, 0, 0);
 	printf("another client's sync round trip (ms) while a client sends get-tree requests over "
 	       "%u windows of a third\n\n",
 	       windows);

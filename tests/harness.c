@@ -310,6 +310,42 @@ static long long now_ms(void)
 	return (long long)t.tv_sec * 1000 + t.tv_nsec / 1000000;
 }
 
+double harness_clock_ms(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_MONOTONIC, &t);
+	return (double)t.tv_sec * 1e3 + (double)t.tv_nsec / 1e6;
+}
+
+void harness_send_copies(struct harness_conn *c, const void *req, size_t size, uint32_t n)
+{
+	enum { PER = 4096 };
+	uint8_t *b = malloc(PER * size);
+	CHECK(b, "out of memory");
+	for (size_t i = 0; i < PER; i++)
+		memcpy(b + i * size, req, size);
+	for (uint32_t sent = 0; sent < n;) {
+		uint32_t k = n - sent < PER ? n - sent : PER;
+		CHECK(harness_send(c, b, k * size) == 0, "send: %s", strerror(errno));
+		sent += k;
+		c->seq += k;
+	}
+	free(b);
+}
+
+void harness_create_many(struct harness_conn *c, uint32_t n, int32_t x, int32_t y)
+{
+	uint8_t create[VIS_MSG_HEADER + 24];
+	harness_put(create, VIS_OP_CREATE, 0, (uint32_t)x, (uint32_t)y, 5, 5, 0);
+	harness_send_copies(c, create, sizeof create, n);
+	for (uint32_t i = 0; i < n; i++) {
+		struct vis_msg m;
+		harness_next_reply(c, &m, NULL);
+		CHECK(m.type->opcode == VIS_OP_CREATED, "create %u of %u: %s", i + 1, n,
+		      m.type->name);
+	}
+}
+
 int harness_recv(struct harness_conn *c, int timeout_ms, struct vis_msg *m)
 {
 	vis_buf_consume(&c->in, c->taken);

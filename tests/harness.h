@@ -123,6 +123,12 @@ void harness_expect_fatal(const char *path, const void *bytes, size_t n, int rol
 int harness_errors_checked(void);
 /* A round trip: sync, and the notices that came before synced (when not NULL). */
 void harness_sync(struct harness_conn *c, size_t *notices);
+/* Sends n copies of one request of size bytes, as fast as the socket takes them. */
+void harness_send_copies(struct harness_conn *c, const void *req, size_t size, uint32_t n);
+/* Creates n unmapped 5 × 5 top-level windows at x, y, pipelined, and reads their replies. */
+void harness_create_many(struct harness_conn *c, uint32_t n, int32_t x, int32_t y);
+/* Milliseconds on the monotonic clock. */
+double harness_clock_ms(void);
 /* Creates a window; returns its ID. */
 uint32_t harness_create(struct harness_conn *c, uint32_t parent, int32_t x, int32_t y, uint32_t w,
 			uint32_t h, uint32_t flags);

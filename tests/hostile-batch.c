@@ -8,36 +8,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "hostile.h"
 #include "vis/protocol.h"
 #include "wire.h"
-
-static double now_ms(void)
-{
-	struct timespec t;
-	clock_gettime(CLOCK_MONOTONIC, &t);
-	return (double)t.tv_sec * 1e3 + (double)t.tv_nsec / 1e6;
-}
-
-/* Sends n copies of one request (size bytes at req) as fast as the socket takes them. */
-static void send_copies(struct harness_conn *c, const uint8_t *req, size_t size, uint32_t n)
-{
-	enum { PER = 4096 };
-	uint8_t *b = malloc(PER * size);
-	CHECK(b, "out of memory");
-	for (size_t i = 0; i < PER; i++)
-		memcpy(b + i * size, req, size);
-	for (uint32_t sent = 0; sent < n;) {
-		uint32_t k = n - sent < PER ? n - sent : PER;
-		CHECK(harness_send(c, b, k * size) == 0, "send: %s", strerror(errno));
-		sent += k;
-		c->seq += k;
-	}
-	free(b);
-}
 
 /* A batch that would hold more than 16 MiB: a limit error that ends the connection. */
 static void test_batch_limit(void)
@@ -51,7 +26,7 @@ static void test_batch_limit(void)
 	uint32_t full = (16u << 20) / HELD;
 	uint8_t req[32];
 	harness_put(req, VIS_OP_CREATE, 0, 300, 200, 1, 1, VIS_CREATE_RETAIN);
-	send_copies(&c, req, sizeof req, full + 1);
+	harness_send_copies(&c, req, sizeof req, full + 1);
 	harness_expect_error(&c, 2 + full + 1, VIS_OP_CREATE, VIS_ERROR_LIMIT,
 			     "the batch holds over 16777216 bytes", true);
 	harness_close(&c);
@@ -70,17 +45,12 @@ static void test_batch_queries(void)
 	enum { WINDOWS = 1000, QUERIES = 2000 };
 	struct harness_conn c;
 	harness_open_as(&c, hostile_visd.sock, VIS_ROLE_CLIENT);
-	for (int i = 0; i < WINDOWS; i++)
-		harness_req(&c, VIS_OP_CREATE, 0, 300, 200, 5, 5, 0);
-	for (uint32_t i = 0; i < WINDOWS; i++) {
-		struct vis_msg m;
-		harness_expect(&c, 2 + i, VIS_OP_CREATED, &m);
-	}
+	harness_create_many(&c, WINDOWS, 300, 200);
 	harness_req(&c, VIS_OP_BATCH_BEGIN);
 	uint32_t first = c.seq + 1;
 	uint8_t req[VIS_MSG_HEADER];
 	harness_put(req, VIS_OP_GET_TREE);
-	send_copies(&c, req, sizeof req, QUERIES);
+	harness_send_copies(&c, req, sizeof req, QUERIES);
 	harness_req(&c, VIS_OP_BATCH_COMMIT);
 	uint32_t last = harness_req(&c, VIS_OP_SYNC);
 	/* The client reads nothing yet: the others go on. */
@@ -117,7 +87,7 @@ static void test_batch_reply_bound(void)
 	enum { MOVES = 500000 };
 	uint8_t req[VIS_MSG_HEADER + 12];
 	harness_put(req, VIS_OP_MOVE, 999999, 0, 0);
-	send_copies(&c, req, sizeof req, MOVES);
+	harness_send_copies(&c, req, sizeof req, MOVES);
 	harness_req(&c, VIS_OP_BATCH_COMMIT);
 	struct vis_msg m;
 	uint32_t errors = 0;
@@ -150,28 +120,22 @@ static void test_batch_stall(void)
 	enum { WINDOWS = 5000, QUERIES = 40000 };
 	struct harness_conn owner, c;
 	harness_open_as(&owner, hostile_visd.sock, VIS_ROLE_CLIENT);
-	uint8_t create[32];
-	harness_put(create, VIS_OP_CREATE, 0, 300, 200, 5, 5, 0);
-	send_copies(&owner, create, sizeof create, WINDOWS);
-	for (int i = 0; i < WINDOWS; i++) {
-		struct vis_msg m;
-		harness_next_reply(&owner, &m, NULL);
-	}
+	harness_create_many(&owner, WINDOWS, 300, 200);
 	harness_open_as(&c, hostile_visd.sock, VIS_ROLE_CLIENT);
 	harness_req(&c, VIS_OP_BATCH_BEGIN);
 	uint32_t first = c.seq + 1;
 	uint8_t req[VIS_MSG_HEADER];
 	harness_put(req, VIS_OP_GET_TREE);
-	send_copies(&c, req, sizeof req, QUERIES);
-	double start = now_ms();
+	harness_send_copies(&c, req, sizeof req, QUERIES);
+	double start = harness_clock_ms();
 	harness_req(&c, VIS_OP_BATCH_COMMIT);
 	uint32_t last = harness_req(&c, VIS_OP_SYNC);
 	uint32_t trees = 0, syncs = 0;
 	double worst = 0;
 	for (bool done = false; !done;) {
-		double t0 = now_ms();
+		double t0 = harness_clock_ms();
 		harness_sync(&hostile_innocent, NULL);
-		double t = now_ms() - t0;
+		double t = harness_clock_ms() - t0;
 		worst = t > worst ? t : worst;
 		syncs++;
 		struct vis_msg m;
@@ -190,7 +154,7 @@ static void test_batch_stall(void)
 			}
 		}
 	}
-	double total = now_ms() - start;
+	double total = harness_clock_ms() - start;
 	printf("hostile: a batch of %d get-tree over %d windows ran for %.0f ms; the innocent's "
 	       "worst round trip meanwhile: %.1f ms (%u round trips)\n",
 	       QUERIES, WINDOWS, total, worst, syncs);
@@ -226,13 +190,7 @@ static void test_flood_unread(void)
 	enum { WINDOWS = 1000 };
 	struct harness_conn c;
 	harness_open_as(&c, hostile_visd.sock, VIS_ROLE_CLIENT);
-	uint8_t create[32];
-	harness_put(create, VIS_OP_CREATE, 0, 300, 200, 5, 5, 0);
-	send_copies(&c, create, sizeof create, WINDOWS);
-	for (int i = 0; i < WINDOWS; i++) {
-		struct vis_msg m;
-		harness_next_reply(&c, &m, NULL);
-	}
+	harness_create_many(&c, WINDOWS, 300, 200);
 	/* 32 KB a reply: the bound fills after about 130; the rest wait unread, and the socket. */
 	uint8_t req[VIS_MSG_HEADER * 1024];
 	for (int i = 0; i < 1024; i++)
