@@ -410,11 +410,12 @@ static bool run_answers(struct client *c, struct turn *t)
 		uint8_t *p = evbuffer_pullup(c->answers, SERVER_ANSWER_HEADER);
 		uint32_t kind = vis_wire_get_u32(p), seq = vis_wire_get_u32(p + 4);
 		uint32_t size = vis_wire_get_u32(p + 8);
-		if (kind == SERVER_ANSWER_REPLY ? !replies-- : !turn_left(c, t)) {
-			if (kind == SERVER_ANSWER_REPLY)
-				resume_next_turn(c);
+		if (kind == SERVER_ANSWER_REPLY && !replies--) {
+			resume_next_turn(c);
 			return false;
 		}
+		if (kind == SERVER_ANSWER_REQUEST && !turn_left(c, t))
+			return false;
 		p = evbuffer_pullup(c->answers, SERVER_ANSWER_HEADER + (ssize_t)size);
 		struct vis_msg m;
 		char why[200];
@@ -469,19 +470,18 @@ static void serve(struct client *c)
 	bool starved = false; /* stopped for want of a whole request */
 	while (run_answers(c, &t)) {
 		size_t avail = evbuffer_get_length(in);
-		if (server_output_pending(c) >= server->opt.max_pending) {
-			block_reading(c);
-			break;
-		}
-		const uint8_t *p = evbuffer_pullup(in, avail < VIS_MSG_HEADER ? (ssize_t)avail
-									     : VIS_MSG_HEADER);
-		uint32_t size;
-		char why[200];
-		struct vis_msg m;
 		if (avail < VIS_MSG_HEADER) {
 			starved = true;
 			break;
 		}
+		if (server_output_pending(c) >= server->opt.max_pending) {
+			block_reading(c);
+			break;
+		}
+		const uint8_t *p = evbuffer_pullup(in, VIS_MSG_HEADER);
+		uint32_t size;
+		char why[200];
+		struct vis_msg m;
 		if (vis_msg_peek(p, avail, max, &size, why, sizeof why) == VIS_DECODE_OK) {
 			if (avail < size) {
 				starved = true;
