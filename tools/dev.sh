@@ -29,6 +29,8 @@ install_missing() {
 build() {
 	local dir=$1
 	shift
+	# Trees configured before client/ had a folder per part hold visctl where its folder goes.
+	[ -f "$dir/client/visctl" ] && rm -f "$dir/client/visctl"
 	[ -f "$dir/build.ninja" ] || meson setup "$dir" "$@" >/dev/null
 	ninja -C "$dir" >/dev/null
 }
@@ -42,7 +44,7 @@ demo() {
 	watch_pid=
 	# shellcheck disable=SC2064
 	trap "kill \${watch_pid:-} 2>/dev/null; sleep 0.1; kill \${visd_pid:-} 2>/dev/null; rm -rf '$tmp'" EXIT
-	local visctl=$bin/client/visctl
+	local visctl=$bin/client/visctl/visctl
 	v() { "$visctl" -s "$sock" "$@"; }
 
 	"$visctl" gen random 10000 1 >"$tmp/big.scene"

@@ -35,7 +35,7 @@ if [ -z "$bin" ]; then
 fi
 out=${out:-$bin}
 visd=$bin/daemon/visd
-visctl=$bin/client/visctl
+visctl=$bin/client/visctl/visctl
 [ -x "$visd" ] && [ -x "$visctl" ] || { echo "service-bench: no visd or visctl in $bin" >&2; exit 2; }
 mkdir -p "$out"
 
