@@ -25,14 +25,29 @@ install_missing() {
 	DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq "${missing[@]}" >/dev/null
 }
 
-# Configures (once) and builds one build directory.
+# Runs one step with its output in a log; on failure, shows the log's end, names the step and the
+# whole log, and stops.
+step() {
+	local what=$1 log=$2
+	shift 2
+	if ! "$@" >"$log" 2>&1; then
+		echo "dev.sh: $what failed; the end of its output:" >&2
+		tail -n 30 "$log" >&2
+		echo "dev.sh: $what failed (all of its output: $log)" >&2
+		exit 1
+	fi
+}
+
+# Configures (once) and builds one build directory, quietly unless a step fails.
 build() {
 	local dir=$1
 	shift
 	# Trees configured before client/ had a folder per part hold visctl where its folder goes.
 	[ -f "$dir/client/visctl" ] && rm -f "$dir/client/visctl"
-	[ -f "$dir/build.ninja" ] || meson setup "$dir" "$@" >/dev/null
-	ninja -C "$dir" >/dev/null
+	mkdir -p "$dir"
+	[ -f "$dir/build.ninja" ] ||
+		step "configuring $dir (meson setup $dir $*)" "$dir/dev-setup.log" meson setup "$dir" "$@"
+	step "building $dir (ninja -C $dir)" "$dir/dev-build.log" ninja -C "$dir"
 }
 
 demo() {
