@@ -45,6 +45,23 @@ for kind in random tiles cascade; do
 done
 [ -z "$(v --role observer states)" ] || fail "windows left after clearing"
 
+# A plain client's new connection owns nothing and sees nothing: watch refuses at once (it would
+# wait forever), states and repaint say so on stderr; with windows of its own, no warning.
+timeout 10 "$visctl" -s "$sock" watch --count 1 >/dev/null 2>"$dir/err"
+rc=$?
+[ $rc -eq 2 ] && grep -q "owns no windows" "$dir/err" ||
+	fail "watch as a client without windows: exit $rc, $(cat "$dir/err")"
+for cmd in "states" "repaint 0 0 100 100"; do
+	# shellcheck disable=SC2086
+	out=$(v $cmd 2>"$dir/err")
+	[ $? -eq 0 ] && [ -z "$out" ] && grep -q "warning: this connection owns no windows" "$dir/err" ||
+		fail "$cmd as a client without windows: '$out', $(cat "$dir/err")"
+done
+printf 'create 0 0 10 10
+states
+' | v script - >/dev/null 2>"$dir/err"
+[ ! -s "$dir/err" ] || fail "states with an unmapped window of its own warned: $(cat "$dir/err")"
+
 # A script: one connection, its windows gone with it unless retained.
 cat >"$dir/script" <<'SCRIPT'
 # a window, a child, and a query
@@ -273,7 +290,7 @@ wait $livepid || fail "visd --socket $dir/live.new exited $?"
 "$visd" --socket "$dir/lim" --max-clients 1 2>/dev/null &
 lpid=$!
 wait_socket "$dir/lim"
-"$visctl" -s "$dir/lim" watch >/dev/null &
+"$visctl" -s "$dir/lim" --role observer watch >/dev/null &
 wpid=$!
 sleep 0.3
 "$visctl" -s "$dir/lim" states 2>"$dir/err"

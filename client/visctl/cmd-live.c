@@ -276,6 +276,8 @@ int cmd_states(struct live *l, int argc, char **argv)
 	for (size_t i = 0; i < n; i++)
 		printf("%u %s\n", states[i].window, vis_visibility_name(states[i].state));
 	free(states);
+	if (!n && live_sees_nothing(l))
+		live_warn_sees_nothing(l, argv[0]);
 	return VISCTL_EXIT_OK;
 }
 
@@ -339,5 +341,7 @@ int cmd_repaint(struct live *l, int argc, char **argv)
 	for (size_t i = 0; i < n; i++)
 		printf("%u\n", w[i]);
 	free(w);
+	if (!n && live_sees_nothing(l))
+		live_warn_sees_nothing(l, argv[0]);
 	return VISCTL_EXIT_OK;
 }

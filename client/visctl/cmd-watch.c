@@ -177,8 +177,11 @@ int cmd_watch(struct live *l, int argc, char **argv)
 		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
 			free(ids);
 			printf("usage: visctl watch [--json] [--count N] [ID...]\n"
-			       "  Prints the notices about the windows (every window when none is\n"
-			       "  given) until N have come, or until interrupted.\n");
+			       "  Prints the notices about the windows (every window the connection\n"
+			       "  may see when none is given) until N have come, or until interrupted.\n"
+			       "  A client (no --role) sees only the windows its connection created:\n"
+			       "  with none and no ID, watch refuses with exit status 2; use\n"
+			       "  --role observer to watch every window.\n");
 			return fflush(stdout) == 0 ? VISCTL_EXIT_OK : VISCTL_EXIT_FAILURE;
 		}
 		const char *count = NULL;
@@ -223,7 +226,12 @@ int cmd_watch(struct live *l, int argc, char **argv)
 	stop_signal = 0;
 
 	ret = VISCTL_EXIT_FAILURE;
-	if (live_connect(l)) {
+	if (live_connect(l) && !n && live_sees_nothing(l)) {
+		/* Every window it may see is none, for good: it would wait forever, silently. */
+		ret = live_usage(l, argv[0],
+				 "this connection owns no windows, and a client sees only its own: "
+				 "nothing to watch (use --role observer to watch every window)");
+	} else if (l->client) {
 		vis_client_set_notice_handler(l->client, on_notice, &w);
 		ret = subscribe(l, ids, n);
 		if (ret == VISCTL_EXIT_OK)

@@ -37,6 +37,25 @@ struct vis_client *live_connect(struct live *l)
 	return c;
 }
 
+bool live_sees_nothing(struct live *l)
+{
+	struct vis_window_info *w;
+	size_t n;
+	if (!l->client || vis_client_role(l->client) != VIS_ROLE_CLIENT ||
+	    vis_client_get_tree(l->client, &w, &n) < 0)
+		return false;
+	free(w);
+	return n == 0;
+}
+
+void live_warn_sees_nothing(struct live *l, const char *name)
+{
+	fprintf(stderr,
+		"%s: %s: warning: this connection owns no windows, and a client sees only its own "
+		"(use --role observer to see every window)\n",
+		l->where, name);
+}
+
 int live_error(struct live *l, const char *fmt, ...)
 {
 	va_list ap;

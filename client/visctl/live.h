@@ -46,6 +46,15 @@ const char *live_describe(int argc, char **argv, char *buf, size_t len);
 int live_parse_u32(const char *s, uint32_t *out);
 int live_parse_i32(const char *s, int32_t *out);
 
+/*
+ * Whether the connection is a plain client (no role) that owns no window: it sees nothing, as a
+ * new visctl connection does. Asks the daemon (a tree round trip) only for plain clients.
+ */
+bool live_sees_nothing(struct live *l);
+
+/* Says on stderr that a plain client's connection sees nothing, and how to see every window. */
+void live_warn_sees_nothing(struct live *l, const char *name);
+
 /* Writes all queued requests, reading what comes meanwhile. Returns 0, or -1 (connection error). */
 int live_drain(struct vis_client *c);
 

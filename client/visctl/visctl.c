@@ -63,7 +63,9 @@ static void usage(FILE *f)
 			commands[i].usage);
 	fprintf(f, "SCENE is a path or '-' for stdin; `visctl COMMAND --help` says more.\n"
 		   "Commands from create on talk to visd at SOCKET (default $VISD_SOCKET, else\n"
-		   "$XDG_RUNTIME_DIR/visd-0), as a client unless --role says otherwise.\n"
+		   "$XDG_RUNTIME_DIR/visd-0), as a client unless --role says otherwise. A client\n"
+		   "sees only the windows its own connection made (or a script's): states, tree,\n"
+		   "repaint and watch see every window with --role observer.\n"
 		   "exit status: 0 ok, 1 runtime or daemon error, 2 usage or bad input\n");
 }
 
