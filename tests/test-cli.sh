@@ -113,10 +113,10 @@ if [ "$rc" -eq 2 ] && [ ! -s "$T/out" ] && grep -qF "<stdin>:2: unknown record '
 then pass; else fail "bad scene on stdin (status $rc)"; fi
 
 # --- unreadable files and bad usage -----------------------------------------------------------
-expect_fail "nonexistent file" 2 "$T/nope: cannot read: No such file or directory" \
+expect_fail "nonexistent file" 1 "visctl: $T/nope: cannot read: No such file or directory" \
 	compute "$T/nope"
 mkdir "$T/dir"
-expect_fail "directory" 2 "$T/dir: cannot read: Is a directory" compute "$T/dir"
+expect_fail "directory" 1 "visctl: $T/dir: cannot read: Is a directory" compute "$T/dir"
 good=$(scene good.scene 'screen 100 100\nwindow 5 0 0 10 10\nwindow 2 5 5 10 10\nwindow 9 200 200 5 5\n')
 expect_fail "bad engine" 2 "unknown engine 'fast'" compute --engine=fast "$good"
 expect_fail "bad engine, separate" 2 "unknown engine 'fast'" compute --engine fast "$good"
@@ -151,24 +151,27 @@ live_usage() {
 	expect_fail "$what" 2 "$msg" -s "$N" "$@"
 }
 live_usage "create too few" "create: expected X Y W H, got 3 arguments" create 1 2 3
-live_usage "create bad X" "X 'a' is not a 32-bit number" create a 0 1 1
-live_usage "create X too large" "X '2147483648' is not a 32-bit number" create 2147483648 0 1 1
-live_usage "create bad W" "W '-1' is not a number" create 0 0 -1 1
+live_usage "create bad X" "X 'a' is not a number from -2147483648 to 2147483647" create a 0 1 1
+live_usage "create X too large" "X '2147483648' is not a number from -2147483648 to 2147483647" create 2147483648 0 1 1
+live_usage "create bad W" "W '-1' is not a number from 1 to 2147483647" create 0 0 -1 1
 live_usage "create unknown option" "unknown option '--frob'" create 0 0 1 1 --frob
 live_usage "create --parent without ID" "--parent needs an ID" create 0 0 1 1 --parent
-live_usage "create bad parent" "parent ID 'x' is not a number" create 0 0 1 1 --parent=x
+live_usage "create bad parent" "parent ID 'x' is not a number from 0 to 4294967295" create 0 0 1 1 --parent=x
 live_usage "create usage line" "usage: visctl create X Y W H" create
 live_usage "map without ID" "map: expected ID, got 0 arguments" map
-live_usage "map bad ID" "ID 'x' is not a number" map x
-live_usage "destroy ID too large" "ID '4294967296' is not a number" destroy 4294967296
+live_usage "map bad ID" "ID 'x' is not a number from 0 to 4294967295" map x
+live_usage "destroy ID too large" "ID '4294967296' is not a number from 0 to 4294967295" destroy 4294967296
 live_usage "unmap two IDs" "expected ID, got 2 arguments" unmap 1 2
 live_usage "raise option" "unknown option '--top'" raise --top 1
 live_usage "lower without ID" "lower: expected ID" lower
 live_usage "move too few" "move: expected ID X Y, got 2 arguments" move 1 2
-live_usage "move bad Y" "Y '1.5' is not a 32-bit number" move 1 2 1.5
-live_usage "resize negative H" "H '-3' is not a number" resize 1 2 -3
+live_usage "move bad Y" "Y '1.5' is not a number from -2147483648 to 2147483647" move 1 2 1.5
+live_usage "create W too large" "W '99999999999' is not a number from 1 to 2147483647" create 0 0 99999999999 1
+live_usage "create W past 2^31" "W '2147483648' is not a number from 1 to 2147483647" create 0 0 2147483648 1
+live_usage "resize H zero" "H '0' is not a number from 1 to 2147483647" resize 1 2 0
+live_usage "resize negative H" "H '-3' is not a number from 1 to 2147483647" resize 1 2 -3
 live_usage "stack bad mode" "expected above or below, got 'beside'" stack 1 beside 2
-live_usage "stack bad sibling" "ID 'top' is not a number" stack 1 above top
+live_usage "stack bad sibling" "ID 'top' is not a number from 0 to 4294967295" stack 1 above top
 live_usage "states argument" "states: unexpected argument 'extra'" states extra
 live_usage "tree argument" "tree: unexpected argument '1'" tree 1
 live_usage "sync argument" "sync: unexpected argument 'now'" sync now
@@ -180,16 +183,17 @@ live_usage "snapshot argument" "snapshot: unexpected argument 'x'" snapshot --sv
 live_usage "load without SCENE" "load: missing SCENE" load
 live_usage "load two SCENEs" "unexpected argument" load "$good" "$good"
 live_usage "load unknown option" "unknown option '--map'" load --map "$good"
-live_usage "load missing file" "$T/nope: cannot read: No such file or directory" load "$T/nope"
+expect_fail "load missing file" 1 "visctl: $T/nope: cannot read: No such file or directory" \
+	-s "$N" load "$T/nope"
 f=$(scene bad-load.scene 'window 1 0 0 5 5\nwindow 2 0 0 5\n')
 live_usage "load bad scene" "$f:2: window: expected 5 fields (ID X Y W H), got 4" load --retain "$f"
-live_usage "watch --count 0" "N '0' is not a positive number" watch --count 0
+live_usage "watch --count 0" "N '0' is not a number from 1 to 4294967295" watch --count 0
 live_usage "watch --count without N" "--count needs a number" watch --count
-live_usage "watch bad ID" "ID 'x' is not a window ID" watch --json x
-live_usage "watch ID 0" "ID '0' is not a window ID" watch 0
+live_usage "watch bad ID" "ID 'x' is not a number from 1 to 4294967295" watch --json x
+live_usage "watch ID 0" "ID '0' is not a number from 1 to 4294967295" watch 0
 live_usage "watch unknown option" "unknown option '--all'" watch --all
 live_usage "script without FILE" "script: expected FILE|-, got 0 arguments" script
-live_usage "script missing file" "$T/nope: cannot read" script "$T/nope"
+expect_fail "script missing file" 1 "visctl: $T/nope: cannot read" -s "$N" script "$T/nope"
 f=$(scene bad1.script '# comment\n\nfrob 1\n')
 live_usage "script unknown command" "$f:3: unknown command 'frob'" script "$f"
 f=$(scene bad2.script '  # comment\nmap\n')

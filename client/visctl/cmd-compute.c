@@ -326,8 +326,9 @@ int cmd_compute(int argc, char **argv)
 	char *text;
 	size_t len;
 	if (visctl_read_all(path, &text, &len) < 0) {
-		fprintf(stderr, "%s: cannot read: %s\n", shown, strerror(errno));
-		return errno == ENOMEM ? VISCTL_EXIT_FAILURE : VISCTL_EXIT_USAGE;
+		/* A missing or unreadable file is a runtime error (1), not bad usage. */
+		fprintf(stderr, "visctl: %s: cannot read: %s\n", shown, strerror(errno));
+		return VISCTL_EXIT_FAILURE;
 	}
 
 	struct vis_scene scene;

@@ -52,7 +52,7 @@ static int expect_args(struct live *l, int argc, char **argv, int n, const char 
 static int window_arg(struct live *l, const char *name, const char *s, uint32_t *id, int *ret)
 {
 	if (live_parse_u32(s, id) < 0) {
-		*ret = live_usage(l, name, "ID '%s' is not a number", s);
+		*ret = live_usage(l, name, "ID '%s' is not a number from 0 to 4294967295", s);
 		return -1;
 	}
 	return 0;
@@ -63,18 +63,19 @@ static int coord_arg(struct live *l, const char *name, const char *what, const c
 		     int32_t *v, int *ret)
 {
 	if (live_parse_i32(s, v) < 0) {
-		*ret = live_usage(l, name, "%s '%s' is not a 32-bit number", what, s);
+		*ret = live_usage(l, name, "%s '%s' is not a number from -2147483648 to 2147483647",
+				  what, s);
 		return -1;
 	}
 	return 0;
 }
 
-/* Parses a size (unsigned) argument. */
+/* Parses a size argument: 1 … 2^31 − 1, as the daemon takes them. */
 static int size_arg(struct live *l, const char *name, const char *what, const char *s,
 		    uint32_t *v, int *ret)
 {
-	if (live_parse_u32(s, v) < 0) {
-		*ret = live_usage(l, name, "%s '%s' is not a number", what, s);
+	if (live_parse_u32(s, v) < 0 || *v < 1 || *v > INT32_MAX) {
+		*ret = live_usage(l, name, "%s '%s' is not a number from 1 to 2147483647", what, s);
 		return -1;
 	}
 	return 0;
@@ -133,7 +134,8 @@ int cmd_create(struct live *l, int argc, char **argv)
 			pos[n++] = argv[i];
 		}
 		if (value && live_parse_u32(value, &parent) < 0)
-			return live_usage(l, argv[0], "parent ID '%s' is not a number", value);
+			return live_usage(l, argv[0],
+					  "parent ID '%s' is not a number from 0 to 4294967295", value);
 	}
 	if (n != 4)
 		return live_usage(l, argv[0], "expected X Y W H, got %d arguments", n);

@@ -27,18 +27,14 @@ static void on_created(void *data, const struct vis_error *err, uint32_t window)
 	ld->windows[ld->created++] = window;
 }
 
-/* Reads and parses the scene; a usage status (2) for bad input, as compute does. */
+/* Reads and parses the scene: 1 when it cannot be read, 2 for bad input, as compute does. */
 static int read_scene(struct live *l, const char *path, struct vis_scene *scene)
 {
 	const char *shown = strcmp(path, "-") == 0 ? "<stdin>" : path;
 	char *text;
 	size_t len;
-	if (visctl_read_all(path, &text, &len) < 0) {
-		int saved = errno;
-		fprintf(stderr, "%s%s%s: cannot read: %s\n", l->in_script ? l->where : "",
-			l->in_script ? ": " : "", shown, strerror(saved));
-		return saved == ENOMEM ? VISCTL_EXIT_FAILURE : VISCTL_EXIT_USAGE;
-	}
+	if (visctl_read_all(path, &text, &len) < 0)
+		return live_error(l, "%s: cannot read: %s", shown, strerror(errno)); /* runtime: 1 */
 	struct vis_scene_error err;
 	int r = vis_scene_parse(scene, text, len, &err);
 	free(text);

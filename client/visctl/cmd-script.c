@@ -174,8 +174,8 @@ int cmd_script(struct live *l, int argc, char **argv)
 	size_t len;
 	if (visctl_read_all(path, &text, &len) < 0) {
 		int saved = errno;
-		live_error(l, "%s: cannot read: %s", shown, strerror(saved));
-		return saved == ENOMEM ? VISCTL_EXIT_FAILURE : VISCTL_EXIT_USAGE;
+		/* Not bad usage: the file is missing or unreadable now, a runtime error. */
+		return live_error(l, "%s: cannot read: %s", shown, strerror(saved));
 	}
 	if (memchr(text, '\0', len)) {
 		free(text);

@@ -200,14 +200,16 @@ int cmd_watch(struct live *l, int argc, char **argv)
 			return live_usage(l, argv[0], "unknown option '%s'", a);
 		} else if (live_parse_u32(a, &id) < 0 || id == VIS_WINDOW_ALL) {
 			free(ids);
-			return live_usage(l, argv[0], "ID '%s' is not a window ID", a);
+			return live_usage(l, argv[0], "ID '%s' is not a number from 1 to 4294967295",
+					  a);
 		} else {
 			ids[n++] = argv[i];
 		}
 		uint32_t c;
 		if (count && (live_parse_u32(count, &c) < 0 || c == 0)) {
 			free(ids);
-			return live_usage(l, argv[0], "N '%s' is not a positive number", count);
+			return live_usage(l, argv[0], "N '%s' is not a number from 1 to 4294967295",
+					  count);
 		}
 		if (count)
 			w.count = c;
