@@ -45,6 +45,16 @@ for kind in random tiles cascade; do
 done
 [ -z "$(v --role observer states)" ] || fail "windows left after clearing"
 
+# A scene made for another screen: refused, its states would not be compute's; --any-screen.
+printf 'screen 100 100\nwindow 1 0 0 150 50\n' >"$dir/small.scene"
+v load "$dir/small.scene" >"$dir/out" 2>"$dir/err"
+rc=$?
+[ $rc -eq 1 ] && [ ! -s "$dir/out" ] && grep -q "screen is 100x100, the daemon's 3840x2160" "$dir/err" ||
+	fail "load of a 100x100 scene: exit $rc, $(cat "$dir/err")"
+out=$(printf 'load --any-screen %s\nstates\n' "$dir/small.scene" | v script - 2>"$dir/err")
+[ "$(echo "$out" | sed -n 2p | cut -d' ' -f2)" = unobscured ] ||
+	fail "load --any-screen: '$out', $(cat "$dir/err")"
+
 # A plain client's new connection owns nothing and sees nothing: watch refuses at once (it would
 # wait forever), states and repaint say so on stderr; with windows of its own, no warning.
 timeout 10 "$visctl" -s "$sock" watch --count 1 >/dev/null 2>"$dir/err"

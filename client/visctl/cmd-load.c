@@ -78,18 +78,24 @@ int cmd_load_batch(struct vis_client *c, const struct vis_scene *scene, uint32_t
 int cmd_load(struct live *l, int argc, char **argv)
 {
 	uint32_t flags = VIS_CREATE_MAP;
+	bool any_screen = false;
 	const char *path = NULL;
 	struct load ld = { 0 };
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
 		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-			printf("usage: visctl load [--retain] SCENE\n"
+			printf("usage: visctl load [--retain] [--any-screen] SCENE\n"
 			       "  Creates the scene's windows, mapped, in one batch (file order is bottom\n"
-			       "  to top) and prints 'SCENE_ID WINDOW_ID' for each. SCENE is a path or '-'.\n");
+			       "  to top) and prints 'SCENE_ID WINDOW_ID' for each. SCENE is a path or '-'.\n"
+			       "  A scene whose screen line differs from the daemon's screen is refused\n"
+			       "  (exit status 1): its states would not be visctl compute's. --any-screen\n"
+			       "  loads it on the daemon's screen all the same.\n");
 			return fflush(stdout) == 0 ? VISCTL_EXIT_OK : VISCTL_EXIT_FAILURE;
 		}
 		if (strcmp(a, "--retain") == 0)
 			flags |= VIS_CREATE_RETAIN;
+		else if (strcmp(a, "--any-screen") == 0)
+			any_screen = true;
 		else if (a[0] == '-' && a[1] != '\0')
 			return live_usage(l, argv[0], "unknown option '%s'", a);
 		else if (path)
@@ -113,6 +119,16 @@ int cmd_load(struct live *l, int argc, char **argv)
 	ret = VISCTL_EXIT_FAILURE;
 	if (!live_connect(l))
 		goto out;
+	uint32_t sw, sh;
+	vis_client_screen(l->client, &sw, &sh);
+	if (scene.has_screen && !any_screen &&
+	    ((uint32_t)scene.screen_w != sw || (uint32_t)scene.screen_h != sh)) {
+		live_error(l,
+			   "load %s: the scene's screen is %dx%d, the daemon's %ux%u: its states "
+			   "would not be visctl compute's (--any-screen loads it all the same)",
+			   path, scene.screen_w, scene.screen_h, sw, sh);
+		goto out;
+	}
 	if (cmd_load_batch(l->client, &scene, flags, &ld) < 0) {
 		char what[256];
 		if (ld.failed && !vis_client_error(l->client))

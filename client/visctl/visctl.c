@@ -30,7 +30,7 @@ static const struct visctl_command commands[] = {
 	{ "raise", NULL, cmd_raise, "ID" },
 	{ "lower", NULL, cmd_lower, "ID" },
 	{ "stack", NULL, cmd_stack, "ID above|below SIBLING" },
-	{ "load", NULL, cmd_load, "[--retain] SCENE" },
+	{ "load", NULL, cmd_load, "[--retain] [--any-screen] SCENE" },
 	{ "states", NULL, cmd_states, "" },
 	{ "tree", NULL, cmd_tree, "" },
 	{ "region", NULL, cmd_region, "ID" },
