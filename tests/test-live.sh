@@ -311,6 +311,22 @@ wait $lpid || fail "visd --max-clients 1 exited $?"
 mode=$(stat -c %a "$sock")
 [ $((8#$mode & 8#077)) -eq 0 ] || fail "the socket is open to others: mode $mode"
 
+# docs/desktop.script names its windows by @N: it runs on a daemon that has windows already.
+v create 0 0 5 5 --retain >/dev/null || fail "create before the desktop"
+n_before=$(v --role observer tree | wc -l)
+v script "$(dirname "$0")/../docs/desktop.script" >"$dir/out" 2>"$dir/err" ||
+	fail "docs/desktop.script on a daemon with windows: $(cat "$dir/err")"
+[ "$(v --role observer tree | wc -l)" -eq $((n_before + 26)) ] || fail "the desktop made no 26 windows"
+# A script that fails half-way says which retained windows it leaves behind.
+printf 'create 0 0 10 10 --retain\ncreate 5 5 10 10 --map\ncreate 0 0 5 5 --retain --parent @1\nmap 999999\n' \
+	>"$dir/half.script"
+v script "$dir/half.script" >"$dir/out" 2>"$dir/err"
+rc=$?
+ids=$(cut -d' ' -f1 "$dir/out" | tr '\n' ' ')
+set -- $ids
+[ $rc -eq 1 ] && grep -qx "$dir/half.script: the retained windows it made stay: @1=$1 @3=$3" "$dir/err" ||
+	fail "a script failing half-way: exit $rc, $(cat "$dir/err")"
+
 kill "$pid"
 wait "$pid" || fail "visd exited $? on SIGTERM"
 pid=

@@ -75,6 +75,29 @@ static int resolve(struct live *l, const struct script *sc, char **words, int n,
 	return 0;
 }
 
+/*
+ * After a failure: names the retained windows the script made that are still there, which outlive
+ * it (the others go with its connection), so that a half-run script leaves nothing unsaid.
+ */
+static void report_leftovers(struct live *l, const struct script *sc, const char *shown)
+{
+	struct vis_window_info *w;
+	size_t n, kept = 0;
+	if (!sc->n_created || !l->client || l->in_batch ||
+	    vis_client_get_tree(l->client, &w, &n) < 0)
+		return;
+	for (size_t i = 0; i < n; i++)
+		for (size_t k = 0; k < sc->n_created; k++)
+			if (w[i].window == sc->created[k] && (w[i].flags & VIS_WINDOW_RETAINED)) {
+				if (!kept++)
+					fprintf(stderr, "%s: the retained windows it made stay:", shown);
+				fprintf(stderr, " @%zu=%u", k + 1, w[i].window);
+			}
+	if (kept)
+		fputc('\n', stderr);
+	free(w);
+}
+
 /* Whether a command may stand inside a batch: the changes, which have no reply to wait for. */
 static int batchable(const char *name)
 {
@@ -216,6 +239,8 @@ int cmd_script(struct live *l, int argc, char **argv)
 		ret = line_error(l, "%s without batch-commit", "batch-begin");
 	}
 	l->where = outer;
+	if (ret != VISCTL_EXIT_OK)
+		report_leftovers(l, &sc, shown);
 	l->in_script = false;
 	l->in_batch = false;
 	free(sc.created);
