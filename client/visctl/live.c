@@ -9,6 +9,78 @@
 #include "live.h"
 #include "visctl.h"
 
+int live_is_option(const char *a)
+{
+	return a[0] == '-' && a[1] != '\0' && !(a[1] >= '0' && a[1] <= '9');
+}
+
+int live_help(const char *name)
+{
+	const struct visctl_command *cmd = visctl_command_find(name);
+	printf("usage: visctl %s %s\n", name, cmd ? cmd->usage : "");
+	if (cmd && cmd->help)
+		fputs(cmd->help, stdout);
+	return fflush(stdout) == 0 ? VISCTL_EXIT_OK : VISCTL_EXIT_FAILURE;
+}
+
+int live_expect_args(struct live *l, int *argc, char **argv, int n, const char *names, bool *json,
+		     int *ret)
+{
+	int k = 1;
+	for (int i = 1; i < *argc; i++) {
+		if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+			*ret = live_help(argv[0]);
+			return -1;
+		}
+		if (json && strcmp(argv[i], "--json") == 0) {
+			*json = true;
+			continue;
+		}
+		if (live_is_option(argv[i])) {
+			*ret = live_usage(l, argv[0], "unknown option '%s'", argv[i]);
+			return -1;
+		}
+		argv[k++] = argv[i];
+	}
+	*argc = k;
+	if (k - 1 != n) {
+		*ret = n ? live_usage(l, argv[0], "expected %s, got %d arguments", names, k - 1)
+			 : live_usage(l, argv[0], "unexpected argument '%s'", argv[1]);
+		return -1;
+	}
+	return 0;
+}
+
+int live_window_arg(struct live *l, const char *name, const char *s, uint32_t *id, int *ret)
+{
+	if (live_parse_u32(s, id) < 0) {
+		*ret = live_usage(l, name, "ID '%s' is not a number from 0 to 4294967295", s);
+		return -1;
+	}
+	return 0;
+}
+
+int live_coord_arg(struct live *l, const char *name, const char *what, const char *s,
+		     int32_t *v, int *ret)
+{
+	if (live_parse_i32(s, v) < 0) {
+		*ret = live_usage(l, name, "%s '%s' is not a number from -2147483648 to 2147483647",
+				  what, s);
+		return -1;
+	}
+	return 0;
+}
+
+int live_size_arg(struct live *l, const char *name, const char *what, const char *s,
+		    uint32_t *v, int *ret)
+{
+	if (live_parse_u32(s, v) < 0 || *v < 1 || *v > INT32_MAX) {
+		*ret = live_usage(l, name, "%s '%s' is not a number from 1 to 2147483647", what, s);
+		return -1;
+	}
+	return 0;
+}
+
 struct vis_client *live_connect(struct live *l)
 {
 	if (l->client)

@@ -42,6 +42,30 @@ int live_failed(struct live *l, const char *what);
 /* The command line, "NAME ARG …", for messages naming the request. */
 const char *live_describe(int argc, char **argv, char *buf, size_t len);
 
+/* Whether an argument is an option rather than a (possibly negative) number or '-'. */
+int live_is_option(const char *a);
+
+/* Prints a command's usage line and help text on stdout, for --help; returns the exit status. */
+int live_help(const char *name);
+
+/*
+ * Checks that argv holds exactly n arguments and no option but --help (which prints the help)
+ * and, when json is not NULL, --json (which sets *json and is taken out of argv), naming the
+ * arguments (names, e.g. "ID X Y") when the count is wrong. Returns 0 (*argc then counts what
+ * is left), or -1 with *ret the status to exit with.
+ */
+int live_expect_args(struct live *l, int *argc, char **argv, int n, const char *names, bool *json,
+		     int *ret);
+
+/* Parse an argument of a command called name: a window ID (any 32-bit number), a coordinate
+ * (32-bit signed), a size (1 … 2^31 − 1, as the daemon takes them) named what. Return 0, or -1
+ * with *ret the usage status after saying why. */
+int live_window_arg(struct live *l, const char *name, const char *s, uint32_t *id, int *ret);
+int live_coord_arg(struct live *l, const char *name, const char *what, const char *s,
+		   int32_t *v, int *ret);
+int live_size_arg(struct live *l, const char *name, const char *what, const char *s,
+		  uint32_t *v, int *ret);
+
 /* Parses plain decimal numbers ('-' allowed for signed ones). Return 0, or -1. */
 int live_parse_u32(const char *s, uint32_t *out);
 int live_parse_i32(const char *s, int32_t *out);

@@ -17,29 +17,47 @@
 
 static const struct visctl_command commands[] = {
 	{ "compute", cmd_compute, NULL,
-	  "[--engine=auto|gmv|gmv-heap|region|brute] [--visible] [--time] [--svg FILE] SCENE" },
-	{ "gen", cmd_gen, NULL, "KIND N SEED [W H]" },
-	{ "bench", cmd_bench, NULL, "[OPTIONS]  (see `visctl bench --help`)" },
-	{ "plot-service", cmd_plot_service, NULL, "[--note TEXT] CSV SVG" },
-	{ "create", NULL, cmd_create, "X Y W H [--parent ID] [--map] [--retain]" },
-	{ "destroy", NULL, cmd_destroy, "ID" },
-	{ "map", NULL, cmd_map, "ID" },
-	{ "unmap", NULL, cmd_unmap, "ID" },
-	{ "move", NULL, cmd_move, "ID X Y" },
-	{ "resize", NULL, cmd_resize, "ID W H" },
-	{ "raise", NULL, cmd_raise, "ID" },
-	{ "lower", NULL, cmd_lower, "ID" },
-	{ "stack", NULL, cmd_stack, "ID above|below SIBLING" },
-	{ "load", NULL, cmd_load, "[--retain] [--any-screen] SCENE" },
-	{ "states", NULL, cmd_states, "" },
-	{ "tree", NULL, cmd_tree, "" },
-	{ "region", NULL, cmd_region, "ID" },
-	{ "repaint", NULL, cmd_repaint, "X Y W H" },
-	{ "snapshot", NULL, cmd_snapshot, "--svg FILE" },
-	{ "watch", NULL, cmd_watch, "[--json] [--count N] [ID...]" },
-	{ "script", NULL, cmd_script, "FILE|-" },
-	{ "sync", NULL, cmd_sync, "" },
-	{ "stress", NULL, cmd_stress, "[OPTIONS]  (see `visctl stress --help`)" },
+	  "[--engine=auto|gmv|gmv-heap|region|brute] [--visible] [--time] [--svg FILE] SCENE", NULL },
+	{ "gen", cmd_gen, NULL, "KIND N SEED [W H]", NULL },
+	{ "bench", cmd_bench, NULL, "[OPTIONS]  (see `visctl bench --help`)", NULL },
+	{ "plot-service", cmd_plot_service, NULL, "[--note TEXT] CSV SVG", NULL },
+	{ "create", NULL, cmd_create, "X Y W H [--parent ID] [--map] [--retain]", NULL },
+	{ "destroy", NULL, cmd_destroy, "ID", NULL },
+	{ "map", NULL, cmd_map, "ID", NULL },
+	{ "unmap", NULL, cmd_unmap, "ID", NULL },
+	{ "move", NULL, cmd_move, "ID X Y", NULL },
+	{ "resize", NULL, cmd_resize, "ID W H", NULL },
+	{ "raise", NULL, cmd_raise, "ID", NULL },
+	{ "lower", NULL, cmd_lower, "ID", NULL },
+	{ "stack", NULL, cmd_stack, "ID above|below SIBLING", NULL },
+	{ "load", NULL, cmd_load, "[--retain] [--any-screen] SCENE", NULL },
+	{ "states", NULL, cmd_states, "[--json]",
+	  "  Prints 'ID STATE' for every viewable window the connection may see, ascending ID;\n"
+	  "  STATE is unobscured, partially-obscured or fully-obscured. A client sees only\n"
+	  "  the windows its connection made (--role observer: every window).\n"
+	  "  --json: one object a line, {\"window\":ID,\"state\":STATE}.\n" },
+	{ "tree", NULL, cmd_tree, "[--json]",
+	  "  Prints every window the connection may see, bottom to top, each before its\n"
+	  "  children, as 'ID PARENT X Y W H MAPPED STATE RETAINED': PARENT 0 for the screen\n"
+	  "  (or a parent this connection may not see); X Y relative to the parent; MAPPED\n"
+	  "  mapped or unmapped; STATE as in states, or none when not viewable; RETAINED\n"
+	  "  retained (outlives its connection) or -.\n"
+	  "  --json: one object a line with window, parent, x, y, width, height, mapped,\n"
+	  "  viewable, retained, parent_hidden (true, false) and state.\n" },
+	{ "region", NULL, cmd_region, "[--json] ID",
+	  "  Prints the window's visible pixels as 'X Y W H' rectangles in the window's own\n"
+	  "  coordinates (0 0 is its top-left corner, not the screen's), y-x banded: its\n"
+	  "  pixels under no later window and none of its children.\n"
+	  "  --json: one object a line, {\"x\":X,\"y\":Y,\"width\":W,\"height\":H}.\n" },
+	{ "repaint", NULL, cmd_repaint, "[--json] X Y W H",
+	  "  Prints, bottom to top, the IDs of the windows whose own pixels show inside the\n"
+	  "  screen rectangle X Y W H (screen coordinates).\n"
+	  "  --json: one object a line, {\"window\":ID}.\n" },
+	{ "snapshot", NULL, cmd_snapshot, "--svg FILE", NULL },
+	{ "watch", NULL, cmd_watch, "[--json] [--count N] [ID...]", NULL },
+	{ "script", NULL, cmd_script, "FILE|-", NULL },
+	{ "sync", NULL, cmd_sync, "", NULL },
+	{ "stress", NULL, cmd_stress, "[OPTIONS]  (see `visctl stress --help`)", NULL },
 };
 
 #define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))

@@ -19,6 +19,7 @@ struct visctl_command {
 	int (*run)(int argc, char **argv);
 	live_fn live;
 	const char *usage; /* the arguments, after "visctl NAME " */
+	const char *help;  /* what it does and prints, for --help; NULL: the usage line alone */
 };
 
 /* The subcommand called name, or NULL. */

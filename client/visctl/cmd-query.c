@@ -1,0 +1,136 @@
+/*
+ * The live queries: states, tree, region, repaint. Each prints its records one a line, as text
+ * or, with --json, as one JSON object a line (every string is one of ours: nothing to escape).
+ */
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "live.h"
+#include "visctl.h"
+
+/* Reports a failed query, naming it by its command line. */
+static int query_failed(struct live *l, int argc, char **argv)
+{
+	char what[256];
+	return live_failed(l, live_describe(argc, argv, what, sizeof(what)));
+}
+
+/* JSON's literal for a flag. */
+static const char *json_bool(bool b)
+{
+	return b ? "true" : "false";
+}
+
+/* Orders states by window ID, for qsort. */
+static int by_window(const void *a, const void *b)
+{
+	const struct vis_window_state *x = a, *y = b;
+	return (x->window > y->window) - (x->window < y->window);
+}
+
+int cmd_states(struct live *l, int argc, char **argv)
+{
+	struct vis_window_state *states;
+	size_t n;
+	bool json = false;
+	int ret;
+	if (live_expect_args(l, &argc, argv, 0, "", &json, &ret) < 0)
+		return ret;
+	if (!live_connect(l))
+		return VISCTL_EXIT_FAILURE;
+	if (vis_client_get_states(l->client, &states, &n) < 0)
+		return query_failed(l, argc, argv);
+	/* The daemon sends them in order already; sorting again costs little and promises it. */
+	if (n)
+		qsort(states, n, sizeof(*states), by_window);
+	for (size_t i = 0; i < n; i++)
+		printf(json ? "{\"window\":%u,\"state\":\"%s\"}\n" : "%u %s\n", states[i].window,
+		       vis_visibility_name(states[i].state));
+	free(states);
+	if (!n && live_sees_nothing(l))
+		live_warn_sees_nothing(l, argv[0]);
+	return VISCTL_EXIT_OK;
+}
+
+int cmd_tree(struct live *l, int argc, char **argv)
+{
+	struct vis_window_info *w;
+	size_t n;
+	bool json = false;
+	int ret;
+	if (live_expect_args(l, &argc, argv, 0, "", &json, &ret) < 0)
+		return ret;
+	if (!live_connect(l))
+		return VISCTL_EXIT_FAILURE;
+	if (vis_client_get_tree(l->client, &w, &n) < 0)
+		return query_failed(l, argc, argv);
+	for (size_t i = 0; i < n; i++) {
+		uint32_t f = w[i].flags;
+		const char *state =
+			vis_visibility_name(f & VIS_WINDOW_VIEWABLE ? w[i].state : VIS_VISIBILITY_NONE);
+		if (json)
+			printf("{\"window\":%u,\"parent\":%u,\"x\":%d,\"y\":%d,\"width\":%u,"
+			       "\"height\":%u,\"mapped\":%s,\"viewable\":%s,\"retained\":%s,"
+			       "\"parent_hidden\":%s,\"state\":\"%s\"}\n",
+			       w[i].window, w[i].parent, w[i].x, w[i].y, w[i].width, w[i].height,
+			       json_bool(f & VIS_WINDOW_MAPPED), json_bool(f & VIS_WINDOW_VIEWABLE),
+			       json_bool(f & VIS_WINDOW_RETAINED),
+			       json_bool(f & VIS_WINDOW_PARENT_HIDDEN), state);
+		else
+			printf("%u %u %d %d %u %u %s %s %s\n", w[i].window, w[i].parent, w[i].x,
+			       w[i].y, w[i].width, w[i].height,
+			       f & VIS_WINDOW_MAPPED ? "mapped" : "unmapped", state,
+			       f & VIS_WINDOW_RETAINED ? "retained" : "-");
+	}
+	free(w);
+	if (!n && live_sees_nothing(l))
+		live_warn_sees_nothing(l, argv[0]);
+	return VISCTL_EXIT_OK;
+}
+
+int cmd_region(struct live *l, int argc, char **argv)
+{
+	struct vis_rect32 *r;
+	uint32_t id;
+	size_t n;
+	bool json = false;
+	int ret;
+	if (live_expect_args(l, &argc, argv, 1, "ID", &json, &ret) < 0 ||
+	    live_window_arg(l, argv[0], argv[1], &id, &ret) < 0)
+		return ret;
+	if (!live_connect(l))
+		return VISCTL_EXIT_FAILURE;
+	if (vis_client_get_region(l->client, id, &r, &n) < 0)
+		return query_failed(l, argc, argv);
+	for (size_t i = 0; i < n; i++)
+		printf(json ? "{\"x\":%d,\"y\":%d,\"width\":%u,\"height\":%u}\n" : "%d %d %u %u\n",
+		       r[i].x, r[i].y, r[i].width, r[i].height);
+	free(r);
+	return VISCTL_EXIT_OK;
+}
+
+int cmd_repaint(struct live *l, int argc, char **argv)
+{
+	struct vis_rect32 damage;
+	uint32_t *w;
+	size_t n;
+	bool json = false;
+	int ret;
+	if (live_expect_args(l, &argc, argv, 4, "X Y W H", &json, &ret) < 0 ||
+	    live_coord_arg(l, argv[0], "X", argv[1], &damage.x, &ret) < 0 ||
+	    live_coord_arg(l, argv[0], "Y", argv[2], &damage.y, &ret) < 0 ||
+	    live_size_arg(l, argv[0], "W", argv[3], &damage.width, &ret) < 0 ||
+	    live_size_arg(l, argv[0], "H", argv[4], &damage.height, &ret) < 0)
+		return ret;
+	if (!live_connect(l))
+		return VISCTL_EXIT_FAILURE;
+	if (vis_client_get_repaint(l->client, damage, &w, &n) < 0)
+		return query_failed(l, argc, argv);
+	for (size_t i = 0; i < n; i++)
+		printf(json ? "{\"window\":%u}\n" : "%u\n", w[i]);
+	free(w);
+	if (!n && live_sees_nothing(l))
+		live_warn_sees_nothing(l, argv[0]);
+	return VISCTL_EXIT_OK;
+}
