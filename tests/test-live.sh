@@ -195,6 +195,8 @@ assert d["ok"] is True and d["mismatches"] == 0 and d["notices"] > 0
 assert d["changes"] > d["ops"]  # batches hold several changes
 assert 0 < d["p50_us"] <= d["p90_us"] <= d["p99_us"] <= d["p999_us"] <= d["max_us"]
 assert d["daemon_pid"] == int(sys.argv[2]) and d["daemon_rss_kb"] > 0
+# visd is single-threaded: a share of the run over 100% is a measurement in clock ticks.
+assert 0 <= d["daemon_cpu_pct"] <= 100.5, d["daemon_cpu_pct"]
 assert sum(k["ops"] for k in d["kinds"].values()) == 2000
 assert set(d["kinds"]) == {"move", "resize", "raise", "lower", "restack", "map", "batch"}
 PY
@@ -220,6 +222,13 @@ awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; n = NF }
 VISCTL_STRESS_CORRUPT_MODEL=1 v stress -c 2 -n 30 --count 100 >/dev/null 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "differences between visd and the model" "$dir/err" ||
 	fail "a corrupt model passed: $(cat "$dir/err")"
+# --pid must be the visd serving the socket: not init, not a process that is gone.
+v stress -n 10 --count 10 --pid 1 >/dev/null 2>"$dir/err"
+[ $? -eq 1 ] && grep -q -- "--pid 1 is '.*', not visd" "$dir/err" || fail "stress --pid 1: $(cat "$dir/err")"
+v stress -n 10 --count 10 --pid 999999 >/dev/null 2>"$dir/err"
+[ $? -eq 1 ] && grep -q -- "--pid 999999: no such process" "$dir/err" ||
+	fail "stress --pid 999999: $(cat "$dir/err")"
+v stress -n 10 --count 10 --pid "$pid" >/dev/null 2>"$dir/err" || fail "stress --pid visd: $(cat "$dir/err")"
 # It needs a daemon of its own and the manager role.
 keep=$(v create 0 0 10 10 --retain) || fail "create"
 v stress -n 10 --count 10 >/dev/null 2>"$dir/err"

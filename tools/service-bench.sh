@@ -104,7 +104,7 @@ run() {
 
 for n in "${windows[@]}"; do
 	for c in "${subscribers[@]}"; do
-		echo "service-bench: $n windows, $c subscribers" >&2
+		echo "service-bench: $n windows, $c subscriber$([ "$c" -eq 1 ] || echo s)" >&2
 		run latency -n "$n" -c "$c" --count "$(latency_count "$n" "$c")" --duration 60
 		run throughput -n "$n" -c "$c" --count "$(throughput_count "$n")" --duration 60 \
 			--pipeline $pipeline
