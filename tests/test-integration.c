@@ -549,6 +549,43 @@ static void test_batch(void)
 	free(log.v);
 }
 
+/*
+ * A newcomer's program: the default socket named by "" (as an unset variable passed on would be),
+ * then a subscription and a create that nobody flushes, and a poll for reading: the requests must
+ * have gone out when they were made, or the poll waits forever.
+ */
+static void test_newcomer(void)
+{
+	current = "newcomer";
+	struct log log = { 0 };
+	CHECK(setenv("VISD_SOCKET", sock, 1) == 0, "setenv");
+	struct vis_client *c = connect_to("", VIS_ROLE_CLIENT, &log);
+	unsetenv("VISD_SOCKET");
+	uint32_t w = 0;
+	CHECK(vis_client_subscribe(c, VIS_WINDOW_ALL, VIS_NOTICE_VISIBILITY, 0) &&
+		      vis_client_create_async(c, 0, 10, 10, 20, 20, VIS_CREATE_MAP, on_created, &w),
+	      "queueing requests");
+	struct pollfd p = { .fd = vis_client_fd(c), .events = POLLIN };
+	/* Before any dispatch (which would write what waits): the daemon must have answered. */
+	CHECK(poll(&p, 1, 5000) == 1, "nothing to read: the requests were never sent");
+	for (int tries = 0; !last_visibility(&log, w) && tries < 50; tries++)
+		CHECK(poll(&p, 1, 100) >= 0 && vis_client_dispatch(c) >= 0, "dispatch");
+	CHECK(w && last_visibility(&log, w), "no reply or notice without a flush: created %u", w);
+	vis_client_destroy(c);
+	free(log.v);
+	/* Neither a path nor a variable: a clear error, not a connection to "". */
+	const char *xdg = getenv("XDG_RUNTIME_DIR");
+	char *saved = xdg ? strdup(xdg) : NULL;
+	unsetenv("XDG_RUNTIME_DIR");
+	c = vis_client_connect("", VIS_ROLE_CLIENT);
+	CHECK(c && vis_client_error(c) == ENOENT, "connect(\"\") without variables: %s",
+	      c ? vis_client_error_message(c) : "out of memory");
+	vis_client_destroy(c);
+	if (saved)
+		setenv("XDG_RUNTIME_DIR", saved, 1);
+	free(saved);
+}
+
 /* Children: clipped by the parent, never obscuring it, unviewable with it. */
 static void test_children(void)
 {
@@ -797,6 +834,7 @@ int main(int argc, char **argv)
 		test_errors_and_roles();
 		test_fatal();
 		test_batch();
+		test_newcomer();
 		test_children();
 		test_disconnect();
 		for (uint64_t seed = 1; seed <= 12; seed++)

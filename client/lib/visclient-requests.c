@@ -77,8 +77,11 @@ uint32_t vis_client_batch_begin(struct vis_client *c)
 uint32_t vis_client_batch_commit(struct vis_client *c)
 {
 	uint32_t seq = vis_client_send(c, VIS_OP_BATCH_COMMIT, NULL, NULL);
-	if (seq)
+	if (seq) {
 		c->in_batch = 0;
+		if (vis_client_flush(c) < 0) /* the batch, written together */
+			return 0;
+	}
 	return seq;
 }
 

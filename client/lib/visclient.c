@@ -81,6 +81,8 @@ int vis_client_dispatch(struct vis_client *c)
 {
 	if (c->error)
 		return -1;
+	if (c->out.len && vis_client_flush(c) < 0) /* what the socket did not take before */
+		return -1;
 	int r = read_some(c);
 	int handled = vis_client_process(c);
 	if (r < 0 && !c->error) {
@@ -184,7 +186,10 @@ uint32_t vis_client_send(struct vis_client *c, uint32_t opcode, const union vis_
 		p->n = p->cap = 0;
 	}
 	uint32_t seq = c->next_seq++;
-	if (c->out.len >= FLUSH_AT && vis_client_flush(c) == 1 && c->out.len > QUEUE_LIMIT)
+	/* Written at once, without blocking, so that no request waits for a flush the program may
+	 * never call; a batch's requests go together at its commit (or once FLUSH_AT bytes wait). */
+	if ((!c->in_batch || c->out.len >= FLUSH_AT) && vis_client_flush(c) == 1 &&
+	    c->out.len > QUEUE_LIMIT)
 		vis_client_fail(c, ENOBUFS, "%zu bytes queued: the daemon is not reading", c->out.len);
 	return c->error ? 0 : seq;
 }
@@ -245,7 +250,7 @@ int vis_client_default_socket(char *buf, size_t len)
 static void connect_socket(struct vis_client *c, const char *path, uint32_t role)
 {
 	char def[sizeof(((struct sockaddr_un *)0)->sun_path)];
-	if (!path) {
+	if (!path || !*path) { /* "" as NULL: an unset variable passed on is no path at all */
 		if (vis_client_default_socket(def, sizeof(def)) < 0) {
 			vis_client_fail(c, ENOENT, "no socket given and neither VISD_SOCKET nor "
 					"XDG_RUNTIME_DIR is set");

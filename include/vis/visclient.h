@@ -16,8 +16,15 @@
  * window ID the daemon assigned. Coordinates are relative to the parent (the screen for top-level
  * windows); a window covers x, y inclusive to x + width, y + height exclusive.
  *
+ * Sending: every request is written to the socket when it is made, without blocking, so that
+ * none waits for a flush the program never calls; the requests of a batch (vis_client_batch_begin
+ * to vis_client_batch_commit) are written together at its commit. What the socket does not take
+ * at once stays queued, and goes out with the next request, the next vis_client_dispatch() or
+ * vis_client_flush(), or before any synchronous call blocks.
+ *
  * Integration with an event loop: poll vis_client_fd() for reading (and for writing while
- * vis_client_flush() returns 1), then call vis_client_dispatch(), which never blocks.
+ * vis_client_flush() returns 1, that is while the socket has not taken everything), then call
+ * vis_client_dispatch(), which never blocks.
  */
 #ifndef VIS_VISCLIENT_H
 #define VIS_VISCLIENT_H
@@ -116,9 +123,11 @@ typedef void (*vis_error_handler)(void *data, const struct vis_error *error);
 VIS_EXPORT int vis_client_default_socket(char *buf, size_t len);
 
 /*
- * Connects to the daemon at path (NULL: the default socket) and performs the handshake, asking for
- * role (enum vis_role). Synchronous. Returns a connection, or NULL only when memory runs out;
- * check vis_client_error() before use. A refused handshake leaves EACCES (role not allowed),
+ * Connects to the daemon at path (NULL or "": the default socket, see above) and performs the
+ * handshake, asking for role (enum vis_role). Synchronous: blocks until the daemon answers.
+ * Returns a connection, which the caller frees with vis_client_destroy() (also when it failed),
+ * or NULL only when memory runs out; check vis_client_error() before use (ENOENT: no path and
+ * no variable to find the default by). A refused handshake leaves EACCES (role not allowed),
  * EBUSY (the manager role is taken), EPROTONOSUPPORT (version), EAGAIN (the daemon serves as many
  * clients as it may, or is out of descriptors: try later) or ECONNREFUSED, and the daemon's
  * error in vis_client_last_error().
@@ -155,8 +164,9 @@ VIS_EXPORT int vis_client_fd(const struct vis_client *c);
 VIS_EXPORT int vis_client_dispatch(struct vis_client *c);
 
 /*
- * Writes queued requests without blocking. Returns 0 when everything is written, 1 when some
- * remains (wait for the fd to be writable), -1 on a connection error.
+ * Writes what is queued without blocking: what the socket did not take when the requests were
+ * made (see Sending above). Returns 0 when everything is written, 1 when some remains (poll the
+ * fd for writing, then call it again), -1 on a connection error.
  */
 VIS_EXPORT int vis_client_flush(struct vis_client *c);
 
@@ -167,9 +177,14 @@ VIS_EXPORT int vis_client_flush(struct vis_client *c);
  */
 VIS_EXPORT int vis_client_roundtrip(struct vis_client *c);
 
-/* Requests without a reply: queued (and flushed when the buffer fills); return the request's
- * number, 0 on a connection error. A queue the daemon does not drain (64 MiB) fails the
- * connection with ENOBUFS rather than block or grow without bound. */
+/*
+ * Requests without a reply (an error may still come: see vis_client_last_error() and the error
+ * handler). Each is written at once, without blocking, or inside a batch at its commit (see
+ * Sending above). Return the request's number, 0 on a connection error (or, with errno
+ * EMSGSIZE, for a request larger than the daemon takes). A queue the daemon does not drain
+ * (64 MiB) fails the connection with ENOBUFS rather than block or grow without bound. None of
+ * them blocks.
+ */
 VIS_EXPORT uint32_t vis_client_destroy_window(struct vis_client *c, uint32_t window);
 VIS_EXPORT uint32_t vis_client_map(struct vis_client *c, uint32_t window);
 VIS_EXPORT uint32_t vis_client_unmap(struct vis_client *c, uint32_t window);
@@ -184,8 +199,17 @@ VIS_EXPORT uint32_t vis_client_reparent(struct vis_client *c, uint32_t window, u
 					int32_t x, int32_t y);
 VIS_EXPORT uint32_t vis_client_batch_begin(struct vis_client *c);
 VIS_EXPORT uint32_t vis_client_batch_commit(struct vis_client *c);
+/*
+ * Asks for notices about window (VIS_WINDOW_ALL, 0: every window the connection may see, now
+ * and later), delivered to the notice handler: mask is a set of enum vis_notice_mask bits
+ * (VIS_NOTICE_VISIBILITY 1, VIS_NOTICE_EXPOSURE 2, VIS_NOTICE_STACK 4); rect_limit is the most
+ * rectangles an exposure notice carries before it is collapsed to their bounding box (0: 25, as
+ * X). Subscribing again with the same window replaces the subscription. A mask of 0 or an
+ * unknown bit gets a value error, a window the connection may not see a window error.
+ */
 VIS_EXPORT uint32_t vis_client_subscribe(struct vis_client *c, uint32_t window, uint32_t mask,
 					 uint32_t rect_limit);
+/* Ends the subscription made with the same window argument (a value error if there is none). */
 VIS_EXPORT uint32_t vis_client_unsubscribe(struct vis_client *c, uint32_t window);
 
 /*
