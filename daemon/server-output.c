@@ -218,6 +218,25 @@ void server_notice_visibility(struct client *c, const struct vis_window *w)
 	check_bound(c);
 }
 
+void server_notice_initial(struct client *c, const struct vis_window *w)
+{
+	if (!must_hold(c)) {
+		write_visibility(c, w->id, w->state, VIS_VISIBILITY_INITIAL, 0);
+		return;
+	}
+	struct held *h = held_entry(c, w->id);
+	if (!h)
+		return;
+	if (!h->visibility)
+		c->out.held_bytes += VISIBILITY_BYTES;
+	/* What the connection will be told first is this state, whatever it held before. */
+	h->visibility = true;
+	h->previous = VIS_VISIBILITY_INITIAL;
+	h->state = w->state;
+	h->visibility_count++;
+	check_bound(c);
+}
+
 /* The bytes an exposure notice of region r would take, as held (before any collapsing). */
 static size_t exposure_bytes(pixman_region32_t *r)
 {

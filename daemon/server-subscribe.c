@@ -42,6 +42,29 @@ static void track_covered(struct client *c, const struct sub *s)
 			server_track(server->tree.order[i], server);
 }
 
+/*
+ * A new subscription's first notices: the state of every viewable window it covers, in stacking
+ * order, so that a client that subscribes after creating a window learns its state at once.
+ */
+static void send_initial(struct client *c, const struct sub *s)
+{
+	struct server *server = c->server;
+	if (!(s->mask & VIS_NOTICE_VISIBILITY))
+		return;
+	if (s->window) {
+		struct vis_window *w = vis_wtree_find(&server->tree, s->window);
+		if (w && w->state != VIS_WTREE_STATE_NONE)
+			server_notice_initial(c, w);
+		return;
+	}
+	server->work += server->tree.n_order;
+	for (size_t i = 0; i < server->tree.n_order && !c->closing; i++) {
+		struct vis_window *w = server->tree.order[i];
+		if (w && w->state != VIS_WTREE_STATE_NONE && server_may_see(c, w))
+			server_notice_initial(c, w);
+	}
+}
+
 void server_subscription(struct client *c, uint32_t seq, uint32_t op, const union vis_arg *a)
 {
 	struct server *server = c->server;
@@ -85,6 +108,9 @@ void server_subscription(struct client *c, uint32_t seq, uint32_t op, const unio
 				    c->n_subs);
 		return;
 	}
+	/* States and baselines are the current ones: what earlier changes did is computed first,
+	 * and its notices are not this subscription's. */
+	server_flush(server);
 	if (!found) {
 		if (c->n_subs == c->cap_subs) {
 			size_t cap = c->cap_subs ? 2 * c->cap_subs : 4;
@@ -102,9 +128,8 @@ void server_subscription(struct client *c, uint32_t seq, uint32_t op, const unio
 	}
 	*found = (struct sub){ window, mask, limit };
 	count(c, found, +1);
-	/* Baselines come from the current states, so earlier changes must be computed first. */
-	server_flush(server);
 	track_covered(c, found);
+	send_initial(c, found);
 }
 
 void server_unsubscribe_all(struct client *c)

@@ -299,6 +299,8 @@ void server_output_finish(struct client *c);
 size_t server_output_pending(const struct client *c);
 /* Sends, holds or drops (after an overflow) a notice to c. */
 void server_notice_visibility(struct client *c, const struct vis_window *w);
+/* The first visibility notice of a new subscription: w's state, previous VIS_VISIBILITY_INITIAL. */
+void server_notice_initial(struct client *c, const struct vis_window *w);
 void server_notice_exposure(struct client *c, const struct sub *s, const struct vis_window *w,
 			    pixman_region32_t *exposed, const uint32_t *words, uint32_t n);
 void server_notice_stack(struct client *c, const uint32_t words[9]);

@@ -70,8 +70,8 @@
 	  "A request failed: its sequence number and opcode, the code, a reason.")                \
 	M(VISIBILITY, 128, NOTICE, "visibility",                                                  \
 	  "q:serial u:window u:state u:previous u:coalesced",                                     \
-	  "A window's state changed, or it became viewable (previous 3); coalesced: how many "    \
-	  "notices this one stands for beyond itself.")                                           \
+	  "A window's state changed, it became viewable (previous 3), or a subscription began "   \
+	  "(previous 4); coalesced: how many notices this one stands for beyond itself.")         \
 	M(EXPOSURE, 129, NOTICE, "exposure", "q:serial u:window u:flags u:coalesced aR:rects",    \
 	  "Newly visible rectangles, window coordinates; flags 1: collapsed to the bounding box; " \
 	  "coalesced: how many notices were merged into this one.")                               \

@@ -520,6 +520,12 @@ static void test_batch(void)
 	uint32_t w = create(a, 0, 0, 0, 50, 50, VIS_CREATE_MAP);
 	vis_client_subscribe(obs, VIS_WINDOW_ALL, VIS_NOTICE_VISIBILITY, 0);
 	CHECK(vis_client_sync(obs) == 0, "subscribe");
+	/* A subscription begins with the state of each window it covers, created before it. */
+	const struct vis_notice *first = last_visibility(&log, w);
+	CHECK(first && first->visibility.state == VIS_VISIBILITY_UNOBSCURED &&
+		      first->visibility.previous == VIS_VISIBILITY_INITIAL,
+	      "no initial state for window %u", w);
+	log.n = 0;
 	vis_client_batch_begin(a);
 	uint32_t cover = 0;
 	vis_client_create_async(a, 0, 0, 0, 50, 50, VIS_CREATE_MAP, NULL, NULL);

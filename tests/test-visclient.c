@@ -385,7 +385,8 @@ static void test_names(void)
 {
 	assert(strcmp(vis_visibility_name(2), "fully-obscured") == 0);
 	assert(strcmp(vis_visibility_name(3), "none") == 0);
-	assert(strcmp(vis_visibility_name(4), "?") == 0);
+	assert(strcmp(vis_visibility_name(4), "initial") == 0);
+	assert(strcmp(vis_visibility_name(5), "?") == 0);
 	assert(strcmp(vis_error_code_name(VIS_ERROR_WINDOW), "window") == 0);
 	assert(strcmp(vis_error_code_name(0), "?") == 0);
 	assert(strcmp(vis_request_name(VIS_OP_GET_STATES), "get-states") == 0);
@@ -465,6 +466,17 @@ static size_t make_broken(struct broken *b)
 	o = header(b[n].bytes, 32, VIS_OP_VISIBILITY);
 	vis_wire_put_u64(b[n].bytes + o, 1);
 	vis_wire_put_u32(b[n].bytes + o + 12, 7);
+	b[n++].len = 32;
+	/* "initial" is a previous state only. */
+	b[n] = (struct broken){ .name = "initial as a state", .expect = EPROTO };
+	o = header(b[n].bytes, 32, VIS_OP_VISIBILITY);
+	vis_wire_put_u64(b[n].bytes + o, 1);
+	vis_wire_put_u32(b[n].bytes + o + 12, VIS_VISIBILITY_INITIAL);
+	b[n++].len = 32;
+	b[n] = (struct broken){ .name = "previous past initial", .expect = EPROTO };
+	o = header(b[n].bytes, 32, VIS_OP_VISIBILITY);
+	vis_wire_put_u64(b[n].bytes + o, 1);
+	vis_wire_put_u32(b[n].bytes + o + 16, VIS_VISIBILITY_INITIAL + 1);
 	b[n++].len = 32;
 	/* A chunked reply with more = 2. */
 	b[n] = (struct broken){ .name = "more not 0 or 1", .expect = EPROTO };

@@ -388,7 +388,7 @@ static void handle_notice(struct vis_client *c, const struct vis_msg *m)
 		n.visibility.previous = m->args[3].u;
 		n.visibility.coalesced = m->args[4].u;
 		bad = n.visibility.state > VIS_VISIBILITY_NONE ||
-		      n.visibility.previous > VIS_VISIBILITY_NONE;
+		      n.visibility.previous > VIS_VISIBILITY_INITIAL;
 		break;
 	case VIS_OP_EXPOSURE:
 		n.kind = VIS_NOTICE_KIND_EXPOSURE;

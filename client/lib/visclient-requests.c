@@ -315,7 +315,7 @@ int vis_client_get_repaint(struct vis_client *c, struct vis_rect32 damage, uint3
 const char *vis_visibility_name(uint32_t state)
 {
 	static const char *const names[] = { "unobscured", "partially-obscured", "fully-obscured",
-					     "none" };
+					     "none", "initial" };
 	return state < sizeof(names) / sizeof(names[0]) ? names[state] : "?";
 }
 

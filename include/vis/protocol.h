@@ -23,6 +23,9 @@ enum vis_visibility {
 	VIS_VISIBILITY_PARTIALLY_OBSCURED = 1,
 	VIS_VISIBILITY_FULLY_OBSCURED = 2, /* the occlusion notice: stop rendering */
 	VIS_VISIBILITY_NONE = 3,           /* not viewable: unmapped, or an ancestor is */
+	/* Only as a visibility notice's previous: the first notice of a new subscription, giving
+	 * the window's state when it subscribed. */
+	VIS_VISIBILITY_INITIAL = 4,
 };
 
 /* What a connection may see and change, asked for in the handshake. */

@@ -79,7 +79,9 @@ struct vis_notice {
 	uint32_t window;
 	union {
 		struct {
-			uint32_t state, previous; /* previous VIS_VISIBILITY_NONE: newly viewable */
+			/* previous VIS_VISIBILITY_NONE: newly viewable; VIS_VISIBILITY_INITIAL: the
+			 * first notice of a subscription, the state when it began. */
+			uint32_t state, previous;
 			uint32_t coalesced;       /* notices this one stands for beyond itself */
 		} visibility;
 		struct {
@@ -269,7 +271,8 @@ VIS_EXPORT int vis_client_get_repaint(struct vis_client *c, struct vis_rect32 da
  * since the previous vis_client_sync() got an error. */
 VIS_EXPORT int vis_client_sync(struct vis_client *c);
 
-/* Names for logs and tools: "unobscured", "partially-obscured", "fully-obscured", "none". */
+/* Names for logs and tools: "unobscured", "partially-obscured", "fully-obscured", "none",
+ * "initial" (a previous state only). */
 VIS_EXPORT const char *vis_visibility_name(uint32_t state);
 /* An error code's name ("window", "access", …) and a request's ("create", …); "?" if unknown. */
 VIS_EXPORT const char *vis_error_code_name(uint32_t code);
