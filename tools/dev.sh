@@ -8,7 +8,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-PACKAGES=(gcc meson ninja-build pkg-config libpixman-1-dev libevent-dev libxcb1-dev xvfb libxml2-utils)
+PACKAGES=(gcc meson ninja-build pkg-config libpixman-1-dev libevent-dev libxcb1-dev xvfb libxml2-utils scdoc)
 
 # Installs the Debian packages given that are missing, asking apt only when something is.
 install_missing() {
