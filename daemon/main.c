@@ -25,7 +25,7 @@ static const char usage_text[] =
 	"  --screen WxH              the screen size (default 3840x2160)\n"
 	"  --restricted-socket PATH  a second socket whose clients never get a role\n"
 	"  -v                        log debug messages too\n"
-	"limits (a request past one gets a 'limit' error):\n"
+	"limits (past most, a request gets a 'limit' error naming the option):\n"
 	"  --max-request BYTES       the largest request accepted (default 65536)\n"
 	"  --max-clients N           connections at once (default 1024, fewer when\n"
 	"                            descriptors are short: see ulimit -n)\n"

@@ -490,7 +490,7 @@ static int parse_options(struct bench *b, int argc, char **argv, const char **sv
 	/* visctl may have run getopt already; 0 makes glibc start afresh on this argv. */
 	optind = 0;
 	opterr = 0;
-	while ((opt = getopt_long(argc, argv, "", longopts, NULL)) != -1) {
+	while ((opt = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
 		switch (opt) {
 		case 'k':
 		case 'e':

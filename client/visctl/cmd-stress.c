@@ -61,7 +61,7 @@ static void usage(FILE *f)
 		"  --pid PID           visd's process, for CPU and memory (default: the socket's peer);\n"
 		"                      refused unless it is a visd, and the one serving the socket\n"
 		"  --json, --csv       the results as JSON or CSV instead of a table\n"
-		"  --quiet             no progress line (on stderr: overwritten in place on a\n"
+		"  -q, --quiet         no progress line (on stderr: overwritten in place on a\n"
 		"                      terminal, else one line a second)\n"
 		"  visd must have no windows but the run's; it takes the manager role.\n"
 		"exit status: 0 passed, 1 a mismatch or a runtime error, 2 usage\n",

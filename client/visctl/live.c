@@ -17,7 +17,8 @@ int live_is_option(const char *a)
 int live_help(const char *name)
 {
 	const struct visctl_command *cmd = visctl_command_find(name);
-	printf("usage: visctl %s %s\n", name, cmd ? cmd->usage : "");
+	const char *args = cmd ? cmd->usage : "";
+	printf("usage: visctl %s%s%s\n", name, args[0] ? " " : "", args);
 	if (cmd && cmd->help)
 		fputs(cmd->help, stdout);
 	return fflush(stdout) == 0 ? VISCTL_EXIT_OK : VISCTL_EXIT_FAILURE;

@@ -80,10 +80,11 @@ static void usage(FILE *f)
 		fprintf(f, "  visctl %s%s%s\n", commands[i].name, commands[i].usage[0] ? " " : "",
 			commands[i].usage);
 	fprintf(f, "SCENE is a path or '-' for stdin; `visctl COMMAND --help` says more.\n"
-		   "Commands from create on talk to visd at SOCKET (default $VISD_SOCKET, else\n"
-		   "$XDG_RUNTIME_DIR/visd-0), as a client unless --role says otherwise. A client\n"
-		   "sees only the windows its own connection made (or a script's): states, tree,\n"
-		   "repaint and watch see every window with --role observer.\n"
+		   "Commands from create on talk to visd at SOCKET (-s or --socket; default\n"
+		   "$VISD_SOCKET, else $XDG_RUNTIME_DIR/visd-0), as a client unless --role says\n"
+		   "otherwise. A client sees only the windows its own connection made (or a\n"
+		   "script's): states, tree, repaint and watch see every window with --role\n"
+		   "observer.\n"
 		   "exit status: 0 ok, 1 runtime or daemon error, 2 usage or bad input\n");
 }
 
