@@ -28,7 +28,7 @@ static const char usage_text[] =
 	"limits (past most, a request gets a 'limit' error naming the option):\n"
 	"  --max-request BYTES       the largest request accepted (default 65536)\n"
 	"  --max-clients N           connections at once (default 1024, fewer when\n"
-	"                            descriptors are short: see ulimit -n)\n"
+	"                            descriptors are short: see `ulimit -n`)\n"
 	"  --owner-reserve N         of those, slots only the daemon's uid may take, on\n"
 	"                            the main socket (below --max-clients; default 32,\n"
 	"                            or half of --max-clients if less)\n"
