@@ -28,7 +28,8 @@ fail() {
 
 # The option tokens of a text on stdin, one a line, sorted; `quoted command lines` left out.
 help_options() {
-	sed 's/`[^`]*`//g' | tr -c 'A-Za-z0-9-' '\n' | grep -E '^(--[A-Za-z][A-Za-z0-9-]*|-[A-Za-z])$' | sort -u
+	sed 's/`[^`]*`//g' | tr -c 'A-Za-z0-9-' '\n' |
+		grep -E '^(--[A-Za-z][A-Za-z0-9-]*|-[A-Za-z])$' | sort -u
 }
 
 # The options a piece of a page on stdin documents: the *-x* and *--long* of its term lines.
@@ -103,7 +104,8 @@ for c in $commands; do
 	# The command's line in `visctl --help` may name only what its subsection documents.
 	grep "^  visctl $c\( \|$\)" "$T/visctl.help" | help_options >"$T/$c.line"
 	for o in $(comm -23 "$T/$c.line" "$T/$c.allowed"); do
-		fail "$page: $o is printed for $c by \`visctl --help\` but not documented (no *$o* term under '## $c')"
+		fail "$page: $o is printed for $c by \`visctl --help\`" \
+			"but not documented (no *$o* term under '## $c')"
 	done
 	run_help "visctl $c" "$T/$c.help" "$visctl" "$c"
 	help_options <"$T/$c.help" >"$T/$c.opts"
