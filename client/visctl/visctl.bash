@@ -16,7 +16,8 @@ _visctl_options() {
 	bench) echo "--kinds --engines --sizes --max-n --reps --seed --limit --svg --csv --quick --help" ;;
 	plot-service) echo "--note --help" ;;
 	create) echo "--parent --map --retain --help" ;;
-	load) echo "--retain --help" ;;
+	load) echo "--retain --any-screen --help" ;;
+	states | tree | region | repaint) echo "--json --help" ;;
 	snapshot) echo "--svg --help" ;;
 	watch) echo "--json --count --help" ;;
 	stress) echo "-c -n --count --duration -R --pipeline --mix --batch-size --exposure --seed
