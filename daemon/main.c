@@ -17,9 +17,11 @@
 #include "log.h"
 #include "server.h"
 #include "vis/protocol.h"
+#include "vis/version.h"
 
 static const char usage_text[] =
 	"usage: visd [--socket PATH] [--screen WxH] [--restricted-socket PATH] [LIMITS] [-v]\n"
+	"       visd --version\n"
 	"  --socket PATH             listen here (default: $VISD_SOCKET, else\n"
 	"                            $XDG_RUNTIME_DIR/visd-0)\n"
 	"  --screen WxH              the screen size (default 3840x2160)\n"
@@ -249,6 +251,9 @@ int main(int argc, char **argv)
 		const char *val = i + 1 < argc ? argv[i + 1] : NULL;
 		if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
 			fputs(usage_text, stdout);
+			return 0;
+		} else if (strcmp(a, "--version") == 0) {
+			printf("visd %s (protocol %u)\n", VIS_VERSION, VIS_PROTOCOL_VERSION);
 			return 0;
 		} else if (strcmp(a, "-v") == 0) {
 			log_set_level(LOG_DEBUG);

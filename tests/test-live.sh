@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # visctl's live subcommands against a real visd on a private socket: the daemon's states equal
 # `visctl compute` on the same scene; scripts, watch, exit codes; visd's own start-up errors.
-# Usage: test-live.sh VISD VISCTL
+# Usage: test-live.sh VISD VISCTL PROJECT-VERSION
 set -uo pipefail
 visd=$1
 visctl=$2
+version=$3
 dir=$(mktemp -d /tmp/visd-live-XXXXXX)
 sock=$dir/sock
 pid=
@@ -214,6 +215,15 @@ v stress -n 10 --count 10 >/dev/null 2>"$dir/err"
 	fail "stress without the manager role: $(cat "$dir/err")"
 kill $wpid
 wait $wpid
+
+# --version: the program, meson's project version and the protocol's, the same for both.
+out=$("$visd" --version) || fail "visd --version exited $?"
+proto=$(echo "$out" | sed -nE 's/^visd [^ ]+ \(protocol ([0-9]+)\)$/\1/p')
+[ -n "$proto" ] && [ "$out" = "visd $version (protocol $proto)" ] ||
+	fail "visd --version: '$out', want 'visd $version (protocol N)'"
+out=$("$visctl" --version) || fail "visctl --version exited $?"
+[ "$out" = "visctl $version (protocol $proto)" ] ||
+	fail "visctl --version: '$out', want 'visctl $version (protocol $proto)'"
 
 # visd's own errors: a second daemon on the same socket, bad options.
 "$visd" --socket "$sock" 2>"$dir/err"

@@ -402,6 +402,24 @@ static void test_names(void)
 	assert(vis_client_default_socket(buf, sizeof(buf)) == -1);
 }
 
+/*
+ * The version macros and vis_client_version() agree with each other and with meson's project
+ * version (given by the test's argument), as the generated vis/version.h should make them.
+ */
+static void test_version(const char *project_version)
+{
+	char parts[64];
+	snprintf(parts, sizeof(parts), "%d.%d.%d", VIS_CLIENT_VERSION_MAJOR,
+		 VIS_CLIENT_VERSION_MINOR, VIS_CLIENT_VERSION_MICRO);
+	assert(strcmp(parts, VIS_CLIENT_VERSION) == 0);
+	assert(strcmp(vis_client_version(), VIS_CLIENT_VERSION) == 0);
+	if (strcmp(VIS_CLIENT_VERSION, project_version) != 0) {
+		fprintf(stderr, "VIS_CLIENT_VERSION is %s, meson's project version %s\n",
+			VIS_CLIENT_VERSION, project_version);
+		exit(1);
+	}
+}
+
 /* Fills the broken cases, each a message (or bytes) the library must refuse. */
 static size_t make_broken(struct broken *b)
 {
@@ -483,13 +501,18 @@ static size_t make_broken(struct broken *b)
 	return n;
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
+	if (argc != 2) {
+		fprintf(stderr, "usage: test-visclient PROJECT-VERSION\n");
+		return 2;
+	}
 	alarm(60); /* a hang is a failure too */
 	char dir[] = "/tmp/test-visclient.XXXXXX";
 	assert(mkdtemp(dir));
 
 	test_names();
+	test_version(argv[1]);
 	test_no_socket(dir);
 	run(dir, serve_good, client_good, VIS_ROLE_CLIENT);
 	run(dir, serve_refused, client_refused, VIS_ROLE_MANAGER);

@@ -228,6 +228,11 @@ int vis_client_sync(struct vis_client *c)
 	return clean ? 0 : -1;
 }
 
+const char *vis_client_version(void)
+{
+	return VIS_CLIENT_VERSION;
+}
+
 int vis_client_default_socket(char *buf, size_t len)
 {
 	const char *env = getenv("VISD_SOCKET");

@@ -56,7 +56,7 @@ const struct visctl_command *visctl_command_find(const char *name)
 static void usage(FILE *f)
 {
 	fprintf(f, "usage: visctl [-s SOCKET] [--role observer|manager] COMMAND [ARGS]\n"
-		   "       visctl help\n"
+		   "       visctl help | --version\n"
 		   "commands:\n");
 	for (size_t i = 0; i < N_COMMANDS; i++)
 		fprintf(f, "  visctl %s%s%s\n", commands[i].name, commands[i].usage[0] ? " " : "",
@@ -114,6 +114,10 @@ int main(int argc, char **argv)
 		const char *a = argv[i], *value = NULL;
 		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
 			usage(stdout);
+			return fflush(stdout) == 0 ? VISCTL_EXIT_OK : VISCTL_EXIT_FAILURE;
+		}
+		if (strcmp(a, "--version") == 0) {
+			printf("visctl %s (protocol %u)\n", VIS_VERSION, VIS_PROTOCOL_VERSION);
 			return fflush(stdout) == 0 ? VISCTL_EXIT_OK : VISCTL_EXIT_FAILURE;
 		}
 		bool is_socket = strcmp(a, "-s") == 0 || strcmp(a, "--socket") == 0;

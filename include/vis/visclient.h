@@ -26,6 +26,16 @@
 #include <stdint.h>
 
 #include "vis/protocol.h"
+#include "vis/version.h"
+
+/*
+ * The version of libvisclient this program is compiled against: visd's release (meson's project
+ * version, generated into vis/version.h). vis_client_version() says which library it runs with.
+ */
+#define VIS_CLIENT_VERSION_MAJOR VIS_VERSION_MAJOR
+#define VIS_CLIENT_VERSION_MINOR VIS_VERSION_MINOR
+#define VIS_CLIENT_VERSION_MICRO VIS_VERSION_MICRO
+#define VIS_CLIENT_VERSION VIS_VERSION
 
 #if defined(__GNUC__)
 #define VIS_EXPORT __attribute__((visibility("default")))
@@ -38,6 +48,13 @@ extern "C" {
 #endif
 
 struct vis_client;
+
+/*
+ * The version of the libvisclient running, "MAJOR.MINOR.MICRO": VIS_CLIENT_VERSION of the library
+ * itself, which differs from the program's VIS_CLIENT_VERSION when it was built against another.
+ * A static string: valid for the life of the process, nobody frees it. Never fails.
+ */
+VIS_EXPORT const char *vis_client_version(void);
 
 struct vis_rect32 {
 	int32_t x, y;
