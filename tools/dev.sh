@@ -8,7 +8,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-PACKAGES=(gcc meson ninja-build pkg-config libpixman-1-dev libevent-dev libxcb1-dev xvfb libxml2-utils)
+# systemd: systemd-socket-activate, for the socket activation test (tests/test-activate.sh).
+PACKAGES=(gcc meson ninja-build pkg-config libpixman-1-dev libevent-dev libxcb1-dev xvfb libxml2-utils
+	systemd)
 
 # Installs the Debian packages given that are missing, asking apt only when something is.
 install_missing() {
