@@ -8,7 +8,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# systemd: systemd-socket-activate, for the socket activation test (tests/test-activate.sh).
+# systemd: systemd-socket-activate for the socket activation test, systemd-analyze to verify the
+# user units (tests/test-activate.sh, tests/check-units.sh).
 PACKAGES=(gcc meson ninja-build pkg-config libpixman-1-dev libevent-dev libxcb1-dev xvfb libxml2-utils
 	systemd)
 
