@@ -53,9 +53,15 @@ fd_flags_ok() {
 		[ $((8#$flags & 8#02004000)) -eq $((8#02004000)) ]
 }
 
+# systemd-socket-activate passes on only a few variables: the sanitizers' options go by -E.
+keep_env=()
+for var in ASAN_OPTIONS UBSAN_OPTIONS LSAN_OPTIONS; do
+	[ -n "${!var:-}" ] && keep_env+=(-E "$var=${!var}")
+done
+
 # --- One socket: visd starts on the first connection and serves it ----------------------------
 sock=$dir/sock
-"$activate" -l "$sock" "$visd" 2>"$dir/log" &
+"$activate" "${keep_env[@]}" -l "$sock" "$visd" 2>"$dir/log" &
 pid=$!
 wait_socket "$sock"
 [ -S "$sock" ] || { echo "systemd-socket-activate did not listen" >&2; cat "$dir/log" >&2; exit 1; }
@@ -89,7 +95,7 @@ pid=
 # comes; the other is the main one. -------------------------------------------------------------
 main=$dir/main
 restr=$dir/restr
-"$activate" -l "$restr" -l "$main" --fdname=restricted:visd.socket "$visd" 2>"$dir/log2" &
+"$activate" "${keep_env[@]}" -l "$restr" -l "$main" --fdname=restricted:visd.socket "$visd" 2>"$dir/log2" &
 pid=$!
 wait_socket "$main"
 v -s "$main" --role observer states >/dev/null 2>"$dir/err" ||
