@@ -1,4 +1,7 @@
-/* visd: the window-visibility daemon. This file: options, the socket path and its lock, signals. */
+/*
+ * visd: the window-visibility daemon. This file: options, the socket path and its lock, the
+ * sockets a service manager passes (activation.c takes them), signals.
+ */
 #include <ctype.h>
 #include <errno.h>
 #include <event2/event.h>
@@ -14,6 +17,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "activation.h"
 #include "log.h"
 #include "server.h"
 #include "vis/protocol.h"
@@ -47,7 +51,12 @@ static const char usage_text[] =
 	"  --max-depth N             depth of the window tree (default 64)\n"
 	"  --max-subscriptions N     subscriptions per connection (default 1024)\n"
 	"  --max-pending BYTES       output waiting for one connection before its notices\n"
-	"                            are dropped for a resync (default 4194304)\n";
+	"                            are dropped for a resync (default 4194304)\n"
+	"socket activation: given a listening socket by its service manager (LISTEN_PID,\n"
+	"LISTEN_FDS, LISTEN_FDNAMES, as sd_listen_fds(3) says), visd serves it rather than\n"
+	"bind one; a second socket, named 'restricted' in LISTEN_FDNAMES, is the restricted\n"
+	"socket. --socket, if given, must name the same socket. PATH.lock is still taken\n"
+	"beside the socket's file, which is left in place at exit: the manager owns it.\n";
 
 /* The numeric options: the name, the range accepted, where the value goes. */
 struct number_option {
@@ -172,6 +181,74 @@ static int check_socket_dir(const char *path)
 	return 0;
 }
 
+/* A socket's lock, PATH.lock, held while visd serves PATH; fd -1 when there is none to hold. */
+struct socket_lock {
+	int fd;
+	char path[PATH_MAX + 8];
+};
+
+/*
+ * Checks the directory of a socket's file and takes its lock. A NULL file (no socket, or a passed
+ * one that has no file: abstract or unnamed) needs no lock. Returns 0, or -1 after logging why.
+ */
+static int lock_socket(const char *file, struct socket_lock *lock)
+{
+	lock->fd = -1;
+	lock->path[0] = '\0';
+	if (!file)
+		return 0;
+	if (check_socket_dir(file) < 0)
+		return -1;
+	lock->fd = take_lock(file, lock->path, sizeof lock->path);
+	return lock->fd < 0 ? -1 : 0;
+}
+
+/* Releases a lock lock_socket() took, removing its file. */
+static void unlock_socket(struct socket_lock *lock)
+{
+	if (lock->fd >= 0) {
+		unlink(lock->path);
+		close(lock->fd);
+	}
+}
+
+/*
+ * Whether the path an option gave (NULL: none) names the socket s that was passed. A passed
+ * socket is where the service manager put it, so an option that says otherwise is a mistake in
+ * the set-up, refused rather than guessed about. Logs why not.
+ */
+static bool same_socket(const char *path, const struct activation_socket *s, const char *option)
+{
+	struct stat a, b;
+	if (!path || strcmp(path, s->path) == 0)
+		return true;
+	if (s->path[0] && stat(path, &a) == 0 && stat(s->path, &b) == 0 && a.st_dev == b.st_dev &&
+	    a.st_ino == b.st_ino)
+		return true;
+	log_error("%s %s, but the socket passed (fd %d) is %s: under socket activation, leave the "
+		  "option out or name the same socket", option, path, s->fd, s->name);
+	return false;
+}
+
+/*
+ * Serves the sockets passed instead of binding: the main one, and the restricted one if it came
+ * too (else --restricted-socket, if given, is bound as usual). Returns 0, or -1 after logging why.
+ */
+static int adopt_passed(struct server_options *opt, const struct activation *act)
+{
+	if (!same_socket(opt->socket_path, &act->main, "--socket") ||
+	    (act->restricted.fd >= 0 &&
+	     !same_socket(opt->restricted_path, &act->restricted, "--restricted-socket")))
+		return -1;
+	opt->socket_fd = act->main.fd;
+	opt->socket_path = act->main.name;
+	if (act->restricted.fd >= 0) {
+		opt->restricted_fd = act->restricted.fd;
+		opt->restricted_path = act->restricted.name;
+	}
+	return 0;
+}
+
 /*
  * Raises the descriptor limit as far as the clients need and the hard limit allows, and lowers
  * max_clients to what the descriptors left can serve. The owner's reserve then shrinks to half of
@@ -244,6 +321,8 @@ int main(int argc, char **argv)
 		.max_subs = 1024,
 		.max_pending = 4u << 20,
 		.allowed_uid = getuid(),
+		.socket_fd = -1,
+		.restricted_fd = -1,
 	};
 	char default_path[PATH_MAX];
 	for (int i = 1; i < argc; i++) {
@@ -285,6 +364,11 @@ int main(int argc, char **argv)
 			return usage_error("--screen '%s': want WxH, e.g. 1920x1080", val);
 		}
 	}
+	/* Before anything opens a descriptor: those passed start at fd 3. */
+	struct activation act;
+	int activated = activation_take(&act);
+	if (activated < 0 || (activated && adopt_passed(&opt, &act) < 0))
+		return 1;
 	if (!opt.socket_path) {
 		const char *env = getenv("VISD_SOCKET"), *dir = getenv("XDG_RUNTIME_DIR");
 		if (env && *env)
@@ -307,19 +391,22 @@ int main(int argc, char **argv)
 			opt.owner_reserve, opt.max_clients, usage_text);
 		return 2;
 	}
-	if (check_socket_dir(opt.socket_path) < 0 ||
-	    (opt.restricted_path && check_socket_dir(opt.restricted_path) < 0))
-		return 1;
 	fit_descriptors(&opt);
 	signal(SIGPIPE, SIG_IGN);
 	umask(077); /* the socket and its lock: the owner's only */
-	char lock_path[PATH_MAX + 8], rlock_path[PATH_MAX + 8];
-	int lock = take_lock(opt.socket_path, lock_path, sizeof lock_path), rlock = -1;
-	if (lock < 0)
+	/*
+	 * The files to lock: the sockets visd binds, and those passed that are in the file system, so
+	 * that a second daemon on the same path refuses to start, activated or not.
+	 */
+	const char *main_file = opt.socket_fd < 0 ? opt.socket_path
+				: act.main.path[0] ? act.main.path : NULL;
+	const char *restricted_file = opt.restricted_fd < 0 ? opt.restricted_path
+				      : act.restricted.path[0] ? act.restricted.path : NULL;
+	struct socket_lock lock, rlock;
+	if (lock_socket(main_file, &lock) < 0)
 		return 1;
-	if (opt.restricted_path &&
-	    (rlock = take_lock(opt.restricted_path, rlock_path, sizeof rlock_path)) < 0) {
-		unlink(lock_path);
+	if (lock_socket(restricted_file, &rlock) < 0) {
+		unlock_socket(&lock);
 		return 1;
 	}
 	struct event_base *base = new_event_base();
@@ -336,14 +423,19 @@ int main(int argc, char **argv)
 		goto out_base;
 	}
 	if (server_init(&server, base, &opt) == 0) {
-		log_info("listening on %s (screen %dx%d)%s%s", opt.socket_path, opt.screen_width,
-			 opt.screen_height, opt.restricted_path ? ", restricted " : "",
-			 opt.restricted_path ? opt.restricted_path : "");
+		const char *passed = " (socket activation)";
+		log_info("listening on %s%s (screen %dx%d)%s%s%s", opt.socket_path,
+			 opt.socket_fd >= 0 ? passed : "", opt.screen_width, opt.screen_height,
+			 opt.restricted_path ? ", restricted " : "",
+			 opt.restricted_path ? opt.restricted_path : "",
+			 opt.restricted_fd >= 0 ? passed : "");
 		status = event_base_dispatch(base) < 0 ? 1 : 0;
 	}
 	server_finish(&server);
-	unlink(opt.socket_path);
-	if (opt.restricted_path)
+	/* A passed socket's file is the service manager's: it stays, to start visd again. */
+	if (opt.socket_fd < 0)
+		unlink(opt.socket_path);
+	if (opt.restricted_path && opt.restricted_fd < 0)
 		unlink(opt.restricted_path);
 out_base:
 	if (sigint)
@@ -352,11 +444,7 @@ out_base:
 		event_free(sigterm);
 	event_base_free(base);
 out:
-	unlink(lock_path);
-	close(lock);
-	if (rlock >= 0) {
-		unlink(rlock_path);
-		close(rlock);
-	}
+	unlock_socket(&lock);
+	unlock_socket(&rlock);
 	return status;
 }

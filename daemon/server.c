@@ -123,6 +123,19 @@ static const char *bind_at(int fd, const char *path, char *tmp, size_t tmp_size)
 }
 
 /*
+ * Accepts connections on fd, a listening socket, with a backlog of 64 (0: fd listens already).
+ * Accepted sockets are close-on-exec; fd is closed with the listener.
+ */
+static struct evconnlistener *new_listener(struct server *server, int fd, int backlog)
+{
+	struct evconnlistener *l = evconnlistener_new(server->base, on_accept, server,
+		LEV_OPT_CLOSE_ON_FREE | LEV_OPT_CLOSE_ON_EXEC, backlog, fd);
+	if (l)
+		evconnlistener_set_error_cb(l, on_accept_error);
+	return l;
+}
+
+/*
  * Opens one listening socket at an already-locked path. bind() creates the socket's file and only
  * listen() makes it answer: a client that connects as soon as the path appears (as scripts that
  * start visd do) would be refused in between. So the socket is bound under a temporary name and
@@ -145,9 +158,7 @@ static struct evconnlistener *listen_at(struct server *server, const char *path)
 		close(fd);
 		return NULL;
 	}
-	struct evconnlistener *l = evconnlistener_new(
-		server->base, on_accept, server, LEV_OPT_CLOSE_ON_FREE | LEV_OPT_CLOSE_ON_EXEC, 64,
-		fd);
+	struct evconnlistener *l = new_listener(server, fd, 64);
 	if (!l) {
 		log_error("cannot listen on '%s': %s", path, strerror(errno));
 		close(fd);
@@ -160,7 +171,18 @@ static struct evconnlistener *listen_at(struct server *server, const char *path)
 		unlink(tmp);
 		return NULL;
 	}
-	evconnlistener_set_error_cb(l, on_accept_error);
+	return l;
+}
+
+/*
+ * Serves a listening socket the service manager passed (activation.c made it non-blocking): it
+ * listens already, and its file, if any, belongs to the manager, which alone may remove it.
+ */
+static struct evconnlistener *listen_passed(struct server *server, int fd, const char *name)
+{
+	struct evconnlistener *l = new_listener(server, fd, 0);
+	if (!l)
+		log_error("cannot serve the socket passed, %s (fd %d): %s", name, fd, strerror(errno));
 	return l;
 }
 
@@ -258,14 +280,18 @@ int server_init(struct server *server, struct event_base *base, const struct ser
 	server->flush_event = event_new(base, -1, 0, on_flush, server);
 	if (!server->listener_retry || !server->flush_event)
 		return -1;
-	server->listener = listen_at(server, opt->socket_path);
+	server->listener = opt->socket_fd >= 0
+				   ? listen_passed(server, opt->socket_fd, opt->socket_path)
+				   : listen_at(server, opt->socket_path);
 	if (!server->listener)
 		return -1;
-	if (opt->restricted_path) {
+	if (opt->restricted_fd >= 0)
+		server->restricted_listener =
+			listen_passed(server, opt->restricted_fd, opt->restricted_path);
+	else if (opt->restricted_path)
 		server->restricted_listener = listen_at(server, opt->restricted_path);
-		if (!server->restricted_listener)
-			return -1;
-	}
+	if (opt->restricted_path && !server->restricted_listener)
+		return -1;
 	return 0;
 }
 

@@ -15,6 +15,9 @@
 struct server_options {
 	const char *socket_path;
 	const char *restricted_path; /* NULL: none */
+	/* Listening sockets passed by the service manager (socket activation), served as they are;
+	 * -1: bind socket_path (restricted_path) instead. The paths then only name them in logs. */
+	int socket_fd, restricted_fd;
 	int32_t screen_width, screen_height;
 	uint32_t max_request;   /* bytes, header included */
 	uint32_t max_batch;     /* bytes held by one open batch */

@@ -8,7 +8,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-PACKAGES=(gcc meson ninja-build pkg-config libpixman-1-dev libevent-dev libxcb1-dev xvfb libxml2-utils scdoc)
+# scdoc: the man pages (man/); systemd: systemd-socket-activate for the socket activation test,
+# systemd-analyze to verify the user units (tests/test-activate.sh, tests/check-units.sh).
+PACKAGES=(gcc meson ninja-build pkg-config libpixman-1-dev libevent-dev libxcb1-dev xvfb libxml2-utils
+	scdoc systemd)
 
 # Installs the Debian packages given that are missing, asking apt only when something is.
 install_missing() {
