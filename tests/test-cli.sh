@@ -118,6 +118,11 @@ expect_fail "nonexistent file" 1 "visctl: $T/nope: cannot read: No such file or 
 mkdir "$T/dir"
 expect_fail "directory" 1 "visctl: $T/dir: cannot read: Is a directory" compute "$T/dir"
 good=$(scene good.scene 'screen 100 100\nwindow 5 0 0 10 10\nwindow 2 5 5 10 10\nwindow 9 200 200 5 5\n')
+# --json: the same records as objects, one a line.
+json=$("$V" compute --json "$good") && text=$("$V" compute "$good") &&
+	[ "$json" = "$(echo "$text" | sed 's/^\([0-9]*\) \(.*\)$/{"window":\1,"state":"\2"}/')" ] &&
+	[ "$("$V" compute --json --visible "$good")" = "$("$V" compute --visible "$good" |
+		sed 's/^.*$/{"window":&}/')" ] && pass || fail "compute --json: $json"
 expect_fail "bad engine" 2 "unknown engine 'fast'" compute --engine=fast "$good"
 expect_fail "bad engine, separate" 2 "unknown engine 'fast'" compute --engine fast "$good"
 expect_fail "engine without name" 2 "--engine needs an engine name" compute "$good" --engine

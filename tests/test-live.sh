@@ -31,7 +31,9 @@ v() { "$visctl" -s "$sock" "$@"; }
 # The key property, through the command line: load a scene, read the states back.
 for kind in random tiles cascade; do
 	"$visctl" gen $kind 300 7 >"$dir/scene" || fail "gen $kind"
-	v load --retain "$dir/scene" >"$dir/map" || fail "load $kind"
+	v load --retain --json "$dir/scene" |
+		sed 's/^{"scene_id":\([0-9]*\),"window":\([0-9]*\)}$/\1 \2/' >"$dir/map" ||
+		fail "load --json $kind"
 	[ "$(wc -l <"$dir/map")" -eq 300 ] || fail "load $kind printed $(wc -l <"$dir/map") lines"
 	"$visctl" compute "$dir/scene" >"$dir/want.scene-ids" || fail "compute $kind"
 	awk 'NR == FNR { id[$1] = $2; next } { print id[$1], $2 }' "$dir/map" "$dir/want.scene-ids" |

@@ -133,12 +133,14 @@ static uint32_t *order_by_id(const struct vis_scene *scene)
 static void compute_usage(FILE *f)
 {
 	fprintf(f, "usage: visctl compute [--engine=auto|gmv|gmv-heap|region|brute] [--visible] "
-		   "[--time]\n"
-		   "                      [--svg FILE] SCENE\n"
+		   "[--json]\n"
+		   "                      [--time] [--svg FILE] SCENE\n"
 		   "  Prints 'ID STATE' for every window in ascending ID order (with --visible, only\n"
 		   "  the IDs of windows that are not fully obscured). SCENE is a path or '-' for\n"
-		   "  stdin. --time prints compute_ms=... on stderr. --svg also draws the scene into\n"
-		   "  FILE: every window in its state's colour, its visible parts filled.\n");
+		   "  stdin. --json prints each as one JSON object a line, {\"window\":ID,\"state\":\n"
+		   "  STATE} ({\"window\":ID} with --visible). --time prints compute_ms=... on stderr.\n"
+		   "  --svg also draws the scene into FILE: every window in its state's colour, its\n"
+		   "  visible parts filled.\n");
 }
 
 /* Reports a usage mistake and returns the usage exit status. */
@@ -196,7 +198,7 @@ static int compute_svg(const struct vis_scene *scene, const uint8_t *states, con
  * scene has been parsed already.
  */
 static int compute_run(const struct vis_scene *scene, enum vis_engine engine, bool visible,
-		       bool timing, const char *shown, FILE *svg, const char *svg_path)
+		       bool json, bool timing, const char *shown, FILE *svg, const char *svg_path)
 {
 	struct vis_stack stack = vis_scene_stack(scene);
 	uint8_t *states = malloc(scene->n ? scene->n : 1);
@@ -220,11 +222,14 @@ static int compute_run(const struct vis_scene *scene, enum vis_engine engine, bo
 		fprintf(stderr, "compute_ms=%.3f\n",
 			(double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) / 1e6);
 
-	/* " state\n" for each state, made once so the loop is only copies. */
-	char suffix[3][32];
+	/* What follows an ID for each state (" state\n", or JSON's rest of the object), made once
+	 * so the loop is only copies. */
+	char suffix[3][48];
 	size_t suffix_len[3];
 	for (int s = 0; s < 3; s++)
-		suffix_len[s] = (size_t)snprintf(suffix[s], sizeof(suffix[s]), " %s\n",
+		suffix_len[s] = (size_t)snprintf(suffix[s], sizeof(suffix[s]),
+						 visible ? (json ? "}\n" : "\n")
+							 : (json ? ",\"state\":\"%s\"}\n" : " %s\n"),
 						 vis_state_name((enum vis_state)s));
 
 	struct out *o = out_create("visctl compute");
@@ -233,15 +238,12 @@ static int compute_run(const struct vis_scene *scene, enum vis_engine engine, bo
 	for (size_t i = 0; i < scene->n && o->error == 0; i++) {
 		uint32_t k = order[i];
 		uint8_t s = states[k] <= VIS_FULLY_OBSCURED ? states[k] : VIS_FULLY_OBSCURED;
-		if (visible) {
-			if (s == VIS_FULLY_OBSCURED)
-				continue;
-			out_u32(o, scene->ids[k]);
-			out_put(o, "\n", 1);
-		} else {
-			out_u32(o, scene->ids[k]);
-			out_put(o, suffix[s], suffix_len[s]);
-		}
+		if (visible && s == VIS_FULLY_OBSCURED)
+			continue;
+		if (json)
+			out_put(o, "{\"window\":", 10);
+		out_u32(o, scene->ids[k]);
+		out_put(o, suffix[s], suffix_len[s]);
 	}
 	ret = out_finish(o);
 	free(o);
@@ -283,7 +285,7 @@ static int option_value(int argc, char **argv, int *i, const char *name, const c
 int cmd_compute(int argc, char **argv)
 {
 	enum vis_engine engine = VIS_ENGINE_AUTO;
-	bool visible = false, timing = false, options_done = false;
+	bool visible = false, json = false, timing = false, options_done = false;
 	const char *path = NULL, *svg_path = NULL;
 
 	for (int i = 1; i < argc; i++) {
@@ -302,6 +304,8 @@ int cmd_compute(int argc, char **argv)
 			return fflush(stdout) == 0 ? VISCTL_EXIT_OK : VISCTL_EXIT_FAILURE;
 		} else if (strcmp(a, "--visible") == 0) {
 			visible = true;
+		} else if (strcmp(a, "--json") == 0) {
+			json = true;
 		} else if (strcmp(a, "--time") == 0) {
 			timing = true;
 		} else if ((r = option_value(argc, argv, &i, "--svg", &svg_path)) != 0) {
@@ -351,7 +355,7 @@ int cmd_compute(int argc, char **argv)
 		vis_scene_finish(&scene);
 		return VISCTL_EXIT_FAILURE;
 	}
-	int ret = compute_run(&scene, engine, visible, timing, shown, svg, svg_path);
+	int ret = compute_run(&scene, engine, visible, json, timing, shown, svg, svg_path);
 	vis_scene_finish(&scene);
 	return ret;
 }

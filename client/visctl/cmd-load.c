@@ -78,15 +78,16 @@ int cmd_load_batch(struct vis_client *c, const struct vis_scene *scene, uint32_t
 int cmd_load(struct live *l, int argc, char **argv)
 {
 	uint32_t flags = VIS_CREATE_MAP;
-	bool any_screen = false;
+	bool any_screen = false, json = false;
 	const char *path = NULL;
 	struct load ld = { 0 };
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
 		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-			printf("usage: visctl load [--retain] [--any-screen] SCENE\n"
+			printf("usage: visctl load [--retain] [--any-screen] [--json] SCENE\n"
 			       "  Creates the scene's windows, mapped, in one batch (file order is bottom\n"
-			       "  to top) and prints 'SCENE_ID WINDOW_ID' for each. SCENE is a path or '-'.\n"
+			       "  to top) and prints 'SCENE_ID WINDOW_ID' for each (--json: one object a\n"
+			       "  line, {\"scene_id\":ID,\"window\":ID}). SCENE is a path or '-'.\n"
 			       "  A scene whose screen line differs from the daemon's screen is refused\n"
 			       "  (exit status 1): its states would not be visctl compute's. --any-screen\n"
 			       "  loads it on the daemon's screen all the same.\n");
@@ -96,6 +97,8 @@ int cmd_load(struct live *l, int argc, char **argv)
 			flags |= VIS_CREATE_RETAIN;
 		else if (strcmp(a, "--any-screen") == 0)
 			any_screen = true;
+		else if (strcmp(a, "--json") == 0)
+			json = true;
 		else if (a[0] == '-' && a[1] != '\0')
 			return live_usage(l, argv[0], "unknown option '%s'", a);
 		else if (path)
@@ -140,7 +143,8 @@ int cmd_load(struct live *l, int argc, char **argv)
 		goto out;
 	}
 	for (size_t i = 0; i < scene.n; i++)
-		printf("%u %u\n", scene.ids[i], ld.windows[i]);
+		printf(json ? "{\"scene_id\":%u,\"window\":%u}\n" : "%u %u\n", scene.ids[i],
+		       ld.windows[i]);
 	ret = VISCTL_EXIT_OK;
 out:
 	free(ld.windows);

@@ -12,11 +12,11 @@ _visctl_kinds="random uniform grid cascade tiles nested"
 _visctl_options() {
 	case $1 in
 	"") echo "-s --socket --role -h --help --version" ;;
-	compute) echo "--engine --visible --time --svg --help" ;;
+	compute) echo "--engine --visible --json --time --svg --help" ;;
 	bench) echo "--kinds --engines --sizes --max-n --reps --seed --limit --svg --csv --quick --help" ;;
 	plot-service) echo "--note --help" ;;
 	create) echo "--parent --map --retain --help" ;;
-	load) echo "--retain --any-screen --help" ;;
+	load) echo "--retain --any-screen --json --help" ;;
 	states | tree | region | repaint) echo "--json --help" ;;
 	snapshot) echo "--svg --help" ;;
 	watch) echo "--json --count --help" ;;

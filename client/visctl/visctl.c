@@ -17,7 +17,8 @@
 
 static const struct visctl_command commands[] = {
 	{ "compute", cmd_compute, NULL,
-	  "[--engine=auto|gmv|gmv-heap|region|brute] [--visible] [--time] [--svg FILE] SCENE", NULL },
+	  "[--engine=auto|gmv|gmv-heap|region|brute] [--visible] [--json] [--time] [--svg FILE] SCENE",
+	  NULL },
 	{ "gen", cmd_gen, NULL, "KIND N SEED [W H]", NULL },
 	{ "bench", cmd_bench, NULL, "[OPTIONS]  (see `visctl bench --help`)", NULL },
 	{ "plot-service", cmd_plot_service, NULL, "[--note TEXT] CSV SVG", NULL },
@@ -30,7 +31,7 @@ static const struct visctl_command commands[] = {
 	{ "raise", NULL, cmd_raise, "ID", NULL },
 	{ "lower", NULL, cmd_lower, "ID", NULL },
 	{ "stack", NULL, cmd_stack, "ID above|below SIBLING", NULL },
-	{ "load", NULL, cmd_load, "[--retain] [--any-screen] SCENE", NULL },
+	{ "load", NULL, cmd_load, "[--retain] [--any-screen] [--json] SCENE", NULL },
 	{ "states", NULL, cmd_states, "[--json]",
 	  "  Prints 'ID STATE' for every viewable window the connection may see, ascending ID;\n"
 	  "  STATE is unobscured, partially-obscured or fully-obscured. A client sees only\n"
