@@ -16,6 +16,22 @@ static int query_failed(struct live *l, int argc, char **argv)
 	return live_failed(l, live_describe(argc, argv, what, sizeof(what)));
 }
 
+/*
+ * A query's start: its arguments (n of them, named names, and --json), then the connection.
+ * Returns 0, or -1 with *ret the status to exit with.
+ */
+static int begin(struct live *l, int *argc, char **argv, int n, const char *names, bool *json,
+		 int *ret)
+{
+	if (live_expect_args(l, argc, argv, n, names, json, ret) < 0)
+		return -1;
+	if (!live_connect(l)) {
+		*ret = VISCTL_EXIT_FAILURE;
+		return -1;
+	}
+	return 0;
+}
+
 /* JSON's literal for a flag. */
 static const char *json_bool(bool b)
 {
@@ -35,10 +51,8 @@ int cmd_states(struct live *l, int argc, char **argv)
 	size_t n;
 	bool json = false;
 	int ret;
-	if (live_expect_args(l, &argc, argv, 0, "", &json, &ret) < 0)
+	if (begin(l, &argc, argv, 0, "", &json, &ret) < 0)
 		return ret;
-	if (!live_connect(l))
-		return VISCTL_EXIT_FAILURE;
 	if (vis_client_get_states(l->client, &states, &n) < 0)
 		return query_failed(l, argc, argv);
 	/* The daemon sends them in order already; sorting again costs little and promises it. */
@@ -59,10 +73,8 @@ int cmd_tree(struct live *l, int argc, char **argv)
 	size_t n;
 	bool json = false;
 	int ret;
-	if (live_expect_args(l, &argc, argv, 0, "", &json, &ret) < 0)
+	if (begin(l, &argc, argv, 0, "", &json, &ret) < 0)
 		return ret;
-	if (!live_connect(l))
-		return VISCTL_EXIT_FAILURE;
 	if (vis_client_get_tree(l->client, &w, &n) < 0)
 		return query_failed(l, argc, argv);
 	for (size_t i = 0; i < n; i++) {
