@@ -1,8 +1,9 @@
 /*
  * The region method, as X.Org, wlroots and weston compute visibility: walk the stack from the
  * top down, keeping the union of the windows above as a pixman region, and classify each window
- * by how its on-screen box meets that union. It is the baseline the sweeps are measured against,
- * so it stays the straightforward method, done carefully.
+ * by how its on-screen box meets that union; a see-through window is classified but not added.
+ * It is the baseline the sweeps are measured against, so it stays the straightforward method,
+ * done carefully.
  */
 #include <errno.h>
 #include <pixman.h>
@@ -130,6 +131,8 @@ static int walk(const struct vis_stack *stack, const pixman_box32_t *boxes, uint
 			states[i] = VIS_PARTIALLY_OBSCURED;
 			break;
 		}
+		if (!vis_stack_opaque(stack, i))
+			continue; /* it hides nothing: the union above stays */
 		work += boxes_above;
 		/* union_rect builds its one-box operand on the stack: no allocation for it. */
 		if (!pixman_region32_union_rect(spare, above, box.x1, box.y1,

@@ -2,6 +2,7 @@
 #ifndef VIS_STACK_H
 #define VIS_STACK_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -22,13 +23,23 @@ enum vis_state {
 /*
  * A stack of n windows, rects[0] at the bottom, rects[n - 1] on top. With has_screen, only
  * pixels inside the screen [0, screen_w) × [0, screen_h) can be visible; without, nothing clips.
+ * see_through, unless NULL, marks the rectangles that hide nothing (see_through[i] != 0): their
+ * own states are asked as any other's, but windows below them show through. A translucent
+ * window's pixels are such rectangles (look.h); NULL means every rectangle is opaque.
  */
 struct vis_stack {
 	const struct vis_rect *rects;
 	size_t n;
 	bool has_screen;
 	int32_t screen_w, screen_h; /* ≥ 1 when has_screen */
+	const uint8_t *see_through;
 };
+
+/* Whether rectangle i hides what lies below it. O(1). */
+static inline bool vis_stack_opaque(const struct vis_stack *stack, size_t i)
+{
+	return stack->see_through == NULL || !stack->see_through[i];
+}
 
 /* The state's name: "unobscured", "partially-obscured" or "fully-obscured". O(1). */
 const char *vis_state_name(enum vis_state state);

@@ -534,6 +534,13 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 /* The engine: events, schedule, sweep. */
 static int sweep_compute(const struct vis_stack *stack, uint8_t *states)
 {
+	/* The sweep does not yet keep see-through rectangles apart from the occluders. */
+	for (size_t i = 0; stack->see_through != NULL && i < stack->n; i++) {
+		if (stack->see_through[i]) {
+			errno = EOPNOTSUPP;
+			return -1;
+		}
+	}
 	for (size_t i = 0; i < stack->n; i++)
 		states[i] = VIS_FULLY_OBSCURED;
 	struct vis_events ev;
