@@ -1,7 +1,9 @@
 #include <errno.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "engine.h"
+#include "look.h"
 
 static const char *const engine_names[VIS_ENGINE_COUNT] = {
 	[VIS_ENGINE_AUTO] = "auto",
@@ -27,7 +29,8 @@ int vis_engine_from_name(const char *name, enum vis_engine *engine)
 	return -1;
 }
 
-int vis_compute(enum vis_engine engine, const struct vis_stack *stack, uint8_t *states)
+/* Runs one engine on a stack of rectangles. */
+static int compute_rects(enum vis_engine engine, const struct vis_stack *stack, uint8_t *states)
 {
 	switch (engine) {
 	case VIS_ENGINE_AUTO:
@@ -43,4 +46,26 @@ int vis_compute(enum vis_engine engine, const struct vis_stack *stack, uint8_t *
 	}
 	errno = EINVAL;
 	return -1;
+}
+
+int vis_compute(enum vis_engine engine, const struct vis_stack *stack, uint8_t *states)
+{
+	if (stack->looks == NULL)
+		return compute_rects(engine, stack, states);
+
+	/* Windows with a look are cut into rectangles, whose states make the windows'. */
+	struct vis_pieces pieces;
+	if (vis_pieces_init(&pieces, stack) < 0)
+		return -1;
+	uint8_t *piece_states = malloc(pieces.stack.n + 1);
+	int rc = -1;
+	if (piece_states == NULL)
+		errno = ENOMEM;
+	else
+		rc = compute_rects(engine, &pieces.stack, piece_states);
+	if (rc == 0)
+		vis_pieces_join(&pieces, stack, piece_states, states);
+	free(piece_states);
+	vis_pieces_finish(&pieces);
+	return rc;
 }

@@ -23,9 +23,12 @@ const char *vis_engine_name(enum vis_engine engine);
 int vis_engine_from_name(const char *name, enum vis_engine *engine);
 
 /*
- * Computes the state of every window of the stack: states[i] is that of stack->rects[i].
- * Returns 0, or -1 with errno set (ENOMEM; EOVERFLOW for a stack larger than the engine can
- * index). Time and space are those of the engine chosen; see each engine's function.
+ * Computes the state of every window of the stack: states[i] is that of stack->rects[i]
+ * (VIS_NO_STATE for an input-only window). Windows with a look (stack->looks) are cut into their
+ * opaque and see-through pieces (look.h), which the engine classifies; the engine functions below
+ * take stacks without looks. Returns 0, or -1 with errno set (ENOMEM; EOVERFLOW for a stack larger
+ * than the engine can index; EINVAL for a look vis_look_check() refuses). Time and space are those
+ * of the engine chosen over N = the pieces (one per plain window); see each engine's function.
  */
 int vis_compute(enum vis_engine engine, const struct vis_stack *stack, uint8_t *states);
 

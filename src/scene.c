@@ -23,6 +23,12 @@
 /* The longest stretch of a bad field quoted in a message, so reasons fit in vis_scene_error. */
 #define QUOTE_MAX 24
 
+/* The records that give the window above them a look: border, shape, opaque, input-only. */
+enum { LOOK_BORDER, LOOK_SHAPE, LOOK_OPAQUE, LOOK_INPUT_ONLY, LOOK_RECORDS };
+
+static const char *const look_records[LOOK_RECORDS] = { "border", "shape", "opaque",
+							 "input-only" };
+
 struct field {
 	const char *s;
 	size_t len;
@@ -36,6 +42,7 @@ struct parser {
 	size_t screen_line;    /* 0 when no screen was given */
 	size_t *lines;         /* lines[i]: the line of window i */
 	size_t lines_cap;
+	size_t look_lines[LOOK_RECORDS]; /* the last window's look records' lines (0: none yet) */
 };
 
 /* Starts a scene with no arrays, so finish and push work on it without special cases. */
@@ -47,6 +54,11 @@ void vis_scene_init(struct vis_scene *scene)
 /* Releases the arrays; leaves the scene reusable, so finishing twice is harmless. */
 void vis_scene_finish(struct vis_scene *scene)
 {
+	for (size_t i = 0; scene->looks != NULL && i < scene->n; i++) {
+		free(scene->looks[i].shape);
+		free(scene->looks[i].opaque_rects);
+	}
+	free(scene->looks);
 	free(scene->ids);
 	free(scene->rects);
 	vis_scene_init(scene);
@@ -78,8 +90,26 @@ static int scene_grow(struct vis_scene *scene)
 	if (rects == NULL)
 		return -1;
 	scene->rects = rects;
+	if (scene->looks != NULL) {
+		struct vis_look *looks = realloc(scene->looks, cap * sizeof(*looks));
+		if (looks == NULL)
+			return -1;
+		scene->looks = looks;
+	}
 	scene->cap = cap;
 	return 0;
+}
+
+struct vis_look *vis_scene_look(struct vis_scene *scene, size_t i)
+{
+	if (scene->looks == NULL) {
+		scene->looks = calloc(scene->cap ? scene->cap : 1, sizeof(*scene->looks));
+		if (scene->looks == NULL) {
+			errno = ENOMEM;
+			return NULL;
+		}
+	}
+	return &scene->looks[i];
 }
 
 /* Adds a window on top, growing by doubling so building a scene stays linear. */
@@ -89,6 +119,8 @@ int vis_scene_push(struct vis_scene *scene, uint32_t id, struct vis_rect rect)
 		return -1;
 	scene->ids[scene->n] = id;
 	scene->rects[scene->n] = rect;
+	if (scene->looks != NULL)
+		memset(&scene->looks[scene->n], 0, sizeof(*scene->looks));
 	scene->n++;
 	return 0;
 }
@@ -102,6 +134,7 @@ struct vis_stack vis_scene_stack(const struct vis_scene *scene)
 		.has_screen = scene->has_screen,
 		.screen_w = scene->screen_w,
 		.screen_h = scene->screen_h,
+		.looks = scene->looks,
 	};
 	return stack;
 }
@@ -252,6 +285,142 @@ static int parse_window(struct parser *p, const struct field *fields, size_t nfi
 	struct vis_rect r = { (int32_t)x, (int32_t)y, (int32_t)w, (int32_t)h };
 	if (parser_note_line(p, p->scene->n) < 0 || vis_scene_push(p->scene, (uint32_t)id, r) < 0)
 		return -1;
+	memset(p->look_lines, 0, sizeof(p->look_lines));
+	return 0;
+}
+
+/*
+ * Reads the rectangles "X,Y,W,H" of a shape or opaque record from s (the line after the keyword)
+ * into a new array. Returns 0, or -1 with the reason.
+ */
+static int parse_rects(struct parser *p, const char *record, const char *s, size_t len,
+		       struct vis_rect **out, uint32_t *count)
+{
+	static const char *const names[4] = { "X", "Y", "W", "H" };
+	struct vis_rect *rects = NULL;
+	size_t n = 0, cap = 0, i = 0;
+
+	for (;;) {
+		while (i < len && (s[i] == ' ' || s[i] == '\t'))
+			i++;
+		if (i == len)
+			break;
+		size_t start = i;
+		while (i < len && s[i] != ' ' && s[i] != '\t')
+			i++;
+		if (n == cap) {
+			cap = cap ? 2 * cap : 8;
+			struct vis_rect *more = cap > UINT32_MAX ? NULL
+						: realloc(rects, cap * sizeof(*rects));
+			if (more == NULL) {
+				free(rects);
+				errno = ENOMEM;
+				return -1;
+			}
+			rects = more;
+		}
+		/* Four comma-separated numbers, no spaces inside. */
+		struct field f[4];
+		size_t k = 0, j = start;
+		for (; k < 4; k++) {
+			size_t b = j;
+			while (j < i && s[j] != ',')
+				j++;
+			f[k] = (struct field){ s + b, j - b };
+			if (j == i)
+				break;
+			j++;
+		}
+		char q[QUOTE_MAX + 4], what[64];
+		if (k != 3 || j != i) {
+			free(rects);
+			return fail(p, "%s: rectangle %zu '%s' is not X,Y,W,H", record, n + 1,
+				    quote((struct field){ s + start, i - start }, q, sizeof(q)));
+		}
+		int64_t v[4];
+		snprintf(what, sizeof(what), "%s rectangle %zu", record, n + 1);
+		for (k = 0; k < 4; k++) {
+			int64_t lo = k < 2 ? INT32_MIN : 1;
+			if (parse_field(p, what, names[k], f[k], lo, INT32_MAX, &v[k]) < 0) {
+				free(rects);
+				return -1;
+			}
+		}
+		rects[n++] = (struct vis_rect){ (int32_t)v[0], (int32_t)v[1], (int32_t)v[2],
+						(int32_t)v[3] };
+	}
+	*out = rects;
+	*count = (uint32_t)n;
+	return 0;
+}
+
+/*
+ * Handles the look records (border, shape, opaque, input-only) of the window on the line above,
+ * s and len being the whole line and fields its first fields.
+ */
+static int parse_look(struct parser *p, int which, const struct field *fields, size_t nfields,
+		      const char *s, size_t len)
+{
+	const char *record = look_records[which];
+	struct vis_scene *scene = p->scene;
+
+	if (scene->n == 0)
+		return fail(p, "%s before any window (it applies to the window above it)", record);
+	if (p->look_lines[which] != 0)
+		return fail(p, "%s given twice for window %" PRIu32 " (first on line %zu)", record,
+			    scene->ids[scene->n - 1], p->look_lines[which]);
+	struct vis_look *look = vis_scene_look(scene, scene->n - 1);
+	if (look == NULL)
+		return -1;
+	struct vis_look was = *look;
+	const char *rest = fields[0].s + fields[0].len;
+	size_t rest_len = len - (size_t)(rest - s);
+	int64_t b;
+
+	switch (which) {
+	case LOOK_BORDER:
+		if (nfields != 2)
+			return fail(p, "border: expected 1 field (B), got %zu", nfields - 1);
+		if (parse_field(p, "border", "B", fields[1], 0, INT32_MAX, &b) < 0)
+			return -1;
+		look->border = (int32_t)b;
+		break;
+	case LOOK_SHAPE:
+		if (parse_rects(p, "shape", rest, rest_len, &look->shape, &look->n_shape) < 0)
+			return -1;
+		look->shaped = true;
+		break;
+	case LOOK_OPAQUE:
+		if (nfields == 2 && fields[1].len == 4 && memcmp(fields[1].s, "none", 4) == 0) {
+			look->opaque = VIS_OPAQUE_NONE;
+		} else if (nfields == 2 && fields[1].len == 3 && memcmp(fields[1].s, "all", 3) == 0) {
+			look->opaque = VIS_OPAQUE_ALL;
+		} else if (nfields == 1) {
+			return fail(p, "opaque: expected none, all or rectangles X,Y,W,H");
+		} else {
+			if (parse_rects(p, "opaque", rest, rest_len, &look->opaque_rects,
+					&look->n_opaque) < 0)
+				return -1;
+			look->opaque = VIS_OPAQUE_RECTS;
+		}
+		break;
+	default:
+		if (nfields != 1)
+			return fail(p, "input-only: expected no fields, got %zu", nfields - 1);
+		look->input_only = true;
+		break;
+	}
+	const char *why = vis_look_check(scene->rects[scene->n - 1], look);
+	if (why != NULL) {
+		/* Undo, so the scene holds only what was accepted. */
+		if (look->shape != was.shape)
+			free(look->shape);
+		if (look->opaque_rects != was.opaque_rects)
+			free(look->opaque_rects);
+		*look = was;
+		return fail(p, "%s: window %" PRIu32 ": %s", record, scene->ids[scene->n - 1], why);
+	}
+	p->look_lines[which] = p->line;
 	return 0;
 }
 
@@ -282,6 +451,10 @@ static int parse_line(struct parser *p, const char *s, size_t len)
 		return parse_window(p, fields, nfields);
 	if (rec.len == 6 && memcmp(rec.s, "screen", 6) == 0)
 		return parse_screen(p, fields, nfields);
+	for (int k = 0; k < LOOK_RECORDS; k++) {
+		if (rec.len == strlen(look_records[k]) && memcmp(rec.s, look_records[k], rec.len) == 0)
+			return parse_look(p, k, fields, nfields, s, len);
+	}
 	char q[QUOTE_MAX + 4];
 	return fail(p, "unknown record '%s'", quote(rec, q, sizeof(q)));
 }
@@ -428,14 +601,65 @@ static char *put_i32(char *p, int32_t v)
 /* The longest line: "window " plus five numbers of at most 11 characters and their separators. */
 #define LINE_MAX_LEN 64
 
+/* The longest "X,Y,W,H" with its space. */
+#define RECT_MAX_LEN 48
+
+/* Writes " X,Y,W,H" for each rectangle. */
+static char *put_rects(char *p, const struct vis_rect *r, size_t n)
+{
+	for (size_t i = 0; i < n; i++) {
+		*p++ = ' ';
+		p = put_i32(p, r[i].x);
+		*p++ = ',';
+		p = put_i32(p, r[i].y);
+		*p++ = ',';
+		p = put_i32(p, r[i].w);
+		*p++ = ',';
+		p = put_i32(p, r[i].h);
+	}
+	return p;
+}
+
+/* Writes the look records of a window that has a look. */
+static char *put_look(char *p, const struct vis_look *look)
+{
+	if (look->border != 0) {
+		p = stpcpy(p, "border ");
+		p = put_i32(p, look->border);
+		*p++ = '\n';
+	}
+	if (look->input_only)
+		p = stpcpy(p, "input-only\n");
+	if (look->shaped) {
+		p = put_rects(stpcpy(p, "shape"), look->shape, look->n_shape);
+		*p++ = '\n';
+	}
+	if (look->opaque == VIS_OPAQUE_NONE)
+		p = stpcpy(p, "opaque none\n");
+	if (look->opaque == VIS_OPAQUE_RECTS) {
+		p = put_rects(stpcpy(p, "opaque"), look->opaque_rects, look->n_opaque);
+		*p++ = '\n';
+	}
+	return p;
+}
+
 /* Writes the text form into one buffer sized for the longest possible lines, shrunk at the end. */
 int vis_scene_format(const struct vis_scene *scene, char **out, size_t *len)
 {
-	if (scene->n > (SIZE_MAX - 2 * LINE_MAX_LEN) / LINE_MAX_LEN) {
+	if (scene->n > (SIZE_MAX - 2 * LINE_MAX_LEN) / LINE_MAX_LEN / 5) {
 		errno = ENOMEM;
 		return -1;
 	}
 	size_t size = (scene->n + 1) * LINE_MAX_LEN + 1;
+	for (size_t i = 0; scene->looks != NULL && i < scene->n; i++) {
+		/* Four more lines at most, and the rectangles (each at most 2^32 − 1). */
+		uint64_t rects = (uint64_t)scene->looks[i].n_shape + scene->looks[i].n_opaque;
+		if (rects > (SIZE_MAX - size) / RECT_MAX_LEN - 4 * LINE_MAX_LEN) {
+			errno = ENOMEM;
+			return -1;
+		}
+		size += 4 * LINE_MAX_LEN + (size_t)rects * RECT_MAX_LEN;
+	}
 	char *buf = malloc(size);
 	if (buf == NULL)
 		return -1;
@@ -461,6 +685,8 @@ int vis_scene_format(const struct vis_scene *scene, char **out, size_t *len)
 		*p++ = ' ';
 		p = put_i32(p, r->h);
 		*p++ = '\n';
+		if (scene->looks != NULL && !vis_look_plain(&scene->looks[i]))
+			p = put_look(p, &scene->looks[i]);
 	}
 	*p = '\0';
 

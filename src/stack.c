@@ -9,6 +9,8 @@ const char *vis_state_name(enum vis_state state)
 		return "partially-obscured";
 	case VIS_FULLY_OBSCURED:
 		return "fully-obscured";
+	case VIS_NO_STATE:
+		return "none";
 	}
 	return "invalid";
 }

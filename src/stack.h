@@ -18,7 +18,10 @@ enum vis_state {
 	VIS_UNOBSCURED = 0,
 	VIS_PARTIALLY_OBSCURED = 1,
 	VIS_FULLY_OBSCURED = 2,
+	VIS_NO_STATE = 3, /* an input-only window: it has no pixels to see */
 };
+
+struct vis_look;
 
 /*
  * A stack of n windows, rects[0] at the bottom, rects[n - 1] on top. With has_screen, only
@@ -26,6 +29,9 @@ enum vis_state {
  * see_through, unless NULL, marks the rectangles that hide nothing (see_through[i] != 0): their
  * own states are asked as any other's, but windows below them show through. A translucent
  * window's pixels are such rectangles (look.h); NULL means every rectangle is opaque.
+ * looks, unless NULL, gives each window a border, a shape, an opaque region or no pixels at all
+ * (look.h): vis_compute() cuts such windows into rectangles for the engines, which themselves take
+ * only stacks without looks.
  */
 struct vis_stack {
 	const struct vis_rect *rects;
@@ -33,6 +39,7 @@ struct vis_stack {
 	bool has_screen;
 	int32_t screen_w, screen_h; /* ≥ 1 when has_screen */
 	const uint8_t *see_through;
+	const struct vis_look *looks;
 };
 
 /* Whether rectangle i hides what lies below it. O(1). */

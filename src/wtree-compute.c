@@ -217,7 +217,7 @@ static int sweep(struct vis_wtree_work *wk, size_t first, size_t n, uint32_t max
 		wk->rects[m] = box_rect(c);
 		wk->index[m++] = i;
 	}
-	struct vis_stack stack = { wk->rects, m, false, 0, 0, NULL };
+	struct vis_stack stack = { wk->rects, m, false, 0, 0, NULL, NULL };
 	if (vis_compute(VIS_ENGINE_AUTO, &stack, wk->states) < 0)
 		return -1;
 	for (size_t k = 0; k < m; k++)
@@ -402,7 +402,7 @@ static int outside_state(size_t n, size_t i, struct vis_box within, uint8_t insi
 		return VIS_UNOBSCURED;
 	for (size_t p = 0; p < k; p++)
 		wk->rects[p] = box_rect(pieces[p]);
-	struct vis_stack stack = { wk->rects, m, false, 0, 0, NULL };
+	struct vis_stack stack = { wk->rects, m, false, 0, 0, NULL, NULL };
 	if (vis_compute(VIS_ENGINE_AUTO, &stack, wk->states) < 0)
 		return -1;
 	uint8_t all = wk->states[0];

@@ -466,7 +466,7 @@ static void quiet_check(int base_fds, int done)
 	for (size_t i = 0; i < SURVIVORS; i++)
 		CHECK(seen[i] == surv[i].n, "survivor %zu has %zu of its %zu windows", i, seen[i],
 		      surv[i].n);
-	struct vis_stack stack = { rects, mapped, true, SCREEN_W, SCREEN_H, NULL };
+	struct vis_stack stack = { rects, mapped, true, SCREEN_W, SCREEN_H, NULL, NULL };
 	CHECK(vis_compute(VIS_ENGINE_BRUTE, &stack, want) == 0, "brute force: %s", strerror(errno));
 	for (size_t i = 0; i < mapped; i++)
 		CHECK(t[of[i]].state == want[i], "window %u is %u, the brute force says %u",

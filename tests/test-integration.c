@@ -797,7 +797,7 @@ static void test_random(uint64_t seed, int steps)
 				of[mapped++] = m[i].id;
 			}
 		}
-		struct vis_stack stack = { rects, mapped, true, SCREEN_W, SCREEN_H, NULL };
+		struct vis_stack stack = { rects, mapped, true, SCREEN_W, SCREEN_H, NULL, NULL };
 		CHECK(vis_compute(VIS_ENGINE_BRUTE, &stack, want) == 0, "brute force");
 		CHECK(ns == mapped, "step %d: %zu states for %zu mapped windows", step, ns, mapped);
 		vis_client_roundtrip(obs);

@@ -170,7 +170,7 @@ static bool make_variant(const struct regress_case *c, size_t n, enum variant v,
 {
 	bool screen = c->screen_w != 0;
 
-	*stack = (struct vis_stack){ out, n, screen, c->screen_w, c->screen_h, NULL };
+	*stack = (struct vis_stack){ out, n, screen, c->screen_w, c->screen_h, NULL, NULL };
 	for (size_t i = 0; i < n; i++) {
 		struct vis_rect r = c->rects[i];
 		if (v == VARIANT_TRANSPOSED) {
@@ -249,7 +249,7 @@ int main(int argc, char **argv)
 	}
 
 	/* The empty stack: every engine must accept it. */
-	stack = (struct vis_stack){ rects, 0, false, 0, 0, NULL };
+	stack = (struct vis_stack){ rects, 0, false, 0, 0, NULL, NULL };
 	for (int e = 0; e < VIS_ENGINE_COUNT; e++) {
 		uint8_t none[1];
 		if (!engines[e])

@@ -124,7 +124,7 @@ static void test_events(void)
 		{ 0, 0, 10, 1 }, { 20, 20, 5, 5 }, { 0, 0, 5, 1 }, { 10, 0, 3, 3 }, { 5, 0, 5, 1 },
 		{ 5, 0, 5, 4 },
 	};
-	struct vis_stack st = { r, 6, true, 10, 10, NULL };
+	struct vis_stack st = { r, 6, true, 10, 10, NULL, NULL };
 	struct vis_events ev;
 	CHECK(vis_events_init(&ev, &st) == 0);
 	CHECK(ev.n == 4); /* the two zero-area windows are dropped */
@@ -142,7 +142,7 @@ static void test_events(void)
 	struct vis_rect big[] = { { INT32_MIN, INT32_MIN, INT32_MAX, INT32_MAX },
 				  { INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX },
 				  { -1, -1, 2, 2 } };
-	struct vis_stack bs = { big, 3, false, 0, 0, NULL };
+	struct vis_stack bs = { big, 3, false, 0, 0, NULL, NULL };
 	CHECK(vis_events_init(&ev, &bs) == 0);
 	CHECK(ev.n == 3 && ev.nleaves == 4); /* y edges INT32_MIN, -1, 1, INT32_MAX, 2^32 - 2 */
 	CHECK(ev.lo[0] == 0 && ev.hi[0] == 1 && ev.lo[2] == 1 && ev.hi[2] == 2);

@@ -237,8 +237,9 @@ static int compute_run(const struct vis_scene *scene, enum vis_engine engine, bo
 		goto out;
 	for (size_t i = 0; i < scene->n && o->error == 0; i++) {
 		uint32_t k = order[i];
-		uint8_t s = states[k] <= VIS_FULLY_OBSCURED ? states[k] : VIS_FULLY_OBSCURED;
-		if (visible && s == VIS_FULLY_OBSCURED)
+		uint8_t s = states[k];
+		/* An input-only window has no state, as an unviewable one has none in `states`. */
+		if (s > VIS_FULLY_OBSCURED || (visible && s == VIS_FULLY_OBSCURED))
 			continue;
 		if (json)
 			out_put(o, "{\"window\":", 10);

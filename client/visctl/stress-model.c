@@ -241,7 +241,7 @@ int stress_model_states(const struct stress_model *m, uint8_t *states)
 			slots[n++] = k;
 		}
 	}
-	struct vis_stack stack = { rects, n, true, m->screen_w, m->screen_h, NULL };
+	struct vis_stack stack = { rects, n, true, m->screen_w, m->screen_h, NULL, NULL };
 	if (vis_compute(VIS_ENGINE_AUTO, &stack, got) < 0)
 		goto out;
 	for (size_t i = 0; i < n; i++)

@@ -1,0 +1,315 @@
+/*
+ * Cutting windows with a look into disjoint rectangles. A window's pixels are a region: its shape
+ * clipped to its border box; the opaque ones are that region intersected with its opaque region.
+ * The region algebra is pixman's, run on the ranks of the rectangles' edges within the border
+ * box: pixman computes in int and must not meet edges near the 32-bit limits, and ranks keep every
+ * union, intersection and difference (the map is strictly increasing on the edges involved).
+ */
+#include <errno.h>
+#include <pixman.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "look.h"
+
+bool vis_look_plain(const struct vis_look *look)
+{
+	return look->border == 0 && !look->input_only && !look->shaped &&
+	       look->opaque == VIS_OPAQUE_ALL;
+}
+
+/* Whether pieces may start inside the border box rather than at its corner. */
+static bool cut_inside(const struct vis_look *look)
+{
+	return look->shaped || look->opaque == VIS_OPAQUE_RECTS;
+}
+
+const char *vis_look_check(struct vis_rect rect, const struct vis_look *look)
+{
+	if (look->border < 0)
+		return "negative border";
+	if (look->input_only && (look->border != 0 || look->shaped ||
+				 look->opaque != VIS_OPAQUE_ALL))
+		return "an input-only window has no border, shape or opaque region";
+	if (look->opaque > VIS_OPAQUE_RECTS)
+		return "unknown opaque mode";
+	if ((int64_t)rect.w + 2 * (int64_t)look->border > INT32_MAX ||
+	    (int64_t)rect.h + 2 * (int64_t)look->border > INT32_MAX)
+		return "border box wider or taller than 2147483647";
+	if (cut_inside(look) &&
+	    ((int64_t)rect.x + rect.w + 2 * (int64_t)look->border > (int64_t)INT32_MAX + 1 ||
+	     (int64_t)rect.y + rect.h + 2 * (int64_t)look->border > (int64_t)INT32_MAX + 1))
+		return "a shaped window must end within the 32-bit plane (at 2147483648)";
+	return NULL;
+}
+
+/* Grows the piece arrays for at least one more piece. */
+static int pieces_grow(struct vis_pieces *p)
+{
+	size_t cap = p->cap ? 2 * p->cap : 64;
+	if (cap > UINT32_MAX || cap > SIZE_MAX / sizeof(struct vis_rect)) {
+		errno = EOVERFLOW;
+		return -1;
+	}
+	struct vis_rect *rects = realloc(p->rects, cap * sizeof(*rects));
+	if (rects == NULL)
+		return -1;
+	p->rects = rects;
+	uint8_t *st = realloc(p->see_through, cap);
+	if (st == NULL)
+		return -1;
+	p->see_through = st;
+	uint32_t *window = realloc(p->window, cap * sizeof(*window));
+	if (window == NULL)
+		return -1;
+	p->window = window;
+	p->cap = cap;
+	return 0;
+}
+
+static int push(struct vis_pieces *p, struct vis_rect r, bool see_through, size_t window)
+{
+	if (p->stack.n == p->cap && pieces_grow(p) < 0)
+		return -1;
+	p->rects[p->stack.n] = r;
+	p->see_through[p->stack.n] = see_through;
+	p->window[p->stack.n] = (uint32_t)window;
+	p->stack.n++;
+	return 0;
+}
+
+/*
+ * The edges of one window's boxes (border-box coordinates, clipped, non-empty), sorted and unique,
+ * for the rank map.
+ */
+struct edges {
+	int64_t *x, *y;
+	size_t nx, ny;
+};
+
+static int cmp64(const void *a, const void *b)
+{
+	int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+	return (x > y) - (x < y);
+}
+
+static size_t unique(int64_t *v, size_t n)
+{
+	size_t k = 0;
+	qsort(v, n, sizeof(*v), cmp64);
+	for (size_t i = 0; i < n; i++) {
+		if (k == 0 || v[k - 1] != v[i])
+			v[k++] = v[i];
+	}
+	return k;
+}
+
+static int32_t rank(const int64_t *v, size_t n, int64_t x)
+{
+	size_t lo = 0, hi = n;
+	while (hi - lo > 1) {
+		size_t mid = lo + (hi - lo) / 2;
+		if (v[mid] <= x)
+			lo = mid;
+		else
+			hi = mid;
+	}
+	return (int32_t)lo;
+}
+
+/* A rectangle in window coordinates as a box in border-box coordinates, clipped to the box. */
+static struct vis_box to_box(struct vis_rect r, int32_t border, struct vis_box bb)
+{
+	struct vis_box b = vis_rect_box(r);
+	b.x1 += border;
+	b.x2 += border;
+	b.y1 += border;
+	b.y2 += border;
+	return vis_box_intersect(b, bb);
+}
+
+/* Builds a pixman region (rank space) from the clipped, non-empty boxes of rects. */
+static int region_of(pixman_region32_t *reg, const struct vis_rect *rects, size_t n,
+		     int32_t border, struct vis_box bb, const struct edges *e)
+{
+	pixman_box32_t *boxes = malloc((n ? n : 1) * sizeof(*boxes));
+	size_t k = 0;
+	if (boxes == NULL)
+		return -1;
+	for (size_t i = 0; i < n; i++) {
+		struct vis_box b = to_box(rects[i], border, bb);
+		if (vis_box_empty(b))
+			continue;
+		boxes[k++] = (pixman_box32_t){ rank(e->x, e->nx, b.x1), rank(e->y, e->ny, b.y1),
+					       rank(e->x, e->nx, b.x2), rank(e->y, e->ny, b.y2) };
+	}
+	bool ok = pixman_region32_init_rects(reg, boxes, (int)k);
+	free(boxes);
+	if (!ok) {
+		errno = ENOMEM;
+		return -1;
+	}
+	return 0;
+}
+
+/* Adds a region's boxes (rank space) as pieces of window i, whose border box starts at x, y. */
+static int push_region(struct vis_pieces *p, pixman_region32_t *reg, const struct edges *e,
+		       struct vis_rect rect, bool see_through, size_t i)
+{
+	int n;
+	const pixman_box32_t *b = pixman_region32_rectangles(reg, &n);
+	for (int k = 0; k < n; k++) {
+		int64_t x1 = rect.x + e->x[b[k].x1], x2 = rect.x + e->x[b[k].x2];
+		int64_t y1 = rect.y + e->y[b[k].y1], y2 = rect.y + e->y[b[k].y2];
+		/* vis_look_check() keeps every start within int32; this is the last guard. */
+		if (x1 > INT32_MAX || y1 > INT32_MAX) {
+			errno = EOVERFLOW;
+			return -1;
+		}
+		struct vis_rect r = { (int32_t)x1, (int32_t)y1, (int32_t)(x2 - x1), (int32_t)(y2 - y1) };
+		if (push(p, r, see_through, i) < 0)
+			return -1;
+	}
+	return 0;
+}
+
+/* Cuts one shaped or partly opaque window into its opaque and its see-through pieces. */
+static int cut(struct vis_pieces *p, struct vis_rect rect, const struct vis_look *look, size_t i)
+{
+	int32_t bw = (int32_t)(rect.w + 2 * look->border), bh = (int32_t)(rect.h + 2 * look->border);
+	struct vis_box bb = { 0, 0, bw, bh };
+	struct vis_rect whole = { -look->border, -look->border, bw, bh };
+	const struct vis_rect *shape = look->shaped ? look->shape : &whole;
+	size_t ns = look->shaped ? look->n_shape : 1;
+	size_t no = look->opaque == VIS_OPAQUE_RECTS ? look->n_opaque : 0;
+	struct edges e = { 0 };
+	pixman_region32_t s, o, t;
+	int ret = -1;
+
+	if (ns + no > SIZE_MAX / 2 / sizeof(int64_t) - 1) {
+		errno = EOVERFLOW;
+		return -1;
+	}
+	e.x = malloc(2 * (ns + no) * sizeof(int64_t) + 1);
+	e.y = malloc(2 * (ns + no) * sizeof(int64_t) + 1);
+	if (e.x == NULL || e.y == NULL) {
+		free(e.x);
+		free(e.y);
+		errno = ENOMEM;
+		return -1;
+	}
+	for (size_t k = 0; k < ns + no; k++) {
+		struct vis_box b = to_box(k < ns ? shape[k] : look->opaque_rects[k - ns],
+					  look->border, bb);
+		if (vis_box_empty(b))
+			continue;
+		e.x[e.nx++] = b.x1;
+		e.x[e.nx++] = b.x2;
+		e.y[e.ny++] = b.y1;
+		e.y[e.ny++] = b.y2;
+	}
+	e.nx = unique(e.x, e.nx);
+	e.ny = unique(e.y, e.ny);
+
+	pixman_region32_init(&o);
+	pixman_region32_init(&t);
+	if (region_of(&s, shape, ns, look->border, bb, &e) < 0)
+		goto out_st;
+	switch (look->opaque) {
+	case VIS_OPAQUE_ALL:
+		ret = push_region(p, &s, &e, rect, false, i);
+		break;
+	case VIS_OPAQUE_NONE:
+		ret = push_region(p, &s, &e, rect, true, i);
+		break;
+	default:
+		pixman_region32_fini(&o);
+		if (region_of(&o, look->opaque_rects, no, look->border, bb, &e) < 0) {
+			pixman_region32_init(&o);
+			break;
+		}
+		if (!pixman_region32_intersect(&o, &o, &s) || !pixman_region32_subtract(&t, &s, &o)) {
+			errno = ENOMEM;
+			break;
+		}
+		if (push_region(p, &o, &e, rect, false, i) < 0 ||
+		    push_region(p, &t, &e, rect, true, i) < 0)
+			break;
+		ret = 0;
+	}
+	pixman_region32_fini(&s);
+out_st:
+	pixman_region32_fini(&o);
+	pixman_region32_fini(&t);
+	free(e.x);
+	free(e.y);
+	return ret;
+}
+
+int vis_pieces_init(struct vis_pieces *p, const struct vis_stack *windows)
+{
+	memset(p, 0, sizeof(*p));
+	p->stack.has_screen = windows->has_screen;
+	p->stack.screen_w = windows->screen_w;
+	p->stack.screen_h = windows->screen_h;
+	if (windows->n > UINT32_MAX) {
+		errno = EOVERFLOW;
+		return -1;
+	}
+	for (size_t i = 0; i < windows->n; i++) {
+		struct vis_rect r = windows->rects[i];
+		const struct vis_look *look = windows->looks ? &windows->looks[i] : NULL;
+		int rc;
+
+		if (look == NULL || vis_look_plain(look)) {
+			rc = push(p, r, !vis_stack_opaque(windows, i), i);
+		} else if (vis_look_check(r, look) != NULL) {
+			errno = EINVAL;
+			rc = -1;
+		} else if (look->input_only) {
+			rc = 0;
+		} else if (!cut_inside(look)) {
+			r.w += 2 * look->border;
+			r.h += 2 * look->border;
+			rc = push(p, r, look->opaque == VIS_OPAQUE_NONE, i);
+		} else {
+			rc = cut(p, r, look, i);
+		}
+		if (rc < 0) {
+			vis_pieces_finish(p);
+			return -1;
+		}
+	}
+	p->stack.rects = p->rects;
+	p->stack.see_through = p->see_through;
+	return 0;
+}
+
+void vis_pieces_finish(struct vis_pieces *p)
+{
+	free(p->rects);
+	free(p->see_through);
+	free(p->window);
+	memset(p, 0, sizeof(*p));
+}
+
+void vis_pieces_join(const struct vis_pieces *p, const struct vis_stack *windows,
+		     const uint8_t *piece_states, uint8_t *states)
+{
+	/* Bits of the states met: a window with none met has no pixels. */
+	for (size_t i = 0; i < windows->n; i++)
+		states[i] = 0;
+	for (size_t k = 0; k < p->stack.n; k++)
+		states[p->window[k]] |= (uint8_t)(1u << piece_states[k]);
+	for (size_t i = 0; i < windows->n; i++) {
+		uint8_t met = states[i];
+		if (windows->looks != NULL && windows->looks[i].input_only)
+			states[i] = VIS_NO_STATE;
+		else if (met == 0 || met == 1u << VIS_FULLY_OBSCURED)
+			states[i] = VIS_FULLY_OBSCURED;
+		else if (met == 1u << VIS_UNOBSCURED)
+			states[i] = VIS_UNOBSCURED;
+		else
+			states[i] = VIS_PARTIALLY_OBSCURED;
+	}
+}
