@@ -191,6 +191,74 @@ static char *format(const struct vis_scene *s, size_t *len)
 	return text;
 }
 
+/* The look records: what they accept, every way they can be wrong, and their text form. */
+static void test_look_records(void)
+{
+	struct vis_scene s;
+	const char *t = "window 1 0 0 10 10\n"
+			"border 3\n"
+			"shape -3,-3,16,2 0,0,1,1 0,0,1,1\n"
+			"opaque 0,0,10,10\n"
+			"window 2 5 5 1 1\n"
+			"input-only\n"
+			"window 3 0 0 4 4\n"
+			"shape\n"
+			"opaque none\n"
+			"window 4 0 0 4 4\n"
+			"opaque all\n";
+	parse_ok(&s, t, strlen(t));
+	CHECK(s.n == 4 && s.looks != NULL);
+	CHECK(s.looks[0].border == 3 && s.looks[0].shaped && s.looks[0].n_shape == 3 &&
+	      s.looks[0].shape[0].x == -3 && s.looks[0].shape[0].w == 16 &&
+	      s.looks[0].opaque == VIS_OPAQUE_RECTS && s.looks[0].n_opaque == 1);
+	CHECK(s.looks[1].input_only && vis_look_plain(&s.looks[3]));
+	CHECK(s.looks[2].shaped && s.looks[2].n_shape == 0 && s.looks[2].opaque == VIS_OPAQUE_NONE);
+	char *out;
+	size_t len;
+	CHECK(vis_scene_format(&s, &out, &len) == 0);
+	const char *want = "window 1 0 0 10 10\n"
+			   "border 3\n"
+			   "shape -3,-3,16,2 0,0,1,1 0,0,1,1\n"
+			   "opaque 0,0,10,10\n"
+			   "window 2 5 5 1 1\n"
+			   "input-only\n"
+			   "window 3 0 0 4 4\n"
+			   "shape\n"
+			   "opaque none\n"
+			   "window 4 0 0 4 4\n";
+	CHECK(len == strlen(want) && strcmp(out, want) == 0);
+	free(out);
+	vis_scene_finish(&s);
+
+	parse_bad("border 1\n", 1, "border before any window (it applies to the window above it)");
+	parse_bad("window 1 0 0 1 1\nborder 1\nborder 2\n", 3,
+		  "border given twice for window 1 (first on line 2)");
+	parse_bad("window 1 0 0 1 1\nborder -1\n", 2, "border: B -1 out of range 0..2147483647");
+	parse_bad("window 1 0 0 1 1\nborder\n", 2, "border: expected 1 field (B), got 0");
+	parse_bad("window 1 0 0 2147483646 1\nborder 1\n", 2,
+		  "border: window 1: border box wider or taller than 2147483647");
+	parse_bad("window 1 0 0 1 1\nshape 0,0,1\n", 2, "shape: rectangle 1 '0,0,1' is not X,Y,W,H");
+	parse_bad("window 1 0 0 1 1\nshape 0,0,1,1 0,0,1,1,\n", 2,
+		  "shape: rectangle 2 '0,0,1,1,' is not X,Y,W,H");
+	parse_bad("window 1 0 0 1 1\nshape 0,0,0,1\n", 2,
+		  "shape rectangle 1: W 0 out of range 1..2147483647");
+	parse_bad("window 1 0 0 1 1\nopaque 0,x,1,1\n", 2, "opaque rectangle 1: Y 'x' is not a number");
+	parse_bad("window 1 0 0 1 1\nopaque\n", 2, "opaque: expected none, all or rectangles X,Y,W,H");
+	parse_bad("window 1 0 0 1 1\nopaque none none\n", 2,
+		  "opaque: rectangle 1 'none' is not X,Y,W,H");
+	parse_bad("window 1 0 0 1 1\ninput-only\nborder 1\n", 3,
+		  "border: window 1: an input-only window has no border, shape or opaque region");
+	parse_bad("window 1 0 0 1 1\nshape\ninput-only\n", 3,
+		  "input-only: window 1: an input-only window has no border, shape or opaque region");
+	parse_bad("window 1 0 0 1 1\ninput-only x\n", 2, "input-only: expected no fields, got 1");
+	parse_bad("window 1 2147483000 0 1000 1\nshape 0,0,1,1\n", 2,
+		  "shape: window 1: a shaped window must end within the 32-bit plane (at 2147483648)");
+	/* The same box without a shape is fine: a plain window may end past it. */
+	t = "window 1 2147483000 0 1000 1\nborder 1\n";
+	parse_ok(&s, t, strlen(t));
+	vis_scene_finish(&s);
+}
+
 /* Format then parse gives back the same scene, and formatting that gives the same text. */
 static void test_round_trip(void)
 {
@@ -508,6 +576,7 @@ int main(void)
 {
 	test_parse_good();
 	test_parse_bad();
+	test_look_records();
 	test_round_trip();
 	test_gen_random();
 	test_gen_uniform();
