@@ -19,6 +19,8 @@ static const char *const kind_names[VIS_GEN_KIND_COUNT] = {
 	[VIS_GEN_CASCADE] = "cascade",
 	[VIS_GEN_TILES] = "tiles",
 	[VIS_GEN_NESTED] = "nested",
+	[VIS_GEN_SHAPED] = "shaped",
+	[VIS_GEN_TRANSLUCENT] = "translucent",
 };
 
 /* Names a kind as `visctl gen` spells it. */
@@ -262,6 +264,101 @@ static int gen_nested(struct gen *g, size_t n)
 	return 0;
 }
 
+/* Gives window i (inside w × h, border b) rounded corners of radius r: a rectangle a row. */
+static int round_corners(struct vis_look *look, int64_t w, int64_t h, int64_t b, int64_t r)
+{
+	int64_t bw = w + 2 * b, bh = h + 2 * b;
+	look->shape = malloc((size_t)(2 * r + 1) * sizeof(*look->shape));
+	if (look->shape == NULL)
+		return -1;
+	look->shaped = true;
+	look->n_shape = 0;
+	for (int64_t y = 0; y < r; y++) {
+		/* The row's inset: where the circle of radius r about (r, r) crosses the row's middle. */
+		double dy = (double)r - (double)y - 0.5;
+		int64_t inset = r - (int64_t)sqrt((double)(r * r) - dy * dy);
+		look->shape[look->n_shape++] = (struct vis_rect){ (int32_t)(inset - b), (int32_t)(y - b),
+								  (int32_t)(bw - 2 * inset), 1 };
+		look->shape[look->n_shape++] = (struct vis_rect){
+			(int32_t)(inset - b), (int32_t)(bh - 1 - y - b), (int32_t)(bw - 2 * inset), 1 };
+	}
+	look->shape[look->n_shape++] = (struct vis_rect){ (int32_t)-b, (int32_t)(r - b), (int32_t)bw,
+							  (int32_t)(bh - 2 * r) };
+	return 0;
+}
+
+/* random's windows with rounded corners, L shapes and borders. */
+static int gen_shaped(struct gen *g, size_t n)
+{
+	if (gen_random(g, n) < 0)
+		return -1;
+	for (size_t i = 0; i < n; i++) {
+		struct vis_rect *rect = &g->scene->rects[i];
+		uint64_t roll = vis_rng_below(&g->rng, 10);
+		int64_t b = vis_rng_below(&g->rng, 10) < 3 ? range(g, 1, 3) : 0;
+		/* The border grows the box: keep it within 31 bits. */
+		if ((int64_t)rect->w + 2 * b > INT32_MAX || (int64_t)rect->h + 2 * b > INT32_MAX)
+			b = 0;
+		struct vis_look *look = vis_scene_look(g->scene, i);
+		if (look == NULL)
+			return -1;
+		look->border = (int32_t)b;
+		int64_t w = rect->w, h = rect->h, bw = w + 2 * b, bh = h + 2 * b;
+		if (vis_look_check(*rect, &(struct vis_look){ .border = (int32_t)b, .shaped = true }))
+			continue; /* too near the plane's end for pieces: stays a plain box */
+		if (roll < 4 && bw >= 17 && bh >= 17) {
+			if (round_corners(look, w, h, b, range(g, 4, 8)) < 0)
+				return -1;
+		} else if (roll < 6 && bw >= 2 && bh >= 2) {
+			look->shape = malloc(2 * sizeof(*look->shape));
+			if (look->shape == NULL)
+				return -1;
+			look->shaped = true;
+			look->n_shape = 2;
+			look->shape[0] = (struct vis_rect){ (int32_t)-b, (int32_t)-b, (int32_t)bw,
+							    (int32_t)(bh / 2) };
+			look->shape[1] = (struct vis_rect){ (int32_t)-b, (int32_t)(bh / 2 - b),
+							    (int32_t)(bw / 2), (int32_t)(bh - bh / 2) };
+		}
+	}
+	return 0;
+}
+
+/* random's windows with client-side shadows, and a few wholly translucent ones. */
+static int gen_translucent(struct gen *g, size_t n)
+{
+	if (gen_random(g, n) < 0)
+		return -1;
+	for (size_t i = 0; i < n; i++) {
+		struct vis_rect *rect = &g->scene->rects[i];
+		uint64_t roll = vis_rng_below(&g->rng, 60);
+		int64_t m = range(g, 8, 40);
+		if (roll >= 23)
+			continue;
+		struct vis_look *look = vis_scene_look(g->scene, i);
+		if (look == NULL)
+			return -1;
+		if (roll < 3) {
+			look->opaque = VIS_OPAQUE_NONE;
+			continue;
+		}
+		/* The shadow: a margin of m around an opaque inside, when the window has room. */
+		if (rect->w <= 2 * m || rect->h <= 2 * m)
+			continue;
+		struct vis_look shadow = { .opaque = VIS_OPAQUE_RECTS };
+		if (vis_look_check(*rect, &shadow) != NULL)
+			continue;
+		look->opaque_rects = malloc(sizeof(*look->opaque_rects));
+		if (look->opaque_rects == NULL)
+			return -1;
+		look->opaque = VIS_OPAQUE_RECTS;
+		look->n_opaque = 1;
+		look->opaque_rects[0] = (struct vis_rect){ (int32_t)m, (int32_t)m, (int32_t)(rect->w - 2 * m),
+							   (int32_t)(rect->h - 2 * m) };
+	}
+	return 0;
+}
+
 /* Checks the arguments, sets up the screen and the random stream, and runs the kind's generator. */
 int vis_gen(struct vis_scene *scene, enum vis_gen_kind kind, size_t n, uint64_t seed,
 	    int32_t screen_w, int32_t screen_h)
@@ -294,6 +391,8 @@ int vis_gen(struct vis_scene *scene, enum vis_gen_kind kind, size_t n, uint64_t 
 	case VIS_GEN_CASCADE: ret = gen_cascade(&g, n); break;
 	case VIS_GEN_TILES: ret = gen_tiles(&g, n); break;
 	case VIS_GEN_NESTED: ret = gen_nested(&g, n); break;
+	case VIS_GEN_SHAPED: ret = gen_shaped(&g, n); break;
+	case VIS_GEN_TRANSLUCENT: ret = gen_translucent(&g, n); break;
 	}
 	if (ret < 0) {
 		int e = errno;

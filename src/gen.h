@@ -18,6 +18,10 @@
  *   cascade  windows cascading down and right, each offset from the one below
  *   tiles    a tiled desktop with overlapping popups on top
  *   nested   many small windows under a few large ones
+ *   shaped   random's windows, two in five with rounded corners, one in five L-shaped, three in
+ *            ten with a border of 1–3 pixels (look.h)
+ *   translucent  random's windows, a third with client-side shadows (a translucent margin of
+ *            8–40 pixels around an opaque inside), one in twenty wholly translucent
  */
 enum vis_gen_kind {
 	VIS_GEN_RANDOM,
@@ -26,9 +30,11 @@ enum vis_gen_kind {
 	VIS_GEN_CASCADE,
 	VIS_GEN_TILES,
 	VIS_GEN_NESTED,
+	VIS_GEN_SHAPED,
+	VIS_GEN_TRANSLUCENT,
 };
 
-#define VIS_GEN_KIND_COUNT 6
+#define VIS_GEN_KIND_COUNT 8
 
 /* The kind's name. O(1). */
 const char *vis_gen_kind_name(enum vis_gen_kind kind);

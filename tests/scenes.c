@@ -4,6 +4,7 @@
  * where edges are equal, not where they are random.
  */
 #include <errno.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "gen.h"
@@ -46,6 +47,7 @@ static const struct nasty nasties[SCENES_KIND_COUNT - VIS_GEN_KIND_COUNT] = {
 	{ "limits", SCREEN_HUGE, { 0, 1, 1, 1, 0, 6, 2, 0 } },
 	{ "tinyscreen", SCREEN_TINY, { 1, 1, 2, 2, 2, 0, 2, 4 } },
 	{ "mix", SCREEN_ANY, { 2, 2, 3, 2, 2, 1, 3, 1 } },
+	{ "looks", SCREEN_ANY, { 2, 2, 3, 2, 2, 1, 3, 1 } }, /* mix, then each window a look */
 };
 
 /* A scene under construction, and the frame its windows are drawn around. */
@@ -440,6 +442,108 @@ static int make_nasty(struct maker *m, const struct nasty *k)
 	return 0;
 }
 
+/*
+ * Rectangles cutting the box (x, y, w, h) into abutting pieces: halves in x or y, quarters, or
+ * the whole; with hole, one pixel is left out of the last piece (by shrinking it), if it can be.
+ */
+static struct vis_rect *cut_box(struct maker *m, int64_t x, int64_t y, int64_t w, int64_t h,
+				bool hole, uint32_t *n)
+{
+	struct vis_rect *r = malloc(4 * sizeof(*r));
+	if (r == NULL)
+		return NULL;
+	int64_t hw = w / 2, hh = h / 2;
+	switch (vis_rng_below(&m->rng, 4)) {
+	case 0:
+		r[0] = (struct vis_rect){ (int32_t)x, (int32_t)y, (int32_t)w, (int32_t)h };
+		*n = 1;
+		break;
+	case 1:
+		if (hw == 0)
+			goto whole;
+		r[0] = (struct vis_rect){ (int32_t)x, (int32_t)y, (int32_t)hw, (int32_t)h };
+		r[1] = (struct vis_rect){ (int32_t)(x + hw), (int32_t)y, (int32_t)(w - hw), (int32_t)h };
+		*n = 2;
+		break;
+	case 2:
+		if (hh == 0)
+			goto whole;
+		r[0] = (struct vis_rect){ (int32_t)x, (int32_t)y, (int32_t)w, (int32_t)hh };
+		r[1] = (struct vis_rect){ (int32_t)x, (int32_t)(y + hh), (int32_t)w, (int32_t)(h - hh) };
+		*n = 2;
+		break;
+	default:
+		if (hw == 0 || hh == 0)
+			goto whole;
+		r[0] = (struct vis_rect){ (int32_t)x, (int32_t)y, (int32_t)hw, (int32_t)hh };
+		r[1] = (struct vis_rect){ (int32_t)(x + hw), (int32_t)y, (int32_t)(w - hw), (int32_t)hh };
+		r[2] = (struct vis_rect){ (int32_t)x, (int32_t)(y + hh), (int32_t)hw, (int32_t)(h - hh) };
+		r[3] = (struct vis_rect){ (int32_t)(x + hw), (int32_t)(y + hh), (int32_t)(w - hw),
+					  (int32_t)(h - hh) };
+		*n = 4;
+		break;
+	whole:
+		r[0] = (struct vis_rect){ (int32_t)x, (int32_t)y, (int32_t)w, (int32_t)h };
+		*n = 1;
+	}
+	if (hole && r[*n - 1].w > 1)
+		r[*n - 1].w--;
+	return r;
+}
+
+/*
+ * Gives every window of a scene a look whose edges coincide with its own and others': borders
+ * of 0–2, shapes that cut the border box into abutting pieces (or all but one pixel of it, or
+ * nothing), opaque regions cut the same way, translucent and input-only windows.
+ */
+static int add_looks(struct maker *m)
+{
+	struct vis_scene *s = m->scene;
+	for (size_t i = 0; i < s->n; i++) {
+		struct vis_rect r = s->rects[i];
+		struct vis_look look = { 0 };
+		uint64_t roll = vis_rng_below(&m->rng, 16);
+		if (roll == 0) {
+			look.input_only = true;
+		} else if (roll > 3) {
+			look.border = (int32_t)vis_rng_below(&m->rng, 3);
+			if (vis_look_check(r, &look) != NULL)
+				look.border = 0;
+			int64_t b = look.border, bw = r.w + 2 * b, bh = r.h + 2 * b;
+			struct vis_look cut = look;
+			cut.shaped = true;
+			bool can_cut = vis_look_check(r, &cut) == NULL;
+			uint64_t shape = vis_rng_below(&m->rng, 6);
+			if (can_cut && shape >= 3) {
+				look.shaped = true;
+				look.shape = shape == 3 ? NULL
+							: cut_box(m, -b, -b, bw, bh, shape == 4, &look.n_shape);
+				if (shape != 3 && look.shape == NULL)
+					return -1;
+			}
+			uint64_t opaque = vis_rng_below(&m->rng, 5);
+			if (opaque == 1) {
+				look.opaque = VIS_OPAQUE_NONE;
+			} else if (opaque >= 3 && can_cut) {
+				look.opaque = VIS_OPAQUE_RECTS;
+				look.opaque_rects = cut_box(m, -b, -b, bw, bh, opaque == 4, &look.n_opaque);
+				if (look.opaque_rects == NULL)
+					return -1;
+			}
+		}
+		if (vis_look_plain(&look))
+			continue;
+		struct vis_look *to = vis_scene_look(s, i);
+		if (to == NULL) {
+			free(look.shape);
+			free(look.opaque_rects);
+			return -1;
+		}
+		*to = look;
+	}
+	return 0;
+}
+
 int scenes_make(struct vis_scene *scene, unsigned kind, size_t n, uint64_t seed)
 {
 	struct maker m = { .rng = { seed }, .scene = scene, .n = n };
@@ -453,5 +557,13 @@ int scenes_make(struct vis_scene *scene, unsigned kind, size_t n, uint64_t seed)
 		int32_t w = seed % 4 == 3 ? 640 : 0, h = seed % 4 == 3 ? 480 : 0;
 		return vis_gen(scene, (enum vis_gen_kind)kind, n, seed, w, h);
 	}
-	return make_nasty(&m, &nasties[kind - VIS_GEN_KIND_COUNT]);
+	const struct nasty *k = &nasties[kind - VIS_GEN_KIND_COUNT];
+	if (make_nasty(&m, k) < 0)
+		return -1;
+	if (strcmp(k->name, "looks") == 0 && add_looks(&m) < 0) {
+		vis_scene_finish(scene);
+		errno = ENOMEM;
+		return -1;
+	}
+	return 0;
 }

@@ -9,7 +9,7 @@
 
 /*
  * Kinds 0 … VIS_GEN_KIND_COUNT - 1 are vis_gen()'s (random, uniform, grid, cascade, tiles,
- * nested); the rest are nasty:
+ * nested, shaped, translucent); the rest are nasty:
  *   dup         identical rectangles
  *   abut        windows on a coarse lattice: shared edges, abutting windows
  *   cover       windows covered exactly by abutting windows above (split in x, in y, 2×2,
@@ -21,8 +21,11 @@
  *               w = INT32_MAX), mostly without a screen
  *   tinyscreen  a screen of 3×2 … 8×8 with small windows around it, so many edges coincide
  *   mix         all of the above in one stack
+ *   looks       mix's windows with looks: borders, shapes and opaque regions cutting the border
+ *               box into abutting pieces (or all but a pixel of it), empty shapes, translucent
+ *               and input-only windows
  */
-#define SCENES_KIND_COUNT 14
+#define SCENES_KIND_COUNT 17
 
 /* The kind's name. */
 const char *scenes_kind_name(unsigned kind);

