@@ -2,13 +2,19 @@
  * The engines against a real X server: for generated scenes on the X screen, every engine's
  * states must equal the last VisibilityNotify state X.Org sent each window. Each scene's windows
  * are created bottom to top as unmanaged children of the root (a new window is stacked on top),
- * mapped, and read back after a round trip. Run by test-xorg.sh under Xvfb; X limits coordinates
- * to int16 and sizes to uint16, which the scenes respect.
+ * mapped, and read back after a round trip. Windows with a look get X's own: a border width, a
+ * bounding shape set with the SHAPE extension, the InputOnly class; X knows no translucency, so
+ * the engines take every window as opaque there. Run by test-xorg.sh under Xvfb; X limits
+ * coordinates to int16 and sizes to uint16, which the scenes respect.
+ * One difference is X's, not visd's: X reports a window whose shape reaches past its border box
+ * partially obscured even when all its pixels are seen (miShapedWindowIn counts a band wholly
+ * outside the box as obscured); visd follows the pixels. Such windows are marked, not failed.
  * Usage: test-xorg [--count N] [--seed S] (with DISPLAY set).
  */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <xcb/shape.h>
 #include <xcb/xcb.h>
 
 #include "engine.h"
@@ -21,6 +27,70 @@ struct x {
 	xcb_window_t root;
 	int32_t w, h;
 };
+
+/*
+ * Gives the last window of s, now and then, a border, a shape (halves of its border box that
+ * abut, all but a pixel of it, nothing, or a piece past the box), or the InputOnly class.
+ */
+static void add_look(struct vis_scene *s, struct vis_rng *rng)
+{
+	size_t i = s->n - 1;
+	struct vis_rect r = s->rects[i];
+	uint64_t roll = vis_rng_below(rng, 10);
+	if (roll < 5)
+		return;
+	struct vis_look *look = vis_scene_look(s, i);
+	if (look == NULL)
+		exit(2);
+	if (roll == 5) {
+		look->input_only = true;
+		return;
+	}
+	look->border = (int32_t)vis_rng_below(rng, 3);
+	if (roll < 8)
+		return;
+	int32_t b = look->border, bw = r.w + 2 * b, bh = r.h + 2 * b;
+	look->shaped = true;
+	look->shape = malloc(2 * sizeof(*look->shape));
+	if (look->shape == NULL)
+		exit(2);
+	switch (vis_rng_below(rng, 4)) {
+	case 0: /* nothing */
+		break;
+	case 1: /* the box in two abutting halves, or all but its last column */
+		look->n_shape = 2;
+		look->shape[0] = (struct vis_rect){ -b, -b, bw, bh / 2 > 0 ? bh / 2 : 1 };
+		look->shape[1] = (struct vis_rect){ -b, -b + bh / 2, bw, bh - bh / 2 > 0 ? bh - bh / 2 : 1 };
+		if (bw > 1 && vis_rng_below(rng, 2))
+			look->shape[1].w--;
+		break;
+	case 2: /* a corner piece */
+		look->n_shape = 1;
+		look->shape[0] = (struct vis_rect){ -b, -b, (bw + 1) / 2, (bh + 1) / 2 };
+		break;
+	default: /* the box, and a piece reaching past it or wholly beyond it */
+		look->n_shape = 2;
+		look->shape[0] = (struct vis_rect){ -b, -b, bw, bh };
+		look->shape[1] = vis_rng_below(rng, 2)
+			? (struct vis_rect){ r.w / 2, r.h / 2, r.w + 2 * b, r.h + 2 * b }
+			: (struct vis_rect){ r.w + b + 3, r.h + b + 3, 2, 2 };
+	}
+}
+
+/* Whether a window's shape reaches past its border box: where X departs from the pixels. */
+static bool shape_past_box(struct vis_rect r, const struct vis_look *look)
+{
+	if (look == NULL || !look->shaped)
+		return false;
+	for (uint32_t k = 0; k < look->n_shape; k++) {
+		struct vis_rect q = look->shape[k];
+		if (q.x < -look->border || q.y < -look->border ||
+		    (int64_t)q.x + q.w > (int64_t)r.w + look->border ||
+		    (int64_t)q.y + q.h > (int64_t)r.h + look->border)
+			return true;
+	}
+	return false;
+}
 
 /*
  * A small nasty scene on the W×H screen: duplicates, halves of earlier windows (so some are
@@ -61,6 +131,7 @@ static void nasty(struct vis_scene *s, uint64_t seed, int32_t W, int32_t H)
 			r.h = (int32_t)vis_rng_range(&rng, 1, H * 2 / 3);
 		}
 		vis_scene_push(s, (uint32_t)(n - i) * 7, r); /* IDs not in stack order */
+		add_look(s, &rng);
 	}
 }
 
@@ -72,13 +143,30 @@ static int x_states(struct x *x, const struct vis_scene *s, int *state)
 		return -1;
 	for (size_t i = 0; i < s->n; i++) {
 		struct vis_rect r = s->rects[i];
+		const struct vis_look *look = s->looks ? &s->looks[i] : NULL;
 		uint32_t values[] = { 1, XCB_EVENT_MASK_VISIBILITY_CHANGE };
 		wid[i] = xcb_generate_id(x->c);
 		state[i] = -1;
-		xcb_create_window(x->c, XCB_COPY_FROM_PARENT, wid[i], x->root, (int16_t)r.x,
-				  (int16_t)r.y, (uint16_t)r.w, (uint16_t)r.h, 0,
-				  XCB_WINDOW_CLASS_INPUT_OUTPUT, XCB_COPY_FROM_PARENT,
-				  XCB_CW_OVERRIDE_REDIRECT | XCB_CW_EVENT_MASK, values);
+		bool input_only = look && look->input_only;
+		/* X's x, y place the border box's corner, as the scene's do. */
+		xcb_create_window(x->c, input_only ? 0 : XCB_COPY_FROM_PARENT, wid[i], x->root,
+				  (int16_t)r.x, (int16_t)r.y, (uint16_t)r.w, (uint16_t)r.h,
+				  look ? (uint16_t)look->border : 0,
+				  input_only ? XCB_WINDOW_CLASS_INPUT_ONLY
+					     : XCB_WINDOW_CLASS_INPUT_OUTPUT,
+				  XCB_COPY_FROM_PARENT, XCB_CW_OVERRIDE_REDIRECT | XCB_CW_EVENT_MASK,
+				  values);
+		if (look && look->shaped) {
+			xcb_rectangle_t rects[64];
+			uint32_t n = look->n_shape < 64 ? look->n_shape : 64;
+			for (uint32_t k = 0; k < n; k++)
+				rects[k] = (xcb_rectangle_t){ (int16_t)look->shape[k].x,
+							      (int16_t)look->shape[k].y,
+							      (uint16_t)look->shape[k].w,
+							      (uint16_t)look->shape[k].h };
+			xcb_shape_rectangles(x->c, XCB_SHAPE_SO_SET, XCB_SHAPE_SK_BOUNDING,
+					     XCB_CLIP_ORDERING_UNSORTED, wid[i], 0, 0, n, rects);
+		}
 	}
 	for (size_t i = 0; i < s->n; i++)
 		xcb_map_window(x->c, wid[i]);
@@ -102,13 +190,22 @@ static int x_states(struct x *x, const struct vis_scene *s, int *state)
 	return xcb_connection_has_error(x->c) ? -1 : 0;
 }
 
-/* Compares every engine with X on one scene; prints and counts mismatches. */
-static int check(struct x *x, const struct vis_scene *s, const char *what, uint64_t seed)
+/* Windows X called partially obscured where visd, following the pixels, says unobscured. */
+static unsigned long quirks;
+
+/*
+ * Compares every engine with X on one scene (its translucency taken away, as X has none);
+ * prints and counts mismatches.
+ */
+static int check(struct x *x, struct vis_scene *s, const char *what, uint64_t seed)
 {
 	int *want = malloc((s->n + 1) * sizeof(*want));
 	uint8_t *got = malloc(s->n + 1);
 	struct vis_stack st = vis_scene_stack(s);
 	int bad = 0;
+	/* X paints every window opaque: translucency is a compositor's. */
+	for (size_t i = 0; s->looks != NULL && i < s->n; i++)
+		s->looks[i].opaque = VIS_OPAQUE_ALL;
 	if (!want || !got || x_states(x, s, want) < 0) {
 		fprintf(stderr, "test-xorg: %s seed %llu: X error\n", what, (unsigned long long)seed);
 		bad = 1;
@@ -120,7 +217,14 @@ static int check(struct x *x, const struct vis_scene *s, const char *what, uint6
 			break;
 		}
 		for (size_t i = 0; i < s->n; i++) {
-			if (got[i] != want[i]) {
+			/* An InputOnly window gets no VisibilityNotify: it has no state. */
+			int x_state = want[i] < 0 ? VIS_NO_STATE : want[i];
+			if (x_state == VIS_PARTIALLY_OBSCURED && got[i] == VIS_UNOBSCURED &&
+			    shape_past_box(s->rects[i], s->looks ? &s->looks[i] : NULL)) {
+				quirks++;
+				continue;
+			}
+			if (got[i] != x_state) {
 				struct vis_rect r = s->rects[i];
 				fprintf(stderr,
 					"test-xorg: %s seed %llu (n=%zu): engine %s window %u "
@@ -159,6 +263,29 @@ int main(int argc, char **argv)
 	x.w = screen->width_in_pixels;
 	x.h = screen->height_in_pixels;
 	unsigned long scenes = 0, failed = 0;
+	/* The issue's own case of X's departure: a shape piece wholly beyond the border box. */
+	{
+		struct vis_scene s;
+		vis_scene_init(&s);
+		s.has_screen = true;
+		s.screen_w = x.w;
+		s.screen_h = x.h;
+		vis_scene_push(&s, 4, (struct vis_rect){ 4, 4, 20, 20 });
+		struct vis_look *look = vis_scene_look(&s, 0);
+		look->shaped = true;
+		look->n_shape = 2;
+		look->shape = malloc(2 * sizeof(*look->shape));
+		if (look->shape == NULL)
+			return 1;
+		look->shape[0] = (struct vis_rect){ 0, 0, 10, 10 };
+		look->shape[1] = (struct vis_rect){ 30, 30, 2, 2 };
+		failed += check(&x, &s, "shape beyond the box", 0);
+		scenes++;
+		printf("xorg: a shape piece beyond the border box: %s\n",
+		       quirks ? "X says partially obscured, visd unobscured (marked)"
+			      : "X agrees with the pixels");
+		vis_scene_finish(&s);
+	}
 	for (unsigned long k = 0; k < count; k++) {
 		struct vis_scene s;
 		vis_scene_init(&s);
@@ -180,7 +307,9 @@ int main(int argc, char **argv)
 		}
 	}
 	xcb_disconnect(x.c);
-	printf("xorg: %lu scenes on a %dx%d X screen, %lu disagreeing\n", scenes, x.w, x.h, failed);
+	printf("xorg: %lu scenes on a %dx%d X screen, %lu disagreeing; %lu engine verdicts on windows whose shape "
+	       "reaches past the border box, partially obscured by X's rule alone\n", scenes, x.w,
+	       x.h, failed, quirks);
 	printf("%lu passed, %lu failed\n", scenes - failed, failed);
 	return failed != 0;
 }

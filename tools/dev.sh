@@ -10,7 +10,8 @@ cd "$(dirname "$0")/.."
 
 # scdoc: the man pages (man/); systemd: systemd-socket-activate for the socket activation test,
 # systemd-analyze to verify the user units (tests/test-activate.sh, tests/check-units.sh).
-PACKAGES=(gcc meson ninja-build pkg-config libpixman-1-dev libevent-dev libxcb1-dev xvfb libxml2-utils
+PACKAGES=(gcc meson ninja-build pkg-config libpixman-1-dev libevent-dev libxcb1-dev libxcb-shape0-dev xvfb
+	libxml2-utils
 	scdoc systemd)
 
 # Installs the Debian packages given that are missing, asking apt only when something is.

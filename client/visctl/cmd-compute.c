@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "engine.h"
+#include "look.h"
 #include "radix.h"
 #include "gen.h"
 #include "scene.h"
@@ -165,9 +166,12 @@ static int compute_bad_usage(const char *fmt, ...)
 static int compute_svg(const struct vis_scene *scene, const uint8_t *states, const char *shown,
 		       FILE *svg, const char *svg_path)
 {
-	struct vis_stack stack = vis_scene_stack(scene);
+	struct vis_stack windows = vis_scene_stack(scene);
+	struct vis_pieces pieces = { 0 };
 	struct stack_svg p;
 	char title[512];
+	size_t input_only = 0;
+	uint32_t *window_of = NULL;
 	int r = 0;
 
 	snprintf(title, sizeof(title), "visctl compute %s", shown);
@@ -175,9 +179,48 @@ static int compute_svg(const struct vis_scene *scene, const uint8_t *states, con
 	p.has_screen = scene->has_screen;
 	p.screen_w = scene->screen_w;
 	p.screen_h = scene->screen_h;
-	for (size_t i = 0; i < scene->n && r == 0; i++)
-		r = stack_svg_add(&p, scene->ids[i], 0, vis_rect_box(scene->rects[i]), states[i]);
-	if (r < 0 || stack_svg_find_parts(&p, &stack) < 0) {
+	/* Windows with a look are drawn from their pieces: their pixels, opaque or translucent. */
+	if (scene->looks != NULL) {
+		r = vis_pieces_init(&pieces, &windows);
+		window_of = r == 0 ? malloc((pieces.stack.n + 1) * sizeof(*window_of)) : NULL;
+		if (window_of == NULL)
+			r = -1;
+	}
+	size_t k = 0;
+	for (size_t i = 0; i < scene->n && r == 0; i++) {
+		const struct vis_look *look = scene->looks ? &scene->looks[i] : NULL;
+		struct vis_box box = vis_rect_box(scene->rects[i]);
+		if (look != NULL && look->input_only) {
+			input_only++; /* no pixels to draw */
+			continue;
+		}
+		if (look != NULL && look->border != 0) {
+			box.x2 += 2 * (int64_t)look->border;
+			box.y2 += 2 * (int64_t)look->border;
+		}
+		r = stack_svg_add(&p, scene->ids[i], 0, box, states[i]);
+		if (r == 0 && look != NULL && look->border != 0)
+			p.windows[p.n - 1].inside = (struct vis_box){ box.x1 + look->border,
+								      box.y1 + look->border,
+								      box.x2 - look->border,
+								      box.y2 - look->border };
+		bool drawn_whole = look == NULL || (!look->shaped && look->opaque == VIS_OPAQUE_ALL);
+		for (; r == 0 && scene->looks != NULL && k < pieces.stack.n && pieces.window[k] == i;
+		     k++) {
+			window_of[k] = (uint32_t)(p.n - 1);
+			if (!drawn_whole)
+				r = stack_svg_add_pixels(&p, vis_rect_box(pieces.rects[k]),
+							 pieces.see_through[k] != 0);
+		}
+	}
+	if (input_only)
+		stack_svg_note(&p, "Not drawn: %zu input-only window%s.", input_only,
+		       input_only == 1 ? "" : "s");
+	if (r == 0)
+		r = stack_svg_find_parts(&p, scene->looks ? &pieces.stack : &windows, window_of);
+	vis_pieces_finish(&pieces);
+	free(window_of);
+	if (r < 0) {
 		fprintf(stderr, "visctl compute: %s: %s\n", svg_path, strerror(errno));
 		stack_svg_finish(&p);
 		fclose(svg);

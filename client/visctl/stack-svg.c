@@ -46,6 +46,7 @@ void stack_svg_finish(struct stack_svg *p)
 {
 	free(p->windows);
 	free(p->parts);
+	free(p->pixels);
 	memset(p, 0, sizeof(*p));
 }
 
@@ -79,7 +80,20 @@ int stack_svg_add(struct stack_svg *p, uint32_t id, uint32_t parent, struct vis_
 		return -1;
 	p->windows[p->n++] = (struct stack_svg_window){
 		.id = id, .parent = parent, .state = state <= 2 ? state : 2, .box = box,
+		.inside = box,
 	};
+	return 0;
+}
+
+int stack_svg_add_pixels(struct stack_svg *p, struct vis_box box, bool see_through)
+{
+	struct stack_svg_window *w = &p->windows[p->n - 1];
+	if (grow((void **)&p->pixels, &p->cap_pixels, p->n_pixels + 1, sizeof(*p->pixels)) < 0)
+		return -1;
+	if (w->n_px == 0)
+		w->first_px = p->n_pixels;
+	w->n_px++;
+	p->pixels[p->n_pixels++] = (struct stack_svg_pixels){ box, see_through };
 	return 0;
 }
 
@@ -352,6 +366,24 @@ static void write_labels(const struct stack_svg *p, const struct label *labels, 
  * opaque, so that a window's visible parts hide the edges of the windows under them and only the
  * edges one can see remain: drawn bottom to top, the picture is the stack as seen.
  */
+/* Draws a window's see-through (or opaque) pixels as one path of class cls; returns how many. */
+static int write_pixels(const struct stack_svg *p, const struct view *v,
+			const struct stack_svg_window *w, bool see_through, const char *cls, FILE *f)
+{
+	int drawn = 0;
+	for (size_t j = w->first_px; j < w->first_px + w->n_px; j++) {
+		struct cbox r;
+		if (p->pixels[j].see_through != see_through || !to_canvas(v, p->pixels[j].box, &r))
+			continue;
+		if (drawn++ == 0)
+			fprintf(f, "<path class=\"%s\" d=\"", cls);
+		fprintf(f, "M%.1f %.1fH%.1fV%.1fH%.1fZ", r.x1, r.y1, r.x2, r.y2, r.x1);
+	}
+	if (drawn)
+		fputs("\"/>\n", f);
+	return drawn;
+}
+
 static void write_window(const struct stack_svg *p, const struct view *v,
 			 const struct stack_svg_window *w, bool tooltip, FILE *f)
 {
@@ -368,20 +400,34 @@ static void write_window(const struct stack_svg *p, const struct view *v,
 			w->box.x1, w->box.y1, w->box.x2 - w->box.x1, w->box.y2 - w->box.y1,
 			vis_state_name((enum vis_state)w->state));
 	}
+	/* A translucent window's visible parts are filled faintly: what they show through is seen. */
+	bool see_through = false;
+	for (size_t j = w->first_px; j < w->first_px + w->n_px; j++)
+		see_through |= p->pixels[j].see_through;
 	bool open = false;
 	for (size_t j = w->first; j < w->first + w->n_parts; j++) {
 		struct cbox r;
 		if (!to_canvas(v, p->parts[j], &r))
 			continue;
 		if (!open)
-			fprintf(f, "<path class=\"v%s\" d=\"", cls);
+			fprintf(f, "<path class=\"v%s%s\" d=\"", cls, see_through ? " t" : "");
 		open = true;
 		fprintf(f, "M%.1f %.1fH%.1fV%.1fH%.1fZ", r.x1, r.y1, r.x2, r.y2, r.x1);
 	}
 	if (open)
 		fputs("\"/>\n", f);
+	/* Translucent pixels hatched over their fill: seen, but hiding nothing. */
+	if (w->state != VIS_FULLY_OBSCURED)
+		write_pixels(p, v, w, true, "pt", f);
+	/* A shaped window's outline is its pixels'; its border box is drawn faint. */
+	if (w->n_px > 0 && write_pixels(p, v, w, true, cls, f) + write_pixels(p, v, w, false, cls, f))
+		cls = "b";
 	fprintf(f, "<rect class=\"%s\" x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\"/>\n",
 		cls, c.x1, c.y1, c.x2 - c.x1, c.y2 - c.y1);
+	struct cbox in;
+	if (memcmp(&w->inside, &w->box, sizeof(w->box)) != 0 && to_canvas(v, w->inside, &in))
+		fprintf(f, "<rect class=\"i\" x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" "
+			"height=\"%.1f\"/>\n", in.x1, in.y1, in.x2 - in.x1, in.y2 - in.y1);
 	if (tooltip)
 		fputs("</g>\n", f);
 }
@@ -402,6 +448,11 @@ static void write_style(FILE *f, bool crowded)
 	for (int s = 0; s < 3; s++)
 		fprintf(f, ".%s{fill:none;stroke:%s;stroke-width:1.5}\n.v%s{fill:%s;stroke:none}\n",
 			state_class[s], state_colour[s], state_class[s], state_tint[s]);
+	/* Translucent windows' fills and pixels (hatched), borders' insides, shaped border boxes. */
+	fputs(".t{fill-opacity:0.45}\n"
+	      ".pt{fill:url(#hatch);stroke:none}\n"
+	      ".i{fill:none;stroke:#495057;stroke-width:0.6}\n"
+	      ".b{fill:none;stroke:#868e96;stroke-width:0.6;stroke-dasharray:2 2}\n", f);
 	fprintf(f, ".f{stroke-dasharray:5 3%s}\n"
 		".l{fill:#212529;stroke:white;stroke-width:2.5;stroke-linejoin:round;"
 		"paint-order:stroke;text-anchor:middle}\n"
@@ -490,6 +541,20 @@ static void full_note(const struct stack_svg *p, const struct view *v, size_t le
 
 	snprintf(buf, len, "Filled: the visible parts; outlined: the whole window; label: its ID, "
 		 "in its largest visible part (tooltips say more).");
+	bool borders = false, shaped = false, see_through = false;
+	for (size_t i = 0; i < p->n; i++) {
+		const struct stack_svg_window *w = &p->windows[i];
+		borders |= memcmp(&w->inside, &w->box, sizeof(w->box)) != 0;
+		shaped |= w->n_px > 0;
+	}
+	for (size_t j = 0; j < p->n_pixels; j++)
+		see_through |= p->pixels[j].see_through;
+	if (shaped)
+		append(buf, len, " A shaped or translucent window is outlined by its pixels, its border box dotted.");
+	if (borders)
+		append(buf, len, " A thin inner line: a border's inside.");
+	if (see_through)
+		append(buf, len, " Hatched, faintly filled: translucent pixels, which hide nothing.");
 	if (p->note[0])
 		append(buf, len, " %s", p->note);
 	for (size_t i = 0; i < p->n; i++) {
@@ -539,6 +604,9 @@ int stack_svg_write(const struct stack_svg *p, FILE *f)
 	for (size_t i = 0; i < p->n; i++)
 		hidden += p->windows[i].state == VIS_FULLY_OBSCURED;
 	write_style(f, hidden > CROWD);
+	fputs("<defs><pattern id=\"hatch\" width=\"6\" height=\"6\" patternUnits=\"userSpaceOnUse\" "
+	      "patternTransform=\"rotate(45)\"><line x1=\"0\" y1=\"0\" x2=\"0\" y2=\"6\" "
+	      "stroke=\"#495057\" stroke-width=\"1.2\" stroke-opacity=\"0.6\"/></pattern></defs>\n", f);
 	fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"17\" font-weight=\"bold\">", PAD,
 		PAD + 13);
 	svg_text(f, p->title);

@@ -25,8 +25,18 @@ struct stack_svg_window {
 	uint32_t id;
 	uint32_t parent; /* 0: the screen */
 	uint8_t state;   /* enum vis_state */
-	struct vis_box box;
+	struct vis_box box;   /* the border box */
+	struct vis_box inside; /* the inside: box, less the border */
 	size_t first, n_parts;
+	/* Its pixels when it has a shape or translucent pixels: pixels[first_px …] (n_px = 0: the
+	 * whole box, opaque). */
+	size_t first_px, n_px;
+};
+
+/* A piece of a window's pixels, absolute, and whether it hides what lies below it. */
+struct stack_svg_pixels {
+	struct vis_box box;
+	bool see_through;
 };
 
 /*
@@ -43,6 +53,8 @@ struct stack_svg {
 	size_t n, cap;
 	struct vis_box *parts;
 	size_t n_parts, cap_parts;
+	struct stack_svg_pixels *pixels;
+	size_t n_pixels, cap_pixels;
 	bool has_parts;
 	char note[400]; /* what the picture leaves out, shown under the legend */
 };
@@ -58,6 +70,12 @@ int stack_svg_add(struct stack_svg *p, uint32_t id, uint32_t parent, struct vis_
 		  uint8_t state);
 
 /*
+ * Gives the last window added a piece of its pixels (for shaped and translucent windows; pieces
+ * disjoint, added in order). Returns 0, or -1 (ENOMEM).
+ */
+int stack_svg_add_pixels(struct stack_svg *p, struct vis_box box, bool see_through);
+
+/*
  * Makes room for window i's n visible parts (replacing any it had) and returns where the caller
  * writes them, valid until the next call; NULL (ENOMEM, or EOVERFLOW).
  */
@@ -67,13 +85,15 @@ struct vis_box *stack_svg_parts(struct stack_svg *p, size_t i, size_t n);
 void stack_svg_note(struct stack_svg *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 /*
- * Finds the visible parts of every window of stack, which must be the picture's windows in the
- * same order: the stack walked top-down, each window's screen-clipped box minus the union of
- * those above (pixman regions, on the edges' ranks so that any coordinates fit). The work is
- * capped so that huge or fragmented scenes stay fast: past the cap, has_parts becomes false and
- * the note says so. Returns 0, or -1 (ENOMEM, EOVERFLOW).
+ * Finds the visible parts of every window of stack, whose rectangle k belongs to the picture's
+ * window window_of[k] (NULL: window k), in the same order: the stack walked top-down, each
+ * rectangle's screen-clipped box minus the union of the opaque ones above (pixman regions, on the
+ * edges' ranks so that any coordinates fit). The work is capped so that huge or fragmented scenes
+ * stay fast: past the cap, has_parts becomes false and the note says so. Returns 0, or -1
+ * (ENOMEM, EOVERFLOW).
  */
-int stack_svg_find_parts(struct stack_svg *p, const struct vis_stack *stack);
+int stack_svg_find_parts(struct stack_svg *p, const struct vis_stack *stack,
+			 const uint32_t *window_of);
 
 /* Writes the picture as a standalone SVG document. Returns 0, or -1 when f has an error. O(n + parts). */
 int stack_svg_write(const struct stack_svg *p, FILE *f);
