@@ -236,6 +236,18 @@ expect_fail "global options without command" 2 "usage: visctl" -s "$N"
 expect_fail "missing socket" 1 "$N" -s "$N" sync
 expect_fail "missing socket, manager" 1 "$N" -s "$N" --role=manager states
 expect_fail "snapshot without daemon" 1 "$N" -s "$N" snapshot --svg "$T/s.svg"
+# The roles the usage names are the daemon's three (VIS_ROLE_*), each accepted: it once named
+# observer|manager alone. stress, which takes its own roles, says which.
+roles=$("$V" --help | sed -n 's/^usage: visctl .*--role \([a-z|]*\).*/\1/p')
+if [ "$roles" = "client|observer|manager" ]; then pass
+else fail "visctl --help names the roles '$roles', not client|observer|manager"; fi
+for r in client observer manager; do
+	expect_fail "missing socket, role $r" 1 "$N" -s "$N" --role "$r" sync
+done
+"$V" stress --help >"$T/out" 2>"$T/err"
+if grep -q 'manager role' "$T/out" && grep -q 'observer role' "$T/out" &&
+	grep -q 'ignores --role' "$T/out"; then pass
+else fail "visctl stress --help does not name the roles it takes"; fi
 env -u VISD_SOCKET -u XDG_RUNTIME_DIR "$V" sync >"$T/out" 2>"$T/err"
 rc=$?
 if [ "$rc" -eq 1 ] && grep -qF "set VISD_SOCKET or XDG_RUNTIME_DIR" "$T/err"; then pass

@@ -2,8 +2,13 @@
 # tools/dev.sh says why a build failed: on a copy of the source tree, a compile error and a
 # dependency that pkg-config cannot find must each stop it with exit status 1, the step named,
 # the cause shown and the log's path given (it used to print nothing and exit 1).
+# With BUILD-DIR, the demo runs on that build's programs (`tools/dev.sh demo BUILD-DIR`) and every
+# line it prints must be labelled: a '== ' heading or, under one, an indented line; each engine's
+# time names the engine (the first line used to be a bare `compute_ms=0.137`).
+# Usage: test-devsh.sh [BUILD-DIR]
 set -u
 src=$(cd "$(dirname "$0")/.." && pwd)
+build=${1:-}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 checks=0
@@ -34,6 +39,24 @@ $(cat "$tmp/err")"
 		checks=$((checks + 1))
 	done
 }
+
+if [ -n "$build" ]; then
+	"$src/tools/dev.sh" demo "$build" >"$tmp/demo" 2>"$tmp/err" ||
+		fail "tools/dev.sh demo $build: exit status $?; stderr: $(cat "$tmp/err")"
+	bad=$(grep -vnE '^(== .|   [^ ])' "$tmp/demo")
+	[ -z "$bad" ] || fail "the demo printed unlabelled lines (neither '== ' headings nor indented):
+$bad"
+	checks=$((checks + 1))
+	engines=$(grep -cE '^   (auto|gmv|gmv-heap|region) +compute_ms=[0-9]+\.[0-9]+$' "$tmp/demo")
+	if [ "$engines" -ne 4 ] || [ "$(grep -c compute_ms= "$tmp/demo")" -ne 4 ]; then
+		fail "the demo's engine times are not one 'ENGINE compute_ms=…' line per engine:
+$(grep compute_ms= "$tmp/demo")"
+	fi
+	checks=$((checks + 1))
+	grep -qF '(the same states as visctl compute on the scene file)' "$tmp/demo" ||
+		fail "the demo's daemon states differ from visctl compute's: $(cat "$tmp/demo" "$tmp/err")"
+	checks=$((checks + 1))
+fi
 
 copy broken
 echo '#error broken on purpose' >>"$tmp/broken/daemon/log.c"

@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # The two set-up commands of the README:
 #   tools/dev.sh demo   install what is missing, build (release), run the main job
+#   tools/dev.sh demo BUILD-DIR   the demo alone, on the programs already built in BUILD-DIR
+#                       (installing and building nothing; tests/test-devsh.sh runs it so)
 #   tools/dev.sh test   install what is missing, build, run every suite, then again under ASan+UBSan
 #   tools/dev.sh release  install what is missing, configure (once) and build build-release
 #   tools/dev.sh install [PACKAGE...]   install what is missing of these Debian packages (default:
 #                       the build's), as the other tools do (tools/fuzz.sh)
 set -euo pipefail
+called_from=$PWD
 cd "$(dirname "$0")/.."
 
 # scdoc: the man pages (man/); systemd: systemd-socket-activate for the socket activation test,
@@ -54,9 +57,14 @@ build() {
 	step "building $dir (ninja -C $dir)" "$dir/dev-build.log" ninja -C "$dir"
 }
 
+# Runs the demo on the programs built in $1. Every line it prints is labelled: a '== ' heading,
+# or under one, indented, a line that names what it shows (tests/test-devsh.sh checks it).
 demo() {
-	build build-release --buildtype=release
-	local bin=build-release tmp
+	local bin=$1 tmp
+	if [ ! -x "$bin/daemon/visd" ] || [ ! -x "$bin/client/visctl/visctl" ]; then
+		echo "dev.sh: no visd or visctl built in $bin" >&2
+		exit 1
+	fi
 	tmp=$(mktemp -d)
 	local sock=$tmp/visd-0
 	visd_pid=
@@ -127,8 +135,13 @@ run_tests() {
 
 case "${1:-}" in
 demo)
-	install_missing "${PACKAGES[@]}"
-	demo
+	if [ $# -gt 1 ]; then
+		case $2 in /*) demo "$2" ;; *) demo "$called_from/$2" ;; esac
+	else
+		install_missing "${PACKAGES[@]}"
+		build build-release --buildtype=release
+		demo build-release
+	fi
 	;;
 test)
 	install_missing "${PACKAGES[@]}"
@@ -144,7 +157,7 @@ install)
 	install_missing "$@"
 	;;
 *)
-	echo "usage: tools/dev.sh demo|test|release|install [PACKAGE...]" >&2
+	echo "usage: tools/dev.sh demo [BUILD-DIR] | test | release | install [PACKAGE...]" >&2
 	exit 2
 	;;
 esac

@@ -136,7 +136,7 @@ static int snapshot_help(void)
 	printf("usage: visctl snapshot --svg FILE\n"
 	       "  Draws the daemon's windows into FILE: every viewable window at its place on the\n"
 	       "  screen, in the colour of its state, its visible parts filled, its ID. A client\n"
-	       "  sees its own windows; use --role observer to draw them all.\n");
+	       "  sees its own windows; use --role observer (or manager) to draw them all.\n");
 	return fflush(stdout) == 0 ? VISCTL_EXIT_OK : VISCTL_EXIT_FAILURE;
 }
 

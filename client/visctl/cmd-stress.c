@@ -63,7 +63,9 @@ static void usage(FILE *f)
 		"  --json, --csv       the results as JSON or CSV instead of a table\n"
 		"  -q, --quiet         no progress line (on stderr: overwritten in place on a\n"
 		"                      terminal, else one line a second)\n"
-		"  visd must have no windows but the run's; it takes the manager role.\n"
+		"  visd must have no windows but the run's. It ignores --role: the run takes the\n"
+		"  manager role (its changes) and the observer role (its subscribers), which visd\n"
+		"  grants only to its own user.\n"
 		"exit status: 0 passed, 1 a mismatch or a runtime error, 2 usage\n",
 		MAX_CLIENTS, MAX_WINDOWS, DEFAULT_COUNT);
 }

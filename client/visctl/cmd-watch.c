@@ -181,7 +181,7 @@ int cmd_watch(struct live *l, int argc, char **argv)
 			       "  may see when none is given) until N have come, or until interrupted.\n"
 			       "  A client (no --role) sees only the windows its connection created:\n"
 			       "  with none and no ID, watch refuses with exit status 2; use\n"
-			       "  --role observer to watch every window.\n");
+			       "  --role observer (or manager) to watch every window.\n");
 			return fflush(stdout) == 0 ? VISCTL_EXIT_OK : VISCTL_EXIT_FAILURE;
 		}
 		const char *count = NULL;

@@ -35,7 +35,7 @@ static const struct visctl_command commands[] = {
 	{ "states", NULL, cmd_states, "[--json]",
 	  "  Prints 'ID STATE' for every viewable window the connection may see, ascending ID;\n"
 	  "  STATE is unobscured, partially-obscured or fully-obscured. A client sees only\n"
-	  "  the windows its connection made (--role observer: every window).\n"
+	  "  the windows its connection made (--role observer or manager: every window).\n"
 	  "  --json: one object a line, {\"window\":ID,\"state\":STATE}.\n" },
 	{ "tree", NULL, cmd_tree, "[--json]",
 	  "  Prints every window the connection may see, bottom to top, each before its\n"
@@ -74,7 +74,7 @@ const struct visctl_command *visctl_command_find(const char *name)
 /* Prints the list of subcommands, to stdout when asked for and to stderr after a mistake. */
 static void usage(FILE *f)
 {
-	fprintf(f, "usage: visctl [-s SOCKET] [--role observer|manager] COMMAND [ARGS]\n"
+	fprintf(f, "usage: visctl [-s SOCKET] [--role client|observer|manager] COMMAND [ARGS]\n"
 		   "       visctl help | --version\n"
 		   "commands:\n");
 	for (size_t i = 0; i < N_COMMANDS; i++)
@@ -82,10 +82,12 @@ static void usage(FILE *f)
 			commands[i].usage);
 	fprintf(f, "SCENE is a path or '-' for stdin; `visctl COMMAND --help` says more.\n"
 		   "Commands from create on talk to visd at SOCKET (-s or --socket; default\n"
-		   "$VISD_SOCKET, else $XDG_RUNTIME_DIR/visd-0), as a client unless --role says\n"
-		   "otherwise. A client sees only the windows its own connection made (or a\n"
-		   "script's): states, tree, repaint and watch see every window with --role\n"
-		   "observer.\n"
+		   "$VISD_SOCKET, else $XDG_RUNTIME_DIR/visd-0) in the role --role asks for:\n"
+		   "client (the default) sees and changes only the windows its own connection\n"
+		   "made (or a script's); observer sees every window and changes none; manager\n"
+		   "(one connection at a time) sees and changes every window. visd grants\n"
+		   "observer and manager only to its own user, never on its restricted socket.\n"
+		   "stress ignores --role and takes the roles it needs.\n"
 		   "exit status: 0 ok, 1 runtime or daemon error, 2 usage or bad input\n");
 }
 
