@@ -6,7 +6,7 @@
 _visctl_commands="compute gen bench plot-service create destroy map unmap move resize raise
 	lower stack load states tree region repaint snapshot watch script sync stress help"
 _visctl_engines="auto gmv gmv-heap region brute"
-_visctl_kinds="random uniform grid cascade tiles nested"
+_visctl_kinds="random uniform grid cascade tiles nested shaped translucent"
 
 # The options of a command (global ones for ""), then those that take a value.
 _visctl_options() {
