@@ -78,6 +78,20 @@ static int push(struct vis_pieces *p, struct vis_rect r, bool see_through, size_
 	return 0;
 }
 
+/* Adds a box relative to (ox, oy) as one piece. */
+static int push_region_box(struct vis_pieces *p, struct vis_box r, int64_t ox, int64_t oy,
+			   bool see_through, uint32_t window)
+{
+	int64_t x1 = ox + r.x1, y1 = oy + r.y1;
+	if (x1 < INT32_MIN || y1 < INT32_MIN || x1 > INT32_MAX || y1 > INT32_MAX ||
+	    r.x2 - r.x1 > INT32_MAX || r.y2 - r.y1 > INT32_MAX) {
+		errno = EOVERFLOW;
+		return -1;
+	}
+	return push(p, (struct vis_rect){ (int32_t)x1, (int32_t)y1, (int32_t)(r.x2 - r.x1),
+					  (int32_t)(r.y2 - r.y1) }, see_through, window);
+}
+
 /*
  * The edges of one window's boxes (border-box coordinates, clipped, non-empty), sorted and unique,
  * for the rank map.
@@ -117,27 +131,29 @@ static int32_t rank(const int64_t *v, size_t n, int64_t x)
 	return (int32_t)lo;
 }
 
-/* A rectangle in window coordinates as a box in border-box coordinates, clipped to the box. */
-static struct vis_box to_box(struct vis_rect r, int32_t border, struct vis_box bb)
+/* A rectangle in window coordinates as a box in border-box coordinates, clipped to limit. */
+static struct vis_box to_box(struct vis_rect r, int32_t border, struct vis_box limit)
 {
 	struct vis_box b = vis_rect_box(r);
 	b.x1 += border;
 	b.x2 += border;
 	b.y1 += border;
 	b.y2 += border;
-	return vis_box_intersect(b, bb);
+	return vis_box_intersect(b, limit);
 }
 
-/* Builds a pixman region (rank space) from the clipped, non-empty boxes of rects. */
+/* Builds a pixman region (rank space) from the boxes of rects clipped to limit. */
 static int region_of(pixman_region32_t *reg, const struct vis_rect *rects, size_t n,
-		     int32_t border, struct vis_box bb, const struct edges *e)
+		     int32_t border, struct vis_box limit, const struct edges *e)
 {
 	pixman_box32_t *boxes = malloc((n ? n : 1) * sizeof(*boxes));
 	size_t k = 0;
-	if (boxes == NULL)
+	if (boxes == NULL) {
+		errno = ENOMEM;
 		return -1;
+	}
 	for (size_t i = 0; i < n; i++) {
-		struct vis_box b = to_box(rects[i], border, bb);
+		struct vis_box b = to_box(rects[i], border, limit);
 		if (vis_box_empty(b))
 			continue;
 		boxes[k++] = (pixman_box32_t){ rank(e->x, e->nx, b.x1), rank(e->y, e->ny, b.y1),
@@ -152,46 +168,72 @@ static int region_of(pixman_region32_t *reg, const struct vis_rect *rects, size_
 	return 0;
 }
 
-/* Adds a region's boxes (rank space) as pieces of window i, whose border box starts at x, y. */
+/* Adds a region's boxes (rank space, relative to the border box at ox, oy) as pieces. */
 static int push_region(struct vis_pieces *p, pixman_region32_t *reg, const struct edges *e,
-		       struct vis_rect rect, bool see_through, size_t i)
+		       int64_t ox, int64_t oy, bool see_through, uint32_t window)
 {
 	int n;
 	const pixman_box32_t *b = pixman_region32_rectangles(reg, &n);
 	for (int k = 0; k < n; k++) {
-		int64_t x1 = rect.x + e->x[b[k].x1], x2 = rect.x + e->x[b[k].x2];
-		int64_t y1 = rect.y + e->y[b[k].y1], y2 = rect.y + e->y[b[k].y2];
-		/* vis_look_check() keeps every start within int32; this is the last guard. */
-		if (x1 > INT32_MAX || y1 > INT32_MAX) {
+		int64_t x1 = ox + e->x[b[k].x1], x2 = ox + e->x[b[k].x2];
+		int64_t y1 = oy + e->y[b[k].y1], y2 = oy + e->y[b[k].y2];
+		if (x1 < INT32_MIN || y1 < INT32_MIN || x1 > INT32_MAX || y1 > INT32_MAX ||
+		    x2 - x1 > INT32_MAX || y2 - y1 > INT32_MAX) {
 			errno = EOVERFLOW;
 			return -1;
 		}
 		struct vis_rect r = { (int32_t)x1, (int32_t)y1, (int32_t)(x2 - x1), (int32_t)(y2 - y1) };
-		if (push(p, r, see_through, i) < 0)
+		if (push(p, r, see_through, window) < 0)
 			return -1;
 	}
 	return 0;
 }
 
-/* Cuts one shaped or partly opaque window into its opaque and its see-through pieces. */
-static int cut(struct vis_pieces *p, struct vis_rect rect, const struct vis_look *look, size_t i)
+/* Adds the edges of a box (non-empty) to the rank map's lists. */
+static void add_edges(struct edges *e, struct vis_box b)
 {
-	int32_t bw = (int32_t)(rect.w + 2 * look->border), bh = (int32_t)(rect.h + 2 * look->border);
-	struct vis_box bb = { 0, 0, bw, bh };
-	struct vis_rect whole = { -look->border, -look->border, bw, bh };
+	e->x[e->nx++] = b.x1;
+	e->x[e->nx++] = b.x2;
+	e->y[e->ny++] = b.y1;
+	e->y[e->ny++] = b.y2;
+}
+
+int vis_pieces_add(struct vis_pieces *p, const struct vis_look *look, struct vis_box abs,
+		   struct vis_box clip, uint32_t window)
+{
+	static const struct vis_look plain = { 0 };
+	if (look == NULL)
+		look = &plain;
+	if (look->input_only || vis_box_empty(abs))
+		return 0;
+	/* Border-box coordinates: the box is [0, W) × [0, H), the clip's part of it is limit. */
+	struct vis_box bb = { 0, 0, abs.x2 - abs.x1, abs.y2 - abs.y1 };
+	struct vis_box limit = vis_box_intersect(
+		(struct vis_box){ clip.x1 - abs.x1, clip.y1 - abs.y1, clip.x2 - abs.x1,
+				  clip.y2 - abs.y1 }, bb);
+	if (!cut_inside(look)) {
+		/* The border box, or what the clip leaves of it: one piece. */
+		if (!vis_box_empty(limit) &&
+		    push_region_box(p, limit, abs.x1, abs.y1, look->opaque == VIS_OPAQUE_NONE,
+				    window) < 0)
+			return -1;
+		return !vis_box_contains(limit, bb);
+	}
+	int32_t b = look->border;
+	struct vis_rect whole = { -b, -b, (int32_t)bb.x2, (int32_t)bb.y2 };
 	const struct vis_rect *shape = look->shaped ? look->shape : &whole;
 	size_t ns = look->shaped ? look->n_shape : 1;
 	size_t no = look->opaque == VIS_OPAQUE_RECTS ? look->n_opaque : 0;
 	struct edges e = { 0 };
-	pixman_region32_t s, o, t;
+	pixman_region32_t s, in, o, t;
 	int ret = -1;
 
-	if (ns + no > SIZE_MAX / 2 / sizeof(int64_t) - 1) {
+	if (ns + no > SIZE_MAX / 2 / sizeof(int64_t) - 2) {
 		errno = EOVERFLOW;
 		return -1;
 	}
-	e.x = malloc(2 * (ns + no) * sizeof(int64_t) + 1);
-	e.y = malloc(2 * (ns + no) * sizeof(int64_t) + 1);
+	e.x = malloc((2 * (ns + no) + 2) * sizeof(int64_t));
+	e.y = malloc((2 * (ns + no) + 2) * sizeof(int64_t));
 	if (e.x == NULL || e.y == NULL) {
 		free(e.x);
 		free(e.y);
@@ -199,46 +241,60 @@ static int cut(struct vis_pieces *p, struct vis_rect rect, const struct vis_look
 		return -1;
 	}
 	for (size_t k = 0; k < ns + no; k++) {
-		struct vis_box b = to_box(k < ns ? shape[k] : look->opaque_rects[k - ns],
-					  look->border, bb);
-		if (vis_box_empty(b))
-			continue;
-		e.x[e.nx++] = b.x1;
-		e.x[e.nx++] = b.x2;
-		e.y[e.ny++] = b.y1;
-		e.y[e.ny++] = b.y2;
+		struct vis_box r = to_box(k < ns ? shape[k] : look->opaque_rects[k - ns], b, bb);
+		if (!vis_box_empty(r))
+			add_edges(&e, r);
 	}
+	if (!vis_box_empty(limit))
+		add_edges(&e, limit);
 	e.nx = unique(e.x, e.nx);
 	e.ny = unique(e.y, e.ny);
 
+	pixman_region32_init(&in);
 	pixman_region32_init(&o);
 	pixman_region32_init(&t);
-	if (region_of(&s, shape, ns, look->border, bb, &e) < 0)
-		goto out_st;
+	if (region_of(&s, shape, ns, b, bb, &e) < 0)
+		goto out;
+	/* The shape inside the clip; the clip cut the window if that is less than the shape. */
+	if (!vis_box_empty(limit)) {
+		pixman_box32_t lb = { rank(e.x, e.nx, limit.x1), rank(e.y, e.ny, limit.y1),
+				      rank(e.x, e.nx, limit.x2), rank(e.y, e.ny, limit.y2) };
+		pixman_region32_fini(&in);
+		pixman_region32_init_with_extents(&in, &lb);
+		if (!pixman_region32_intersect(&in, &in, &s)) {
+			errno = ENOMEM;
+			goto out_s;
+		}
+	}
+	bool was_cut = !pixman_region32_equal(&in, &s);
 	switch (look->opaque) {
 	case VIS_OPAQUE_ALL:
-		ret = push_region(p, &s, &e, rect, false, i);
+		if (push_region(p, &in, &e, abs.x1, abs.y1, false, window) < 0)
+			goto out_s;
 		break;
 	case VIS_OPAQUE_NONE:
-		ret = push_region(p, &s, &e, rect, true, i);
+		if (push_region(p, &in, &e, abs.x1, abs.y1, true, window) < 0)
+			goto out_s;
 		break;
 	default:
 		pixman_region32_fini(&o);
-		if (region_of(&o, look->opaque_rects, no, look->border, bb, &e) < 0) {
+		if (region_of(&o, look->opaque_rects, no, b, bb, &e) < 0) {
 			pixman_region32_init(&o);
-			break;
+			goto out_s;
 		}
-		if (!pixman_region32_intersect(&o, &o, &s) || !pixman_region32_subtract(&t, &s, &o)) {
+		if (!pixman_region32_intersect(&o, &o, &in) || !pixman_region32_subtract(&t, &in, &o)) {
 			errno = ENOMEM;
-			break;
+			goto out_s;
 		}
-		if (push_region(p, &o, &e, rect, false, i) < 0 ||
-		    push_region(p, &t, &e, rect, true, i) < 0)
-			break;
-		ret = 0;
+		if (push_region(p, &o, &e, abs.x1, abs.y1, false, window) < 0 ||
+		    push_region(p, &t, &e, abs.x1, abs.y1, true, window) < 0)
+			goto out_s;
 	}
+	ret = was_cut;
+out_s:
 	pixman_region32_fini(&s);
-out_st:
+out:
+	pixman_region32_fini(&in);
 	pixman_region32_fini(&o);
 	pixman_region32_fini(&t);
 	free(e.x);
@@ -266,14 +322,12 @@ int vis_pieces_init(struct vis_pieces *p, const struct vis_stack *windows)
 		} else if (vis_look_check(r, look) != NULL) {
 			errno = EINVAL;
 			rc = -1;
-		} else if (look->input_only) {
-			rc = 0;
-		} else if (!cut_inside(look)) {
-			r.w += 2 * look->border;
-			r.h += 2 * look->border;
-			rc = push(p, r, look->opaque == VIS_OPAQUE_NONE, i);
 		} else {
-			rc = cut(p, r, look, i);
+			/* Unclipped: the engines clip to the screen themselves. */
+			struct vis_box bb = vis_rect_box(r);
+			bb.x2 += 2 * (int64_t)look->border;
+			bb.y2 += 2 * (int64_t)look->border;
+			rc = vis_pieces_add(p, look, bb, bb, (uint32_t)i);
 		}
 		if (rc < 0) {
 			vis_pieces_finish(p);
@@ -283,6 +337,11 @@ int vis_pieces_init(struct vis_pieces *p, const struct vis_stack *windows)
 	p->stack.rects = p->rects;
 	p->stack.see_through = p->see_through;
 	return 0;
+}
+
+void vis_pieces_reset(struct vis_pieces *p)
+{
+	p->stack.n = 0;
 }
 
 void vis_pieces_finish(struct vis_pieces *p)

@@ -72,6 +72,20 @@ struct vis_pieces {
  */
 int vis_pieces_init(struct vis_pieces *pieces, const struct vis_stack *windows);
 
+/*
+ * Appends the pieces of one window, numbered window, with the look (NULL: plain) and the absolute
+ * border box abs, clipped to clip: its opaque pieces, then its see-through ones, disjoint. The
+ * caller sets pieces->stack.rects and see_through to the arrays before use (they move as they
+ * grow). Returns 1 when the clip cut away some of the window's pixels (it can then never be
+ * unobscured), 0 when it did not, or -1 with errno ENOMEM or EOVERFLOW (a piece not inside the
+ * 32-bit plane). O(k log k + b) for the look's k rectangles and the b pieces out.
+ */
+int vis_pieces_add(struct vis_pieces *pieces, const struct vis_look *look, struct vis_box abs,
+		   struct vis_box clip, uint32_t window);
+
+/* Empties the pieces, keeping their arrays for reuse. O(1). */
+void vis_pieces_reset(struct vis_pieces *pieces);
+
 /* Frees the pieces. O(1). */
 void vis_pieces_finish(struct vis_pieces *pieces);
 
