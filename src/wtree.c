@@ -113,6 +113,8 @@ void vis_wtree_destroy(struct vis_wtree *tree, struct vis_window *window,
 			tree->order[w->pos] = NULL;
 		vis_idmap_remove(&tree->ids, w->id);
 		tree->count--;
+		free(w->look.shape);
+		free(w->look.opaque_rects);
 		free(w);
 		w = parent;
 	}
@@ -176,15 +178,86 @@ struct vis_window *vis_wtree_next(const struct vis_window *w)
 
 struct vis_box vis_wtree_box(const struct vis_window *window)
 {
-	struct vis_box b = { window->x, window->y, (int64_t)window->x + window->width,
-			     (int64_t)window->y + window->height };
+	int64_t b2 = 2 * (int64_t)window->look.border;
+	struct vis_box b = { window->x, window->y, (int64_t)window->x + window->width + b2,
+			     (int64_t)window->y + window->height + b2 };
 	for (const struct vis_window *p = window->parent; p && p->parent; p = p->parent) {
-		b.x1 += p->x;
-		b.x2 += p->x;
-		b.y1 += p->y;
-		b.y2 += p->y;
+		/* A child's origin is its parent's inside's corner. */
+		int64_t dx = (int64_t)p->x + p->look.border, dy = (int64_t)p->y + p->look.border;
+		b.x1 += dx;
+		b.x2 += dx;
+		b.y1 += dy;
+		b.y2 += dy;
 	}
 	return b;
+}
+
+int vis_wtree_set_border(struct vis_window *window, int32_t border)
+{
+	/* Positions are checked where pieces are cut, against the clip: only the sizes here. */
+	if (border < 0 || window->look.input_only ||
+	    (int64_t)window->width + 2 * (int64_t)border > INT32_MAX ||
+	    (int64_t)window->height + 2 * (int64_t)border > INT32_MAX) {
+		errno = EINVAL;
+		return -1;
+	}
+	window->look.border = border;
+	return 0;
+}
+
+/* Copies n rectangles into a new array (NULL for none). 0, or -1 with ENOMEM. */
+static int copy_rects(const struct vis_rect *rects, uint32_t n, struct vis_rect **out)
+{
+	*out = NULL;
+	if (n == 0)
+		return 0;
+	*out = malloc((size_t)n * sizeof(**out));
+	if (*out == NULL) {
+		errno = ENOMEM;
+		return -1;
+	}
+	for (uint32_t k = 0; k < n; k++)
+		(*out)[k] = rects[k];
+	return 0;
+}
+
+int vis_wtree_set_shape(struct vis_window *window, bool shaped, const struct vis_rect *rects,
+			uint32_t n)
+{
+	struct vis_rect *copy;
+	if (window->look.input_only) {
+		errno = EINVAL;
+		return -1;
+	}
+	if (copy_rects(rects, shaped ? n : 0, &copy) < 0)
+		return -1;
+	free(window->look.shape);
+	window->look.shape = copy;
+	window->look.n_shape = shaped ? n : 0;
+	window->look.shaped = shaped;
+	return 0;
+}
+
+int vis_wtree_set_opaque(struct vis_window *window, enum vis_opaque mode,
+			 const struct vis_rect *rects, uint32_t n)
+{
+	struct vis_rect *copy;
+	if (window->look.input_only || (unsigned)mode > VIS_OPAQUE_RECTS) {
+		errno = EINVAL;
+		return -1;
+	}
+	if (copy_rects(rects, mode == VIS_OPAQUE_RECTS ? n : 0, &copy) < 0)
+		return -1;
+	free(window->look.opaque_rects);
+	window->look.opaque_rects = copy;
+	window->look.n_opaque = mode == VIS_OPAQUE_RECTS ? n : 0;
+	window->look.opaque = (uint8_t)mode;
+	return 0;
+}
+
+void vis_wtree_set_input_only(struct vis_window *window)
+{
+	window->look.input_only = true;
 }
 
 bool vis_wtree_viewable(const struct vis_window *window)

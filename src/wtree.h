@@ -7,13 +7,18 @@
 #include <stdint.h>
 
 #include "idmap.h"
+#include "look.h"
 #include "rect.h"
 
 /*
- * A window: x, y relative to its parent's origin (the screen's for top-level windows); it covers
- * x, y inclusive to x + width, y + height exclusive; 1 ≤ width, height ≤ INT32_MAX. Siblings form
- * a list from bottom to top. Invariants: a window is in its parent's child list and in the ID map
- * exactly while it exists; depth = its parent's depth + 1 (top-level windows: 1).
+ * A window, in X's geometry: x, y place its border box's corner relative to its parent's origin
+ * (the parent's inside's corner; the screen's for top-level windows); width × height is its inside,
+ * 1 ≤ width, height; the border box is the inside grown by look.border on every side, its sides
+ * at most INT32_MAX. Its pixels are its look's (look.h: border box, shape, opaque region,
+ * input-only); its children are positioned relative to its inside and clipped to it (and to its
+ * ancestors'). Siblings form a list from bottom to top. Invariants: a window is in its parent's
+ * child list and in the ID map exactly while it exists; depth = its parent's depth + 1
+ * (top-level windows: 1); look's arrays are the window's own.
  */
 struct vis_window {
 	uint32_t id;
@@ -23,13 +28,15 @@ struct vis_window {
 	struct vis_window *bottom, *top;    /* children */
 	int32_t x, y;
 	int32_t width, height;
+	struct vis_look look; /* border, shape, opaque region, input-only: see the setters below */
 	bool mapped, retained;
 	uint32_t depth;
 	/* Set by vis_wtree_compute(): enum vis_visibility numbering, 3 (none) when not viewable. */
 	uint8_t state, old_state;
-	/* Set by vis_wtree_compute() for viewable windows: the absolute box and, clipped to the
-	 * ancestors and the screen, the box its pixels can be seen in (possibly empty). */
-	struct vis_box box, clip;
+	/* Set by vis_wtree_compute() for viewable windows: the absolute border box; clipped to the
+	 * ancestors' insides and the screen, the box its pixels can be seen in (possibly empty); and
+	 * the box its children are clipped to: its inside, clipped so. */
+	struct vis_box box, clip, inner;
 	size_t pos; /* index in the tree's order, for viewable windows */
 	void *data; /* the daemon's */
 };
@@ -80,6 +87,31 @@ struct vis_window *vis_wtree_create(struct vis_wtree *tree, struct vis_window *p
 void vis_wtree_destroy(struct vis_wtree *tree, struct vis_window *window,
 		       void (*gone)(void *data, struct vis_window *w), void *data);
 
+/*
+ * Sets a window's border width (≥ 0). Returns 0, or -1 with EINVAL when the border box's sides
+ * would pass INT32_MAX or the window is input-only. O(1).
+ */
+int vis_wtree_set_border(struct vis_window *window, int32_t border);
+
+/*
+ * Sets a window's bounding shape to a copy of rects[0 … n) (window coordinates, each w, h ≥ 1,
+ * overlaps allowed; n = 0: no pixels), or with shaped false back to its border box. Returns 0, or
+ * -1 with ENOMEM, or EINVAL for an input-only window (nothing changes then). O(n).
+ */
+int vis_wtree_set_shape(struct vis_window *window, bool shaped, const struct vis_rect *rects,
+			uint32_t n);
+
+/*
+ * Sets which of a window's pixels hide what lies below: mode VIS_OPAQUE_ALL or _NONE (rects
+ * ignored), or VIS_OPAQUE_RECTS with a copy of rects[0 … n). Returns 0, or -1 with ENOMEM, or
+ * EINVAL for an input-only window or an unknown mode (nothing changes then). O(n).
+ */
+int vis_wtree_set_opaque(struct vis_window *window, enum vis_opaque mode,
+			 const struct vis_rect *rects, uint32_t n);
+
+/* Makes a window input-only: no pixels, no state; only right after creating it. O(1). */
+void vis_wtree_set_input_only(struct vis_window *window);
+
 /* Puts window just above sibling (above = true) or just below it. O(1). */
 void vis_wtree_restack(struct vis_window *window, struct vis_window *sibling, bool above);
 
@@ -107,8 +139,9 @@ struct vis_window *vis_wtree_next(const struct vis_window *w);
 struct vis_window *vis_wtree_next_within(const struct vis_window *w, const struct vis_window *top);
 
 /*
- * The window's box in screen coordinates from its own and its ancestors' positions, viewable or
- * not: its subtree's pixels lie inside it, as children are clipped to their parent. O(depth).
+ * The window's border box in screen coordinates from its own and its ancestors' positions (and
+ * their borders), viewable or not: its subtree's pixels lie inside it, as children are clipped to
+ * their parent's inside. O(depth).
  */
 struct vis_box vis_wtree_box(const struct vis_window *window);
 
