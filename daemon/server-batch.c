@@ -34,6 +34,9 @@ bool server_batch_change(uint32_t op)
 	case VIS_OP_UNMAP:
 	case VIS_OP_MOVE:
 	case VIS_OP_RESIZE:
+	case VIS_OP_CONFIGURE:
+	case VIS_OP_SET_SHAPE:
+	case VIS_OP_SET_OPAQUE:
 	case VIS_OP_RAISE:
 	case VIS_OP_LOWER:
 	case VIS_OP_RESTACK:

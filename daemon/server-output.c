@@ -16,7 +16,7 @@
 /* Encoded sizes: header, serial, fields (an exposure's count, then 16 bytes a rectangle). */
 #define VISIBILITY_BYTES (VIS_MSG_HEADER + 8u + 4 * 4u)
 #define EXPOSURE_BYTES (VIS_MSG_HEADER + 8u + 4 * 4u)
-#define STACK_BYTES (VIS_MSG_HEADER + 8u + 4 * 9u)
+#define STACK_BYTES (VIS_MSG_HEADER + 8u + 4 * SERVER_STACK_WORDS)
 
 void server_output_init(struct client *c)
 {
@@ -137,7 +137,7 @@ static struct held *held_entry(struct client *c, uint32_t window)
  */
 static void write_words(struct client *c, uint32_t opcode, const uint32_t *words, size_t n)
 {
-	uint8_t b[VIS_MSG_HEADER + 8 + 4 * 9];
+	uint8_t b[VIS_MSG_HEADER + 8 + 4 * SERVER_STACK_WORDS]; /* the longest: stack notices */
 	size_t size = VIS_MSG_HEADER + 8 + 4 * n;
 	if (c->closing)
 		return;
@@ -192,9 +192,9 @@ static void write_region(struct client *c, uint32_t window, uint32_t rect_limit,
 	free(words);
 }
 
-static void write_stack(struct client *c, const uint32_t words[9])
+static void write_stack(struct client *c, const uint32_t words[SERVER_STACK_WORDS])
 {
-	write_words(c, VIS_OP_STACK, words, 9);
+	write_words(c, VIS_OP_STACK, words, SERVER_STACK_WORDS);
 }
 
 void server_notice_visibility(struct client *c, const struct vis_window *w)
@@ -265,7 +265,7 @@ void server_notice_exposure(struct client *c, const struct sub *s, const struct 
 	check_bound(c);
 }
 
-void server_notice_stack(struct client *c, const uint32_t words[9])
+void server_notice_stack(struct client *c, const uint32_t words[SERVER_STACK_WORDS])
 {
 	if (!must_hold(c)) {
 		write_stack(c, words);
@@ -356,7 +356,7 @@ static uint32_t resync(struct client *c, bool write)
 		if (server_client_sub_for(c, w, VIS_NOTICE_STACK)) {
 			n++;
 			if (write) {
-				uint32_t words[9];
+				uint32_t words[SERVER_STACK_WORDS];
 				server_stack_words(c, w, VIS_STACK_RESYNC, words);
 				write_stack(c, words);
 			}

@@ -56,6 +56,29 @@ static bool size_ok(struct client *c, uint32_t seq, uint32_t op, uint32_t w, uin
 	return false;
 }
 
+/*
+ * Checks a border width for a window of width × height: the border box's sides within INT32_MAX,
+ * none for an input-only window (X's BadMatch).
+ */
+static bool border_ok(struct client *c, uint32_t seq, uint32_t op, const struct vis_window *w,
+		      uint32_t width, uint32_t height, uint32_t border)
+{
+	if (border != 0 && w != NULL && w->look.input_only) {
+		server_client_error(c, seq, op, VIS_ERROR_MATCH,
+				    "window %u is input-only: it has no border", w->id);
+		return false;
+	}
+	if ((uint64_t)width + 2 * (uint64_t)border > INT32_MAX ||
+	    (uint64_t)height + 2 * (uint64_t)border > INT32_MAX) {
+		server_client_error(c, seq, op, VIS_ERROR_VALUE,
+				    "border %u: the border box of a %ux%u window would be wider or "
+				    "taller than 2147483647",
+				    border, width, height);
+		return false;
+	}
+	return true;
+}
+
 static void changed(struct client *c, struct vis_window *w, uint32_t change)
 {
 	server_notify_stack(c->server, w, change);
@@ -117,10 +140,18 @@ static void do_create(struct client *c, uint32_t seq, const union vis_arg *a)
 	struct vis_window *parent = parent_arg(c, seq, op, a[0].u);
 	if (!parent || !size_ok(c, seq, op, a[3].u, a[4].u))
 		return;
-	if (a[5].u & ~(uint32_t)(VIS_CREATE_MAP | VIS_CREATE_RETAIN)) {
+	if (a[5].u & ~(uint32_t)(VIS_CREATE_MAP | VIS_CREATE_RETAIN | VIS_CREATE_INPUT_ONLY)) {
 		server_client_error(c, seq, op, VIS_ERROR_VALUE, "unknown flags %#x", a[5].u);
 		return;
 	}
+	bool input_only = a[5].u & VIS_CREATE_INPUT_ONLY;
+	if (input_only && a[6].u != 0) {
+		server_client_error(c, seq, op, VIS_ERROR_MATCH,
+				    "an input-only window has no border (border %u)", a[6].u);
+		return;
+	}
+	if (!border_ok(c, seq, op, NULL, a[3].u, a[4].u, a[6].u))
+		return;
 	const struct server_options *opt = &c->server->opt;
 	if (c->n_windows >= opt->max_windows) {
 		server_client_error(c, seq, op, VIS_ERROR_LIMIT,
@@ -149,6 +180,9 @@ static void do_create(struct client *c, uint32_t seq, const union vis_arg *a)
 		return;
 	}
 	c->n_windows++;
+	w->look.border = (int32_t)a[6].u; /* checked above */
+	if (input_only)
+		vis_wtree_set_input_only(w);
 	changed(c, w, VIS_STACK_CREATE);
 	if (a[5].u & VIS_CREATE_MAP) {
 		w->mapped = true;
@@ -194,21 +228,111 @@ static void do_configure(struct client *c, uint32_t seq, uint32_t op, const unio
 	struct vis_window *w = changeable_arg(c, seq, op, a[0].u);
 	if (!w)
 		return;
-	if (op == VIS_OP_RESIZE && !size_ok(c, seq, op, a[1].u, a[2].u))
+	uint32_t width = op == VIS_OP_MOVE ? (uint32_t)w->width : a[op == VIS_OP_RESIZE ? 1 : 3].u;
+	uint32_t height = op == VIS_OP_MOVE ? (uint32_t)w->height : a[op == VIS_OP_RESIZE ? 2 : 4].u;
+	uint32_t border = op == VIS_OP_CONFIGURE ? a[5].u : (uint32_t)w->look.border;
+	if (op != VIS_OP_MOVE && !size_ok(c, seq, op, width, height))
+		return;
+	if (!border_ok(c, seq, op, w, width, height, border))
 		return;
 	server_damage(c->server, w); /* where it was */
-	if (op == VIS_OP_MOVE) {
+	if (op != VIS_OP_RESIZE) {
 		w->x = a[1].i;
 		w->y = a[2].i;
-	} else {
-		w->width = (int32_t)a[1].u;
-		w->height = (int32_t)a[2].u;
+	}
+	bool reshaped = op == VIS_OP_RESIZE ||
+			(op == VIS_OP_CONFIGURE &&
+			 (w->width != (int32_t)width || w->height != (int32_t)height ||
+			  w->look.border != (int32_t)border));
+	w->look.border = (int32_t)border;
+	w->width = (int32_t)width;
+	w->height = (int32_t)height;
+	if (reshaped) {
 		/* As X with ForgetGravity: a resized window's contents are gone, all of it is exposed. */
 		struct window_data *d = w->data;
 		if (d)
 			pixman_region32_clear(&d->region);
 	}
 	changed(c, w, VIS_STACK_CONFIGURE);
+}
+
+/*
+ * Reads the rectangles of a set-shape or set-opaque request (their count is bounded by the request
+ * size, checked by the decoder), each 1 … INT32_MAX wide and high. Returns a new array (NULL with
+ * n 0), or NULL with the error sent.
+ */
+static struct vis_rect *rects_arg(struct client *c, uint32_t seq, uint32_t op,
+				  const union vis_arg *arr, bool *failed)
+{
+	*failed = false;
+	if (arr->a.n == 0)
+		return NULL;
+	struct vis_rect *r = malloc((size_t)arr->a.n * sizeof(*r));
+	if (!r) {
+		server_client_error(c, seq, op, VIS_ERROR_LIMIT, "out of memory");
+		*failed = true;
+		return NULL;
+	}
+	for (uint32_t i = 0; i < arr->a.n; i++) {
+		uint32_t w = vis_arg_word(arr, 'R', i, 2), h = vis_arg_word(arr, 'R', i, 3);
+		if (w < 1 || h < 1 || w > INT32_MAX || h > INT32_MAX) {
+			server_client_error(c, seq, op, VIS_ERROR_VALUE,
+					    "rectangle %u: size %ux%u: width and height must be 1 to "
+					    "2147483647",
+					    i + 1, w, h);
+			free(r);
+			*failed = true;
+			return NULL;
+		}
+		r[i] = (struct vis_rect){ (int32_t)vis_arg_word(arr, 'R', i, 0),
+					  (int32_t)vis_arg_word(arr, 'R', i, 1), (int32_t)w,
+					  (int32_t)h };
+	}
+	return r;
+}
+
+/* set-shape and set-opaque: the window's pixels, or which of them hide what is below. */
+static void do_look(struct client *c, uint32_t seq, uint32_t op, const union vis_arg *a)
+{
+	struct vis_window *w = changeable_arg(c, seq, op, a[0].u);
+	if (!w)
+		return;
+	if (w->look.input_only) {
+		server_client_error(c, seq, op, VIS_ERROR_MATCH,
+				    "window %u is input-only: it has no pixels", w->id);
+		return;
+	}
+	uint32_t mode = a[1].u, n = a[2].a.n;
+	if (op == VIS_OP_SET_SHAPE && mode > 1) {
+		server_client_error(c, seq, op, VIS_ERROR_VALUE,
+				    "shaped %u: 0 (its border box) or 1 (the rectangles)", mode);
+		return;
+	}
+	if (op == VIS_OP_SET_OPAQUE && mode > VIS_OPAQUE_MODE_RECTS) {
+		server_client_error(c, seq, op, VIS_ERROR_VALUE,
+				    "unknown mode %u (0 all, 1 none, 2 the rectangles)", mode);
+		return;
+	}
+	bool rects_wanted = op == VIS_OP_SET_SHAPE ? mode == 1 : mode == VIS_OPAQUE_MODE_RECTS;
+	if (!rects_wanted && n != 0) {
+		server_client_error(c, seq, op, VIS_ERROR_MATCH,
+				    "%s %u takes no rectangles (got %u)",
+				    op == VIS_OP_SET_SHAPE ? "shaped" : "mode", mode, n);
+		return;
+	}
+	bool failed;
+	struct vis_rect *r = rects_arg(c, seq, op, &a[2], &failed);
+	if (failed)
+		return;
+	int rc = op == VIS_OP_SET_SHAPE ? vis_wtree_set_shape(w, mode == 1, r, n)
+					 : vis_wtree_set_opaque(w, (enum vis_opaque)mode, r, n);
+	free(r);
+	if (rc < 0) {
+		server_client_error(c, seq, op, VIS_ERROR_LIMIT, "out of memory");
+		return;
+	}
+	/* The pixels changed inside the border box: it is the damage, as it was and is. */
+	changed(c, w, VIS_STACK_LOOK);
 }
 
 static void do_restack(struct client *c, uint32_t seq, const union vis_arg *a)
@@ -371,15 +495,23 @@ static void do_get_tree(struct client *c, uint32_t seq)
 			uint32_t flags = (w->mapped ? VIS_WINDOW_MAPPED : 0) |
 					 (w->state != VIS_WTREE_STATE_NONE ? VIS_WINDOW_VIEWABLE : 0) |
 					 (w->retained ? VIS_WINDOW_RETAINED : 0) |
-					 (!parent && w->parent->id ? VIS_WINDOW_PARENT_HIDDEN : 0);
-			uint32_t rec[8] = { w->id, parent, (uint32_t)w->x, (uint32_t)w->y,
-					    (uint32_t)w->width, (uint32_t)w->height, flags, w->state };
-			if (!push_words(c, seq, VIS_OP_GET_TREE, &v, &n, &cap, rec, 8))
+					 (!parent && w->parent->id ? VIS_WINDOW_PARENT_HIDDEN : 0) |
+					 server_look_flags(w);
+			uint32_t rec[9] = { w->id,
+					    parent,
+					    (uint32_t)w->x,
+					    (uint32_t)w->y,
+					    (uint32_t)w->width,
+					    (uint32_t)w->height,
+					    (uint32_t)w->look.border,
+					    flags,
+					    w->state };
+			if (!push_words(c, seq, VIS_OP_GET_TREE, &v, &n, &cap, rec, 9))
 				goto out;
 		}
 	}
 	union vis_arg r[3] = { { .u = seq } };
-	send_list(c, VIS_OP_TREE, r, 2, v, n / 8, 8);
+	send_list(c, VIS_OP_TREE, r, 2, v, n / 9, 9);
 out:
 	free(v);
 }
@@ -449,7 +581,12 @@ void server_client_dispatch(struct client *c, uint32_t seq, const struct vis_msg
 		return;
 	case VIS_OP_MOVE:
 	case VIS_OP_RESIZE:
+	case VIS_OP_CONFIGURE:
 		do_configure(c, seq, op, a);
+		return;
+	case VIS_OP_SET_SHAPE:
+	case VIS_OP_SET_OPAQUE:
+		do_look(c, seq, op, a);
 		return;
 	case VIS_OP_RESTACK:
 		do_restack(c, seq, a);

@@ -487,7 +487,7 @@ uint32_t server_seen_id(const struct client *viewer, const struct vis_window *w)
 }
 
 void server_stack_words(const struct client *viewer, const struct vis_window *w, uint32_t change,
-			uint32_t words[9])
+			uint32_t words[SERVER_STACK_WORDS])
 {
 	if (viewer && viewer->role != VIS_ROLE_CLIENT)
 		viewer = NULL; /* sees every window: the shared words */
@@ -502,7 +502,16 @@ void server_stack_words(const struct client *viewer, const struct vis_window *w,
 	words[8] = (w->mapped ? VIS_WINDOW_MAPPED : 0) |
 		   (vis_wtree_viewable(w) ? VIS_WINDOW_VIEWABLE : 0) |
 		   (w->retained ? VIS_WINDOW_RETAINED : 0) |
-		   (!words[2] && w->parent && w->parent->id ? VIS_WINDOW_PARENT_HIDDEN : 0);
+		   (!words[2] && w->parent && w->parent->id ? VIS_WINDOW_PARENT_HIDDEN : 0) |
+		   server_look_flags(w);
+	words[9] = (uint32_t)w->look.border;
+}
+
+uint32_t server_look_flags(const struct vis_window *w)
+{
+	return (w->look.shaped ? VIS_WINDOW_SHAPED : 0) |
+	       (w->look.opaque != VIS_OPAQUE_ALL ? VIS_WINDOW_TRANSLUCENT : 0) |
+	       (w->look.input_only ? VIS_WINDOW_INPUT_ONLY : 0);
 }
 
 /*
@@ -511,7 +520,7 @@ void server_stack_words(const struct client *viewer, const struct vis_window *w,
  */
 void server_notify_stack(struct server *server, struct vis_window *w, uint32_t change)
 {
-	uint32_t shared[9], own[9];
+	uint32_t shared[SERVER_STACK_WORDS], own[SERVER_STACK_WORDS];
 	bool made = false;
 	struct client *c;
 	TAILQ_FOREACH(c, &server->clients, link) {

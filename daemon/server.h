@@ -74,9 +74,13 @@ struct held {
 	pixman_region32_t exposed;          /* window coordinates */
 };
 
+/* The words of a stack notice after its serial: change window parent x y width height sibling
+ * flags border. */
+#define SERVER_STACK_WORDS 10
+
 /* A stack notice held for a lagging connection: its words after the serial. */
 struct held_stack {
-	uint32_t words[9];
+	uint32_t words[SERVER_STACK_WORDS];
 };
 
 /*
@@ -206,8 +210,12 @@ uint32_t server_seen_id(const struct client *viewer, const struct vis_window *w)
  * when it may not see the parent (x, y stay relative to it), and sibling is the nearest window
  * below w among its siblings that the client may see, or 0: O(siblings passed over).
  */
+/* The flags of a window's look for the tree reply and stack notices: shaped, translucent,
+ * input-only. */
+uint32_t server_look_flags(const struct vis_window *w);
+
 void server_stack_words(const struct client *viewer, const struct vis_window *w, uint32_t change,
-			uint32_t words[9]);
+			uint32_t words[SERVER_STACK_WORDS]);
 /* Sends a stack notice about w to the connections subscribed to it, each as it may see it. */
 void server_notify_stack(struct server *server, struct vis_window *w, uint32_t change);
 
@@ -306,7 +314,7 @@ void server_notice_visibility(struct client *c, const struct vis_window *w);
 void server_notice_initial(struct client *c, const struct vis_window *w);
 void server_notice_exposure(struct client *c, const struct sub *s, const struct vis_window *w,
 			    pixman_region32_t *exposed, const uint32_t *words, uint32_t n);
-void server_notice_stack(struct client *c, const uint32_t words[9]);
+void server_notice_stack(struct client *c, const uint32_t words[SERVER_STACK_WORDS]);
 /* Sends what is held for c (and the resync after an overflow); before replies and on drain. */
 void server_output_release(struct client *c);
 

@@ -8,7 +8,8 @@
  *   s  string: uint32 length, the bytes (no NUL), zero padding to a multiple of 4
  *   aW aS aR aT  array: uint32 count, then count records of 32-bit words:
  *      W window (1 word: window), S state (2: window state),
- *      R rectangle (4: x y w h, x y signed), T tree node (8: window parent x y w h flags state)
+ *      R rectangle (4: x y w h, x y signed),
+ *      T tree node (9: window parent x y w h border flags state)
  * Replies start with the sequence number of the request they answer; notices with their own
  * 64-bit sequence number, gapless per connection.
  */
@@ -19,8 +20,9 @@
 #define VIS_MESSAGES(M)                                                                           \
 	M(HELLO, 1, REQUEST, "hello", "u:magic u:version u:role",                                 \
 	  "The handshake; must come first. Asks for a role (0 client, 1 observer, 2 manager).")    \
-	M(CREATE, 2, REQUEST, "create", "u:parent i:x i:y u:width u:height u:flags",             \
-	  "Creates a window (parent 0: the screen), unmapped unless flags has MAP. Replies created.") \
+	M(CREATE, 2, REQUEST, "create", "u:parent i:x i:y u:width u:height u:flags u:border",    \
+	  "Creates a window (parent 0: the screen), unmapped unless flags has MAP; x, y place its " \
+	  "border box, width x height is its inside. Replies created.")                           \
 	M(DESTROY, 3, REQUEST, "destroy", "u:window", "Destroys a window and its descendants.")    \
 	M(MAP, 4, REQUEST, "map", "u:window", "Maps a window.")                                   \
 	M(UNMAP, 5, REQUEST, "unmap", "u:window", "Unmaps a window.")                             \
@@ -52,6 +54,14 @@
 	  "Asks which windows show pixels of their own inside a damaged screen rectangle.")       \
 	M(SYNC, 21, REQUEST, "sync", "",                                                          \
 	  "A round trip: the reply comes once every effect of earlier requests has been sent.")   \
+	M(CONFIGURE, 22, REQUEST, "configure", "u:window i:x i:y u:width u:height u:border",      \
+	  "Moves and resizes a window and sets its border width at once.")                        \
+	M(SET_SHAPE, 23, REQUEST, "set-shape", "u:window u:shaped aR:rects",                      \
+	  "Sets a window's bounding shape (window coordinates; none: no pixels), or with shaped 0 " \
+	  "its border box again.")                                                                \
+	M(SET_OPAQUE, 24, REQUEST, "set-opaque", "u:window u:mode aR:rects",                      \
+	  "Sets which pixels hide what is below: mode 0 all, 1 none, 2 the rects (window "        \
+	  "coordinates).")                                                                        \
 	M(HELLO_REPLY, 64, REPLY, "hello-reply",                                                  \
 	  "u:seq u:version u:client u:role u:screen_width u:screen_height u:max_request",         \
 	  "Accepts the handshake; says the role granted and the largest request accepted.")       \
@@ -76,7 +86,8 @@
 	  "Newly visible rectangles, window coordinates; flags 1: collapsed to the bounding box; " \
 	  "coalesced: how many notices were merged into this one.")                               \
 	M(STACK, 130, NOTICE, "stack",                                                            \
-	  "q:serial u:change u:window u:parent i:x i:y u:width u:height u:sibling u:flags",       \
+	  "q:serial u:change u:window u:parent i:x i:y u:width u:height u:sibling u:flags "       \
+	  "u:border",                                                                             \
 	  "The stack changed: what, which window, its new geometry, the sibling below it.")      \
 	M(OVERFLOW, 131, NOTICE, "overflow", "q:serial u:dropped u:resync",                        \
 	  "The connection fell too far behind: dropped notices were lost; the next resync "       \

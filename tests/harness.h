@@ -145,7 +145,7 @@ size_t harness_fields(const struct vis_msg_type *t, struct harness_field *f);
 struct harness_node {
 	uint32_t window, parent;
 	int32_t x, y;
-	uint32_t width, height, flags, state;
+	uint32_t width, height, border, flags, state;
 };
 /* Every window the connection may see, in stacking order (malloc'd; *n nodes). */
 struct harness_node *harness_get_tree(struct harness_conn *c, size_t *n);

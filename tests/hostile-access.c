@@ -168,13 +168,14 @@ void hostile_access_isolation(void)
 		if (!named)
 			continue;
 		seq = harness_request(&o, ty->opcode, words, nf);
-		if (ty->opcode >= VIS_OP_CREATE && ty->opcode <= VIS_OP_REPARENT)
+		if ((ty->opcode >= VIS_OP_CREATE && ty->opcode <= VIS_OP_REPARENT) ||
+		    (ty->opcode >= VIS_OP_CONFIGURE && ty->opcode <= VIS_OP_SET_OPAQUE))
 			harness_expect_error(&o, seq, ty->opcode, VIS_ERROR_ACCESS,
 					     "is not yours to change", false);
 		else
 			expect_no_error(&o, harness_req(&o, VIS_OP_SYNC));
 	}
-	seq = harness_req(&o, VIS_OP_CREATE, 0, 300, 200, 5, 5, 0);
+	seq = harness_req(&o, VIS_OP_CREATE, 0, 300, 200, 5, 5, 0, 0);
 	harness_expect_error(&o, seq, VIS_OP_CREATE, VIS_ERROR_ACCESS, "observers change nothing",
 			     false);
 	s = harness_get_states(&o, &n);

@@ -11,7 +11,7 @@
 #include "vis/protocol.h"
 #include "wire.h"
 
-static const uint32_t words[16] = { 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16 };
+static const uint32_t words[18] = { 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18 };
 
 /* Fills args for a type with distinct values; arrays get two records. */
 static void fill(const struct vis_msg_type *t, union vis_arg *args)
@@ -85,7 +85,7 @@ int main(void)
 		for (int k = 0; k < VIS_MSG_MAX_ARGS; k++)
 			if (args[k].a.words == words && back[k].a.raw) {
 				/* Re-encode decoded arrays from their words. */
-				static uint32_t tmp[VIS_MSG_MAX_ARGS][16];
+				static uint32_t tmp[VIS_MSG_MAX_ARGS][18];
 				char rec = 0;
 				const char *p = t->signature;
 				for (int f = 0; f <= k; f++) {

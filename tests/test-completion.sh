@@ -49,7 +49,7 @@ options() {
 commands=$(sed -n 's/^  visctl \([a-z][a-z-]*\).*/\1/p' "$T/help")
 expect "commands" "$commands help" visctl ""
 expect "commands from a prefix" "resize region repaint raise" visctl r
-expect "commands after global options" "script snapshot stack states stress sync" visctl -s /tmp/x \
+expect "commands after global options" "script shape snapshot stack states stress sync" visctl -s /tmp/x \
 	--role observer s
 global=$(grep -v '^  visctl ' "$T/help" | options)
 got=$(comp visctl -)

@@ -70,11 +70,15 @@ size_t hostile_request_words(const struct vis_msg_type *t, uint32_t own, uint32_
 			      { "width", 10 },
 			      { "height", 10 },
 			      { "flags", 0 },
+			      { "border", 0 },
+			      { "shaped", 0 },
+			      { "rects", 0 }, /* an empty array: its count */
 			      { "mode", 0 },
 			      { "mask", VIS_NOTICE_ALL },
 			      { "rect_limit", 0 } };
-		CHECK(f[k].type == 'u' || f[k].type == 'i', "%s: field %s of type %c", t->name,
-		      f[k].name, f[k].type);
+		/* Every request's fields are words, but arrays, sent empty: a count of 0. */
+		CHECK(f[k].type == 'u' || f[k].type == 'i' || f[k].type == 'R',
+		      "%s: field %s of type %c", t->name, f[k].name, f[k].type);
 		bool known = true;
 		if (!strcmp(f[k].name, "window"))
 			words[k] = own;
@@ -251,7 +255,7 @@ static void test_truncated_extended(void)
 	struct harness_conn c;
 	harness_open_as(&c, hostile_visd.sock, VIS_ROLE_CLIENT);
 	harness_req(&c, VIS_OP_BATCH_BEGIN);
-	harness_req(&c, VIS_OP_CREATE, 0, 300, 200, 10, 10, VIS_CREATE_RETAIN);
+	harness_req(&c, VIS_OP_CREATE, 0, 300, 200, 10, 10, VIS_CREATE_RETAIN, 0);
 	uint8_t b[16];
 	harness_put(b, VIS_OP_MOVE, hostile_win[0], 0);
 	uint32_t seq = harness_request_raw(&c, b, 16);
@@ -267,7 +271,7 @@ static void test_opcodes(void)
 	harness_context("unknown opcodes");
 	/* The daemon's own: 64 hello-reply, 71 synced, 96 error, 128 visibility, 130 stack. */
 	static const uint32_t ops[] = {
-		0, 22, 63, 64, 71, 96, 97, 127, 128, 130, 131, 1000, 0xffff
+		0, 25, 63, 64, 71, 96, 97, 127, 128, 130, 131, 1000, 0xffff
 	};
 	for (size_t i = 0; i < sizeof ops / sizeof *ops; i++) {
 		uint8_t b[24] = { 0 };
@@ -327,11 +331,11 @@ static void test_lying_lengths(void)
 	 */
 	harness_open_as(&c, hostile_visd.sock, VIS_ROLE_CLIENT);
 	uint8_t flood[3 * 32];
-	n = harness_put(flood, VIS_OP_CREATE, 0, 310, 200, 10, 10, VIS_CREATE_RETAIN);
+	n = harness_put(flood, VIS_OP_CREATE, 0, 310, 200, 10, 10, VIS_CREATE_RETAIN, 0);
 	size_t at = n;
 	n += harness_put(flood + n, VIS_OP_MAP);
 	vis_wire_put_u32(flood + at, 4);
-	n += harness_put(flood + n, VIS_OP_CREATE, 0, 320, 200, 10, 10, VIS_CREATE_RETAIN);
+	n += harness_put(flood + n, VIS_OP_CREATE, 0, 320, 200, 10, 10, VIS_CREATE_RETAIN, 0);
 	CHECK(harness_send(&c, flood, n) == 0, "send: %s", strerror(errno));
 	harness_expect_error(&c, c.seq + 2, VIS_OP_MAP, VIS_ERROR_MALFORMED,
 			     "declared size 4 is less than the 8-byte header", true);
@@ -375,7 +379,8 @@ static void test_handshake(void)
 		{ 0, VIS_PROTOCOL_VERSION, 0, "not a visd client" },
 		{ 0x56495344, VIS_PROTOCOL_VERSION, 0, "not a visd client" }, /* byte-swapped */
 		{ VIS_PROTOCOL_MAGIC, 0, 0, "protocol version 0 is not supported" },
-		{ VIS_PROTOCOL_MAGIC, 2, 0, "protocol version 2 is not supported" },
+		{ VIS_PROTOCOL_MAGIC, 1, 0, "protocol version 1 is not supported" },
+		{ VIS_PROTOCOL_MAGIC, 3, 0, "protocol version 3 is not supported" },
 		{ VIS_PROTOCOL_MAGIC, UINT32_MAX, 0, "version 4294967295 is not supported" },
 		{ VIS_PROTOCOL_MAGIC, VIS_PROTOCOL_VERSION, 3, "unknown role 3" },
 		{ VIS_PROTOCOL_MAGIC, VIS_PROTOCOL_VERSION, UINT32_MAX, "unknown role 4294967295" },
@@ -444,11 +449,11 @@ static void test_mid_message(void)
 	size_t n = harness_put(script, VIS_OP_HELLO, VIS_PROTOCOL_MAGIC, VIS_PROTOCOL_VERSION,
 			       VIS_ROLE_CLIENT);
 	n += harness_put(script + n, VIS_OP_SUBSCRIBE, VIS_WINDOW_ALL, VIS_NOTICE_ALL, 0);
-	n += harness_put(script + n, VIS_OP_CREATE, 0, 300, 200, 50, 50, VIS_CREATE_MAP);
-	n += harness_put(script + n, VIS_OP_CREATE, 0, 310, 210, 50, 50, VIS_CREATE_MAP);
+	n += harness_put(script + n, VIS_OP_CREATE, 0, 300, 200, 50, 50, VIS_CREATE_MAP, 0);
+	n += harness_put(script + n, VIS_OP_CREATE, 0, 310, 210, 50, 50, VIS_CREATE_MAP, 0);
 	n += harness_put(script + n, VIS_OP_GET_TREE);
 	n += harness_put(script + n, VIS_OP_BATCH_BEGIN);
-	n += harness_put(script + n, VIS_OP_CREATE, 0, 320, 220, 50, 50, VIS_CREATE_MAP);
+	n += harness_put(script + n, VIS_OP_CREATE, 0, 320, 220, 50, 50, VIS_CREATE_MAP, 0);
 	n += harness_put(script + n, VIS_OP_GET_STATES);
 	n += harness_put(script + n, VIS_OP_MAP, 0);
 	vis_wire_put_u32(script + n - 12, 65536);
@@ -462,8 +467,8 @@ static void test_mid_message(void)
 	/* A byte at a time, the innocent served between them. */
 	struct harness_conn c;
 	harness_open_as(&c, hostile_visd.sock, VIS_ROLE_CLIENT);
-	uint8_t b[32];
-	n = harness_put(b, VIS_OP_CREATE, 0, 300, 200, 5, 5, 0);
+	uint8_t b[36];
+	n = harness_put(b, VIS_OP_CREATE, 0, 300, 200, 5, 5, 0, 0);
 	for (size_t i = 0; i < n; i++) {
 		CHECK(harness_send(&c, b + i, 1) == 0, "send: %s", strerror(errno));
 		harness_sync(&hostile_innocent, NULL);

@@ -483,8 +483,8 @@ static void test_fatal(void)
 	static const uint8_t early[] = { 8, 0, 0, 0, 21, 0, 0, 0 };
 	static const uint8_t unknown[] = { 8, 0, 0, 0, 99, 0, 0, 0 };
 	static const uint8_t tiny[] = { 4, 0, 0, 0, 1, 0, 0, 0 };
-	static const uint8_t magic[] = { 20, 0, 0, 0, 1, 0, 0, 0, 1, 2, 3, 4, 1, 0, 0, 0, 0, 0, 0, 0 };
-	static const uint8_t truncated[] = { 20, 0, 0, 0, 1, 0, 0, 0, 'V', 'I', 'S', 'D', 1, 0,
+	static const uint8_t magic[] = { 20, 0, 0, 0, 1, 0, 0, 0, 1, 2, 3, 4, 2, 0, 0, 0, 0, 0, 0, 0 };
+	static const uint8_t truncated[] = { 20, 0, 0, 0, 1, 0, 0, 0, 'V', 'I', 'S', 'D', 2, 0,
 					     0,  0, 0, 0, 0, 0, 8, 0, 0, 0,   4,   0,   0,   0 };
 	expect_fatal(early, sizeof early, 1, VIS_ERROR_HANDSHAKE, __LINE__);
 	expect_fatal(unknown, sizeof unknown, 1, VIS_ERROR_OPCODE, __LINE__);

@@ -347,17 +347,21 @@ text = [l.split() for l in open(sys.argv[1])]
 objs = [json.loads(l) for l in open(sys.argv[2])]
 assert len(text) == len(objs) > 26, (len(text), len(objs))
 for t, o in zip(text, objs):
-    assert len(t) == 9, t
+    assert len(t) == 11, t
     assert [int(x) for x in t[:6]] == [o[k] for k in ("window", "parent", "x", "y", "width", "height")], (t, o)
     assert (t[6] == "mapped") == o["mapped"] and t[7] == o["state"], (t, o)
     assert (t[8] == "retained") == o["retained"] and o["retained"], (t, o)
+    assert int(t[9]) == o["border"], (t, o)
+    look = [k for k in ("shaped", "translucent", "input-only") if o[k.replace("-", "_")]]
+    assert t[10] == (",".join(look) or "-"), (t, o)
 PY
 for q in "states" "region $(head -n 1 "$dir/tree" | cut -d' ' -f1)" "repaint 0 0 1920 1080"; do
 	# shellcheck disable=SC2086
 	v --role observer $q --json | python3 -c 'import json, sys; [json.loads(l) for l in sys.stdin]' ||
 		fail "$q --json is not JSON lines"
 done
-"$visctl" tree --help | grep -q "ID PARENT X Y W H MAPPED STATE RETAINED" || fail "tree --help: no columns"
+"$visctl" tree --help | grep -q "ID PARENT X Y W H MAPPED STATE RETAINED BORDER LOOK" ||
+	fail "tree --help: no columns"
 "$visctl" region --help | grep -q "window's own" || fail "region --help: no coordinates"
 # A script that fails half-way says which retained windows it leaves behind.
 printf 'create 0 0 10 10 --retain\ncreate 5 5 10 10 --map\ncreate 0 0 5 5 --retain --parent @1\nmap 999999\n' \

@@ -135,7 +135,7 @@ static void serve_good(struct fake *f)
 	fake_error(f, 4, VIS_OP_MAP, VIS_ERROR_WINDOW, "no such window 9");
 	fake_send(f, VIS_OP_STACK, (union vis_arg[]){ { .q = f->serial++ }, U(VIS_STACK_RESTACK),
 						       U(5), U(0), { .i = -4 }, U(6), U(7), U(8),
-						       U(6), U(3) });
+						       U(6), U(3), U(2) });
 	fake_synced(f, 5);
 
 	fake_read(f, VIS_OP_GET_REGION); /* 6 */
@@ -144,7 +144,7 @@ static void serve_good(struct fake *f)
 		  (union vis_arg[]){ U(6), U(5), U(0), { .a = { NULL, rects + 4, 1 } } });
 
 	fake_read(f, VIS_OP_GET_TREE); /* 7 */
-	static const uint32_t node[] = { 5, 0, (uint32_t)-1, 2, 30, 40, 3, 1 };
+	static const uint32_t node[] = { 5, 0, (uint32_t)-1, 2, 30, 40, 0, 3, 1 };
 	fake_send(f, VIS_OP_TREE, (union vis_arg[]){ U(7), U(0), { .a = { NULL, node, 1 } } });
 
 	fake_read(f, VIS_OP_GET_REPAINT); /* 8 */
@@ -211,6 +211,7 @@ static void client_good(struct vis_client *c)
 	assert(n_notices == 3 && notices[2].kind == VIS_NOTICE_KIND_STACK);
 	assert(notices[2].stack.change == VIS_STACK_RESTACK && notices[2].stack.x == -4);
 	assert(notices[2].stack.sibling == 6 && notices[2].stack.flags == 3);
+	assert(notices[2].stack.border == 2);
 
 	struct vis_rect32 *r;
 	assert(vis_client_get_region(c, 5, &r, &n) == 0 && n == 2);
@@ -220,6 +221,7 @@ static void client_good(struct vis_client *c)
 	struct vis_window_info *t;
 	assert(vis_client_get_tree(c, &t, &n) == 0 && n == 1);
 	assert(t[0].window == 5 && t[0].x == -1 && t[0].height == 40 && t[0].flags == 3);
+	assert(t[0].border == 0 && t[0].state == 1);
 	free(t);
 
 	uint32_t *ids;
@@ -532,7 +534,7 @@ int main(int argc, char **argv)
 	 * the protocol's least (every request would fail with EMSGSIZE), none at all, one over the
 	 * largest message: the handshake fails. */
 	static const uint32_t bad_hellos[][7] = {
-		{ 1, 2, 7, 0, 100, 200, 65536 },
+		{ 1, VIS_PROTOCOL_VERSION + 1, 7, 0, 100, 200, 65536 },
 		{ 1, VIS_PROTOCOL_VERSION, 7, 3, 100, 200, 65536 },
 		{ 1, VIS_PROTOCOL_VERSION, 7, 0, 100, 200, 3 },
 		{ 1, VIS_PROTOCOL_VERSION, 7, 0, 100, 200, 0 },

@@ -215,8 +215,9 @@ static int gather(struct vis_client *c, struct vis_pending *p, const union vis_a
 			w->y = (int32_t)vis_arg_word(a, rec, i, 3);
 			w->width = vis_arg_word(a, rec, i, 4);
 			w->height = vis_arg_word(a, rec, i, 5);
-			w->flags = vis_arg_word(a, rec, i, 6);
-			w->state = vis_arg_word(a, rec, i, 7);
+			w->border = vis_arg_word(a, rec, i, 6);
+			w->flags = vis_arg_word(a, rec, i, 7);
+			w->state = vis_arg_word(a, rec, i, 8);
 			if (w->state > VIS_VISIBILITY_NONE)
 				goto bad_state;
 		} else if (rec == 'R') {
@@ -429,7 +430,8 @@ static void handle_notice(struct vis_client *c, const struct vis_msg *m)
 		n.stack.height = m->args[7].u;
 		n.stack.sibling = m->args[8].u;
 		n.stack.flags = m->args[9].u;
-		bad = n.stack.change > VIS_STACK_RESYNC;
+		n.stack.border = m->args[10].u;
+		bad = n.stack.change > VIS_STACK_LOOK;
 		break;
 	}
 	if (bad)

@@ -3,6 +3,7 @@
  * hands them to vis_client_send; the synchronous forms wait for the reply with vis_client_wait.
  * Also the names of states, error codes and requests, for logs and tools.
  */
+#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -97,14 +98,69 @@ uint32_t vis_client_unsubscribe(struct vis_client *c, uint32_t window)
 	return send_window(c, VIS_OP_UNSUBSCRIBE, window);
 }
 
+uint32_t vis_client_create_window_async(struct vis_client *c, uint32_t parent, int32_t x,
+					int32_t y, uint32_t width, uint32_t height, uint32_t border,
+					uint32_t flags, vis_create_cb cb, void *data)
+{
+	union vis_arg a[7] = { { .u = parent }, { .i = x },	   { .i = y },	  { .u = width },
+			       { .u = height }, { .u = flags }, { .u = border } };
+	struct vis_pending p = { .kind = VIS_REPLY_CREATED, .cb.create = cb, .data = data };
+	return vis_client_send(c, VIS_OP_CREATE, a, &p);
+}
+
 uint32_t vis_client_create_async(struct vis_client *c, uint32_t parent, int32_t x, int32_t y,
 				 uint32_t width, uint32_t height, uint32_t flags, vis_create_cb cb,
 				 void *data)
 {
-	union vis_arg a[6] = { { .u = parent }, { .i = x },	   { .i = y },
-			       { .u = width },	{ .u = height }, { .u = flags } };
-	struct vis_pending p = { .kind = VIS_REPLY_CREATED, .cb.create = cb, .data = data };
-	return vis_client_send(c, VIS_OP_CREATE, a, &p);
+	return vis_client_create_window_async(c, parent, x, y, width, height, 0, flags, cb, data);
+}
+
+uint32_t vis_client_configure(struct vis_client *c, uint32_t window, int32_t x, int32_t y,
+			      uint32_t width, uint32_t height, uint32_t border)
+{
+	union vis_arg a[6] = { { .u = window }, { .i = x },	   { .i = y },
+			       { .u = width },	 { .u = height }, { .u = border } };
+	return vis_client_send(c, VIS_OP_CONFIGURE, a, NULL);
+}
+
+/* set-shape and set-opaque: a window, a mode and rectangles, copied into host-order words. */
+static uint32_t send_rects(struct vis_client *c, uint32_t opcode, uint32_t window, uint32_t mode,
+			   const struct vis_rect32 *rects, uint32_t n)
+{
+	uint32_t *words = NULL;
+	if (n != 0) {
+		if (n > UINT32_MAX / 16 || !(words = malloc((size_t)n * 4 * sizeof(*words)))) {
+			errno = ENOMEM;
+			return 0;
+		}
+		for (uint32_t i = 0; i < n; i++) {
+			words[4 * i] = (uint32_t)rects[i].x;
+			words[4 * i + 1] = (uint32_t)rects[i].y;
+			words[4 * i + 2] = rects[i].width;
+			words[4 * i + 3] = rects[i].height;
+		}
+	}
+	union vis_arg a[3] = { { .u = window }, { .u = mode } };
+	a[2].a.words = words;
+	a[2].a.n = n;
+	a[2].a.raw = NULL;
+	uint32_t seq = vis_client_send(c, opcode, a, NULL);
+	int e = errno;
+	free(words);
+	errno = e;
+	return seq;
+}
+
+uint32_t vis_client_set_shape(struct vis_client *c, uint32_t window, uint32_t shaped,
+			      const struct vis_rect32 *rects, uint32_t n)
+{
+	return send_rects(c, VIS_OP_SET_SHAPE, window, shaped, rects, n);
+}
+
+uint32_t vis_client_set_opaque(struct vis_client *c, uint32_t window, uint32_t mode,
+			       const struct vis_rect32 *rects, uint32_t n)
+{
+	return send_rects(c, VIS_OP_SET_OPAQUE, window, mode, rects, n);
 }
 
 uint32_t vis_client_get_state_async(struct vis_client *c, uint32_t window, vis_state_cb cb,
@@ -238,17 +294,25 @@ static int await(struct vis_client *c, uint32_t seq, struct answer *a)
 	return 0;
 }
 
-int vis_client_create(struct vis_client *c, uint32_t parent, int32_t x, int32_t y, uint32_t width,
-		      uint32_t height, uint32_t flags, uint32_t *window)
+int vis_client_create_window(struct vis_client *c, uint32_t parent, int32_t x, int32_t y,
+			     uint32_t width, uint32_t height, uint32_t border, uint32_t flags,
+			     uint32_t *window)
 {
 	struct answer a = { 0 };
 	if (vis_client_refuse_in_batch(c))
 		return -1;
-	if (await(c, vis_client_create_async(c, parent, x, y, width, height, flags, on_created, &a),
+	if (await(c, vis_client_create_window_async(c, parent, x, y, width, height, border, flags,
+						    on_created, &a),
 		  &a) < 0)
 		return -1;
 	*window = a.window;
 	return 0;
+}
+
+int vis_client_create(struct vis_client *c, uint32_t parent, int32_t x, int32_t y, uint32_t width,
+		      uint32_t height, uint32_t flags, uint32_t *window)
+{
+	return vis_client_create_window(c, parent, x, y, width, height, 0, flags, window);
 }
 
 int vis_client_get_state(struct vis_client *c, uint32_t window, uint32_t *state)

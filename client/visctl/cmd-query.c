@@ -67,6 +67,20 @@ int cmd_states(struct live *l, int argc, char **argv)
 	return VISCTL_EXIT_OK;
 }
 
+/* The LOOK column of tree: shaped, translucent, input-only joined by commas, or "-". */
+static void look_name(uint32_t flags, char *buf, size_t len)
+{
+	snprintf(buf, len, "%s%s%s%s%s", flags & VIS_WINDOW_SHAPED ? "shaped" : "",
+		 (flags & VIS_WINDOW_SHAPED) && (flags & (VIS_WINDOW_TRANSLUCENT | VIS_WINDOW_INPUT_ONLY))
+			 ? ","
+			 : "",
+		 flags & VIS_WINDOW_TRANSLUCENT ? "translucent" : "",
+		 (flags & VIS_WINDOW_TRANSLUCENT) && (flags & VIS_WINDOW_INPUT_ONLY) ? "," : "",
+		 flags & VIS_WINDOW_INPUT_ONLY ? "input-only" : "");
+	if (!buf[0])
+		snprintf(buf, len, "-");
+}
+
 int cmd_tree(struct live *l, int argc, char **argv)
 {
 	struct vis_window_info *w;
@@ -81,19 +95,24 @@ int cmd_tree(struct live *l, int argc, char **argv)
 		uint32_t f = w[i].flags;
 		const char *state =
 			vis_visibility_name(f & VIS_WINDOW_VIEWABLE ? w[i].state : VIS_VISIBILITY_NONE);
+		char look[40];
+		look_name(f, look, sizeof(look));
 		if (json)
 			printf("{\"window\":%u,\"parent\":%u,\"x\":%d,\"y\":%d,\"width\":%u,"
 			       "\"height\":%u,\"mapped\":%s,\"viewable\":%s,\"retained\":%s,"
-			       "\"parent_hidden\":%s,\"state\":\"%s\"}\n",
+			       "\"parent_hidden\":%s,\"state\":\"%s\",\"border\":%u,\"shaped\":%s,"
+			       "\"translucent\":%s,\"input_only\":%s}\n",
 			       w[i].window, w[i].parent, w[i].x, w[i].y, w[i].width, w[i].height,
 			       json_bool(f & VIS_WINDOW_MAPPED), json_bool(f & VIS_WINDOW_VIEWABLE),
 			       json_bool(f & VIS_WINDOW_RETAINED),
-			       json_bool(f & VIS_WINDOW_PARENT_HIDDEN), state);
+			       json_bool(f & VIS_WINDOW_PARENT_HIDDEN), state, w[i].border,
+			       json_bool(f & VIS_WINDOW_SHAPED), json_bool(f & VIS_WINDOW_TRANSLUCENT),
+			       json_bool(f & VIS_WINDOW_INPUT_ONLY));
 		else
-			printf("%u %u %d %d %u %u %s %s %s\n", w[i].window, w[i].parent, w[i].x,
+			printf("%u %u %d %d %u %u %s %s %s %u %s\n", w[i].window, w[i].parent, w[i].x,
 			       w[i].y, w[i].width, w[i].height,
 			       f & VIS_WINDOW_MAPPED ? "mapped" : "unmapped", state,
-			       f & VIS_WINDOW_RETAINED ? "retained" : "-");
+			       f & VIS_WINDOW_RETAINED ? "retained" : "-", w[i].border, look);
 	}
 	free(w);
 	if (!n && live_sees_nothing(l))

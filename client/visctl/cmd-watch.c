@@ -33,7 +33,7 @@ static void on_signal(int sig)
 static const char *change_name(uint32_t change)
 {
 	static const char *const names[] = { "create",    "destroy", "map",      "unmap",
-					     "configure", "restack", "reparent", "resync" };
+					     "configure", "restack", "reparent", "resync", "look" };
 	return change < sizeof(names) / sizeof(names[0]) ? names[change] : "?";
 }
 
@@ -63,6 +63,15 @@ static void print_text(const struct vis_notice *n)
 		printf("stack %s %u %u %d,%d,%u,%u %u", change_name(n->stack.change), n->window,
 		       n->stack.parent, n->stack.x, n->stack.y, n->stack.width, n->stack.height,
 		       n->stack.sibling);
+		/* Only what a plain window lacks, so that plain desktops print as before. */
+		if (n->stack.border)
+			printf(" border %u", n->stack.border);
+		if (n->stack.flags & VIS_WINDOW_SHAPED)
+			printf(" shaped");
+		if (n->stack.flags & VIS_WINDOW_TRANSLUCENT)
+			printf(" translucent");
+		if (n->stack.flags & VIS_WINDOW_INPUT_ONLY)
+			printf(" input-only");
 		break;
 	case VIS_NOTICE_KIND_OVERFLOW:
 		printf("overflow %u %u", n->overflow.dropped, n->overflow.resync);
@@ -95,9 +104,13 @@ static void print_json(const struct vis_notice *n)
 		break;
 	case VIS_NOTICE_KIND_STACK:
 		printf("\"notice\":\"stack\",\"change\":\"%s\",\"window\":%u,\"parent\":%u,\"x\":%d,"
-		       "\"y\":%d,\"width\":%u,\"height\":%u,\"sibling\":%u}",
+		       "\"y\":%d,\"width\":%u,\"height\":%u,\"sibling\":%u,\"border\":%u,"
+		       "\"shaped\":%s,\"translucent\":%s,\"input_only\":%s}",
 		       change_name(n->stack.change), n->window, n->stack.parent, n->stack.x,
-		       n->stack.y, n->stack.width, n->stack.height, n->stack.sibling);
+		       n->stack.y, n->stack.width, n->stack.height, n->stack.sibling, n->stack.border,
+		       n->stack.flags & VIS_WINDOW_SHAPED ? "true" : "false",
+		       n->stack.flags & VIS_WINDOW_TRANSLUCENT ? "true" : "false",
+		       n->stack.flags & VIS_WINDOW_INPUT_ONLY ? "true" : "false");
 		break;
 	case VIS_NOTICE_KIND_OVERFLOW:
 		printf("\"notice\":\"overflow\",\"dropped\":%u,\"resync\":%u}", n->overflow.dropped,

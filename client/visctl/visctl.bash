@@ -4,7 +4,8 @@
 # Installed as `visctl` into bash-completion's completionsdir; or source it from ~/.bashrc.
 
 _visctl_commands="compute gen bench plot-service create destroy map unmap move resize raise
-	lower stack load states tree region repaint snapshot watch script sync stress help"
+	lower stack border shape opaque load states tree region repaint snapshot watch script sync
+	stress help"
 _visctl_engines="auto gmv gmv-heap region brute"
 _visctl_kinds="random uniform grid cascade tiles nested shaped translucent"
 
@@ -15,7 +16,8 @@ _visctl_options() {
 	compute) echo "--engine --visible --json --time --svg --help" ;;
 	bench) echo "--kinds --engines --sizes --max-n --reps --seed --limit --svg --csv --quick --help" ;;
 	plot-service) echo "--note --help" ;;
-	create) echo "--parent --map --retain --help" ;;
+	create) echo "--parent --map --retain --border --input-only --help" ;;
+	shape) echo "--box --help" ;;
 	load) echo "--retain --any-screen --json --help" ;;
 	states | tree | region | repaint) echo "--json --help" ;;
 	snapshot) echo "--svg --help" ;;
@@ -31,6 +33,7 @@ _visctl_takes_value() {
 	case $1:$2 in
 	:-s | :--socket | :--role) return 0 ;;
 	compute:--engine | compute:--svg | plot-service:--note | create:--parent) return 0 ;;
+	create:--border) return 0 ;;
 	snapshot:--svg | watch:--count) return 0 ;;
 	bench:--kinds | bench:--engines | bench:--sizes | bench:--max-n | bench:--reps) return 0 ;;
 	bench:--seed | bench:--limit | bench:--svg | bench:--csv) return 0 ;;

@@ -22,7 +22,14 @@ static const struct visctl_command commands[] = {
 	{ "gen", cmd_gen, NULL, "KIND N SEED [W H]", NULL },
 	{ "bench", cmd_bench, NULL, "[OPTIONS]  (see `visctl bench --help`)", NULL },
 	{ "plot-service", cmd_plot_service, NULL, "[--note TEXT] CSV SVG", NULL },
-	{ "create", NULL, cmd_create, "X Y W H [--parent ID] [--map] [--retain]", NULL },
+	{ "create", NULL, cmd_create,
+	  "X Y W H [--parent ID] [--map] [--retain] [--border B] [--input-only]",
+	  "  Creates a window and prints its ID. X Y place its border box's corner (relative\n"
+	  "  to the parent's inside), W H is its inside; --border B gives it a border of B\n"
+	  "  pixels (X's border_width: the border box is the inside grown by B on every\n"
+	  "  side); --input-only makes it X's InputOnly: no pixels, no state, hiding nothing.\n"
+	  "  --parent ID puts it under a window (default: the screen), --map maps it at\n"
+	  "  once, --retain lets it outlive this connection.\n" },
 	{ "destroy", NULL, cmd_destroy, "ID", NULL },
 	{ "map", NULL, cmd_map, "ID", NULL },
 	{ "unmap", NULL, cmd_unmap, "ID", NULL },
@@ -31,6 +38,20 @@ static const struct visctl_command commands[] = {
 	{ "raise", NULL, cmd_raise, "ID", NULL },
 	{ "lower", NULL, cmd_lower, "ID", NULL },
 	{ "stack", NULL, cmd_stack, "ID above|below SIBLING", NULL },
+	{ "border", NULL, cmd_border, "ID B",
+	  "  Sets the window's border width to B pixels, keeping its place and inside (a\n"
+	  "  configure request with the geometry read from the tree; not inside a batch).\n" },
+	{ "shape", NULL, cmd_shape, "ID [X,Y,W,H ...] | ID --box",
+	  "  Sets the window's bounding shape (X's SHAPE extension): its pixels are the\n"
+	  "  union of the rectangles, in window coordinates (0,0 is the inside's corner;\n"
+	  "  negative ones reach into the border), clipped to its border box. No rectangles:\n"
+	  "  no pixels at all (it hides nothing, and is fully obscured). --box: its whole\n"
+	  "  border box again.\n" },
+	{ "opaque", NULL, cmd_opaque, "ID none|all|X,Y,W,H ...",
+	  "  Sets which of the window's pixels hide what lies below it: all (the default),\n"
+	  "  none (a translucent window), or those inside the rectangles (window\n"
+	  "  coordinates, as _NET_WM_OPAQUE_REGION), e.g. the inside of a client-side\n"
+	  "  shadow. Windows below show through the rest.\n" },
 	{ "load", NULL, cmd_load, "[--retain] [--any-screen] [--json] SCENE", NULL },
 	{ "states", NULL, cmd_states, "[--json]",
 	  "  Prints 'ID STATE' for every viewable window the connection may see, ascending ID;\n"
@@ -39,12 +60,15 @@ static const struct visctl_command commands[] = {
 	  "  --json: one object a line, {\"window\":ID,\"state\":STATE}.\n" },
 	{ "tree", NULL, cmd_tree, "[--json]",
 	  "  Prints every window the connection may see, bottom to top, each before its\n"
-	  "  children, as 'ID PARENT X Y W H MAPPED STATE RETAINED': PARENT 0 for the screen\n"
-	  "  (or a parent this connection may not see); X Y relative to the parent; MAPPED\n"
-	  "  mapped or unmapped; STATE as in states, or none when not viewable; RETAINED\n"
-	  "  retained (outlives its connection) or -.\n"
+	  "  children, as 'ID PARENT X Y W H MAPPED STATE RETAINED BORDER LOOK': PARENT 0\n"
+	  "  for the screen (or a parent this connection may not see); X Y its border box's\n"
+	  "  corner relative to the parent's inside, W H its inside; MAPPED mapped or\n"
+	  "  unmapped; STATE as in states, or none when not viewable (or input-only);\n"
+	  "  RETAINED retained (outlives its connection) or -; BORDER its border width;\n"
+	  "  LOOK shaped, translucent, input-only (joined by commas) or -.\n"
 	  "  --json: one object a line with window, parent, x, y, width, height, mapped,\n"
-	  "  viewable, retained, parent_hidden (true, false) and state.\n" },
+	  "  viewable, retained, parent_hidden (true, false), state, border, shaped,\n"
+	  "  translucent and input_only.\n" },
 	{ "region", NULL, cmd_region, "[--json] ID",
 	  "  Prints the window's visible pixels as 'X Y W H' rectangles in the window's own\n"
 	  "  coordinates (0 0 is its top-left corner, not the screen's), y-x banded: its\n"

@@ -7,7 +7,7 @@
 #define VIS_PROTOCOL_H
 
 #define VIS_PROTOCOL_MAGIC 0x44534956u /* "VISD" in little-endian bytes */
-#define VIS_PROTOCOL_VERSION 1u
+#define VIS_PROTOCOL_VERSION 2u /* 2: borders, shapes, opaque regions, input-only windows */
 
 /* Every message, either way, is at most this many bytes, header included. */
 #define VIS_PROTOCOL_MAX_MESSAGE (16u << 20)
@@ -39,6 +39,14 @@ enum vis_role {
 enum vis_create_flags {
 	VIS_CREATE_MAP = 1u << 0,    /* map at once */
 	VIS_CREATE_RETAIN = 1u << 1, /* outlive the creating connection (X's RetainPermanent) */
+	VIS_CREATE_INPUT_ONLY = 1u << 2, /* X's InputOnly: no pixels, no state, hides nothing; border 0 */
+};
+
+/* Modes of the set-opaque request: which of a window's pixels hide what lies below it. */
+enum vis_opaque_mode {
+	VIS_OPAQUE_MODE_ALL = 0,   /* every pixel of its shape (the default) */
+	VIS_OPAQUE_MODE_NONE = 1,  /* none: a translucent window */
+	VIS_OPAQUE_MODE_RECTS = 2, /* those inside the rectangles given (window coordinates) */
 };
 
 /* Which notices a subscription asks for. */
@@ -75,6 +83,7 @@ enum vis_stack_change {
 	VIS_STACK_RESTACK = 5,   /* raised, lowered or stacked against a sibling */
 	VIS_STACK_REPARENT = 6,
 	VIS_STACK_RESYNC = 7, /* restated after an overflow notice: the window as it is now */
+	VIS_STACK_LOOK = 8,   /* its shape or opaque region changed (flags say what it is now) */
 };
 
 /* Flags of a window in the tree reply and in stack notices. */
@@ -85,6 +94,9 @@ enum vis_window_flags {
 	/* Its parent is a window the connection may not see: parent reads 0, x and y are still
 	 * relative to that parent (a client's window in a manager's frame). */
 	VIS_WINDOW_PARENT_HIDDEN = 1u << 3,
+	VIS_WINDOW_SHAPED = 1u << 4,      /* it has a bounding shape, not its border box */
+	VIS_WINDOW_TRANSLUCENT = 1u << 5, /* some of its pixels hide nothing (opaque mode 1 or 2) */
+	VIS_WINDOW_INPUT_ONLY = 1u << 6,  /* no pixels, no state */
 };
 
 /* Error codes. Errors marked fatal close the connection once the error is sent. */

@@ -71,9 +71,10 @@ struct vis_rect32 {
 /* One window of the tree, as get-tree returns it (pre-order: bottom to top). */
 struct vis_window_info {
 	uint32_t window, parent; /* parent 0: the screen, or a window this connection may not see */
-	int32_t x, y;
-	uint32_t width, height;
-	uint32_t flags; /* enum vis_window_flags */
+	int32_t x, y;            /* its border box's corner, relative to its parent's inside */
+	uint32_t width, height;  /* its inside */
+	uint32_t border;         /* its border width: the border box is the inside grown by it */
+	uint32_t flags; /* enum vis_window_flags (shaped, translucent, input-only among them) */
 	uint32_t state; /* enum vis_visibility; VIS_VISIBILITY_NONE when not viewable */
 };
 
@@ -115,6 +116,7 @@ struct vis_notice {
 			/* The sibling just below, 0 if none (for a client: or if not its own). */
 			uint32_t sibling;
 			uint32_t flags;   /* enum vis_window_flags */
+			uint32_t border;
 		} stack;
 		struct {
 			uint32_t dropped; /* notices lost */
@@ -216,6 +218,30 @@ VIS_EXPORT uint32_t vis_client_restack(struct vis_client *c, uint32_t window, ui
 				       uint32_t sibling);
 VIS_EXPORT uint32_t vis_client_reparent(struct vis_client *c, uint32_t window, uint32_t parent,
 					int32_t x, int32_t y);
+/*
+ * X's ConfigureWindow: moves the window's border box to x, y, sets its inside to width × height
+ * and its border width to border (the border box's sides at most 2147483647), at once.
+ */
+VIS_EXPORT uint32_t vis_client_configure(struct vis_client *c, uint32_t window, int32_t x,
+					 int32_t y, uint32_t width, uint32_t height,
+					 uint32_t border);
+/*
+ * Sets the window's bounding shape, as X's SHAPE extension: its pixels are the union of the n
+ * rectangles (window coordinates: relative to the inside's corner, so negative ones reach into
+ * the border), clipped to its border box; n = 0 leaves it no pixels (it then hides nothing and is
+ * fully obscured). shaped 0 (rects ignored, n must be 0) gives it its whole border box again.
+ * The rectangles are copied. At most (max_request − 20) / 16 of them fit one request.
+ */
+VIS_EXPORT uint32_t vis_client_set_shape(struct vis_client *c, uint32_t window, uint32_t shaped,
+					 const struct vis_rect32 *rects, uint32_t n);
+/*
+ * Sets which of the window's pixels hide what lies below it, as _NET_WM_OPAQUE_REGION and
+ * wl_surface.set_opaque_region: mode VIS_OPAQUE_MODE_ALL (the default) or VIS_OPAQUE_MODE_NONE
+ * (a translucent window; n must be 0), or VIS_OPAQUE_MODE_RECTS, those inside the n rectangles
+ * (window coordinates, intersected with its shape). The rectangles are copied.
+ */
+VIS_EXPORT uint32_t vis_client_set_opaque(struct vis_client *c, uint32_t window, uint32_t mode,
+					  const struct vis_rect32 *rects, uint32_t n);
 VIS_EXPORT uint32_t vis_client_batch_begin(struct vis_client *c);
 VIS_EXPORT uint32_t vis_client_batch_commit(struct vis_client *c);
 /*
@@ -250,6 +276,16 @@ typedef void (*vis_windows_cb)(void *data, const struct vis_error *err, const ui
 			       size_t n);
 typedef void (*vis_done_cb)(void *data, const struct vis_error *err);
 
+/*
+ * Creates a window under parent (VIS_WINDOW_ROOT: the screen), its border box's corner at x, y
+ * (parent coordinates: relative to the parent's inside), its inside width × height, with a border
+ * of border pixels (X's border_width; 0 for VIS_CREATE_INPUT_ONLY windows); flags are enum
+ * vis_create_flags. vis_client_create_async() is this with border 0.
+ */
+VIS_EXPORT uint32_t vis_client_create_window_async(struct vis_client *c, uint32_t parent,
+						   int32_t x, int32_t y, uint32_t width,
+						   uint32_t height, uint32_t border, uint32_t flags,
+						   vis_create_cb cb, void *data);
 VIS_EXPORT uint32_t vis_client_create_async(struct vis_client *c, uint32_t parent, int32_t x,
 					    int32_t y, uint32_t width, uint32_t height,
 					    uint32_t flags, vis_create_cb cb, void *data);
@@ -272,6 +308,9 @@ VIS_EXPORT uint32_t vis_client_sync_async(struct vis_client *c, vis_done_cb cb, 
  * (vis_client_error()).
  * Arrays are allocated with malloc; the caller frees them.
  */
+VIS_EXPORT int vis_client_create_window(struct vis_client *c, uint32_t parent, int32_t x,
+					int32_t y, uint32_t width, uint32_t height, uint32_t border,
+					uint32_t flags, uint32_t *window);
 VIS_EXPORT int vis_client_create(struct vis_client *c, uint32_t parent, int32_t x, int32_t y,
 				 uint32_t width, uint32_t height, uint32_t flags,
 				 uint32_t *window);
