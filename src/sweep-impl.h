@@ -499,8 +499,8 @@ static struct step *make_steps(const struct vis_events *ev, const uint32_t *sche
  * at random: their windows' flags, then their paths' records, then what the top source reads at
  * their canonical nodes, each far enough ahead for the next to find it in the cache.
  */
-static inline void prefetch_ahead(struct sweep *s, const struct step *st, size_t left,
-				  const uint8_t *onscreen, uint32_t m)
+WALK_INLINE void prefetch_ahead(struct sweep *s, const struct step *st, size_t left,
+				const uint8_t *onscreen, uint32_t m, bool queries)
 {
 	if (PREFETCH_WINDOW_AHEAD < left) {
 		/* Read at random z, and out of the L2 on large stacks. */
@@ -514,10 +514,20 @@ static inline void prefetch_ahead(struct sweep *s, const struct step *st, size_t
 	}
 	if (PREFETCH_NODES_AHEAD < left && !near_previous(st + PREFETCH_NODES_AHEAD) &&
 	    walks(s, st + PREFETCH_NODES_AHEAD))
-		prefetch_nodes(s, st + PREFETCH_NODES_AHEAD, m);
+		{
+		if (queries)
+			prefetch_nodes_inline(s, st + PREFETCH_NODES_AHEAD, m);
+		else
+			prefetch_nodes(s, st + PREFETCH_NODES_AHEAD, m);
+	}
 	if (SOURCE_PREFETCH && PREFETCH_SOURCE_AHEAD < left &&
 	    !near_previous(st + PREFETCH_SOURCE_AHEAD) && walks(s, st + PREFETCH_SOURCE_AHEAD))
-		prefetch_source(s, st + PREFETCH_SOURCE_AHEAD, m);
+		{
+		if (queries)
+			walk(s, WALK_PREFETCH_SOURCE, st + PREFETCH_SOURCE_AHEAD, m);
+		else
+			prefetch_source(s, st + PREFETCH_SOURCE_AHEAD, m);
+	}
 }
 
 /*
@@ -618,8 +628,8 @@ static void query_end_group(struct sweep *s, const struct vis_events *ev, const 
 }
 
 /*
- * The events, in schedule order. Inlined twice into sweep_run(), with queries a constant: a stack
- * without see-through windows runs the loop without a trace of them.
+ * The events, in schedule order. Instantiated twice, with queries a constant: a stack without
+ * see-through windows runs the loop without a trace of them.
  */
 WALK_INLINE void sweep_events(struct sweep *s, const struct vis_events *ev,
 			      const struct step *steps, const uint8_t *onscreen, bool queries)
@@ -630,7 +640,7 @@ WALK_INLINE void sweep_events(struct sweep *s, const struct vis_events *ev,
 	for (size_t i = 0; i < 2 * n; i++) {
 		const struct step *st = &steps[i];
 		if (prefetch)
-			prefetch_ahead(s, st, 2 * n - i, onscreen, m);
+			prefetch_ahead(s, st, 2 * n - i, onscreen, m, queries);
 		set_step(s, st);
 		if (queries && is_query(s, s->z)) {
 			query_event(s, st, m);
@@ -642,18 +652,24 @@ WALK_INLINE void sweep_events(struct sweep *s, const struct vis_events *ev,
 			 * need not even visit its nodes (on desktop-like stacks, most windows).
 			 */
 			if (walks(s, st)) {
-				walk_delete(s, st, m);
-				if (queries)
+				if (queries) {
+					walk(s, WALK_DELETE, st, m);
 					qwalk(s, QWALK_REFRESH, 0, 0, m, &s->root);
+				} else {
+					walk_delete(s, st, m);
+				}
 			}
 			if (s->cstate[s->z] == CAND_ACTIVE) {
 				s->cstate[s->z] = CAND_DONE;
 				cand_store(s, 0, 0, m, 0);
 			}
 		} else {
-			walk_insert(s, st, m);
-			if (queries)
+			if (queries) {
+				walk(s, WALK_INSERT, st, m);
 				qwalk(s, QWALK_REFRESH, 0, 0, m, &s->root);
+			} else {
+				walk_insert(s, st, m);
+			}
 			s->group[s->ngroup++] = *st;
 		}
 		/* Section 6: a newly reported window no longer counts in h anywhere. */
@@ -668,6 +684,19 @@ WALK_INLINE void sweep_events(struct sweep *s, const struct vis_events *ev,
 			end_group(s, ev, onscreen);
 		}
 	}
+}
+
+/*
+ * The loop with queries, a function of its own: a second copy inlined into sweep_run() would
+ * push it past the compiler's inlining limits, and the plain loop would lose its inlined walks
+ * (5% on gmv's grid).
+ */
+static __attribute__((noinline)) void sweep_events_queries(struct sweep *s,
+							   const struct vis_events *ev,
+							   const struct step *steps,
+							   const uint8_t *onscreen)
+{
+	sweep_events(s, ev, steps, onscreen, true);
 }
 
 /*
@@ -712,7 +741,7 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 		return -1;
 	}
 	if (s.nquery)
-		sweep_events(&s, ev, steps, onscreen, true);
+		sweep_events_queries(&s, ev, steps, onscreen);
 	else
 		sweep_events(&s, ev, steps, onscreen, false);
 	free(steps);

@@ -240,7 +240,11 @@ WALK_INLINE void walk(struct sweep *s, enum walk_kind kind, const struct step *s
 	climb(s, kind, hop, 0, d, changed);
 }
 
-/* The walks, each a function of its own with its kind built in. */
+/*
+ * The walks, each a function of its own with its kind built in, for the plain event loop: with
+ * one caller each, the compiler inlines them there whatever their size. The loop with queries
+ * (sweep_events_queries()) inlines walk() itself rather than be a second caller.
+ */
 static void walk_insert(struct sweep *s, const struct step *st, uint32_t m)
 {
 	walk(s, WALK_INSERT, st, m);
@@ -269,7 +273,7 @@ static inline void prefetch_path(const struct sweep *s, uint32_t v, uint32_t lo,
  * Prefetches the records of the path nodes of the event of step st: down to the split node once,
  * then along each side.
  */
-static void prefetch_nodes(struct sweep *s, const struct step *st, uint32_t m)
+WALK_INLINE void prefetch_nodes_inline(struct sweep *s, const struct step *st, uint32_t m)
 {
 	uint32_t a = st->lo, b = st->hi, v = 0, lo = 0, hi = m, mid;
 	for (;;) {
@@ -283,6 +287,11 @@ static void prefetch_nodes(struct sweep *s, const struct step *st, uint32_t m)
 	}
 	prefetch_path(s, vis_segtree_left(v), lo, mid, a, b, a);
 	prefetch_path(s, vis_segtree_right(v, lo, mid), mid, hi, a, b, b - 1);
+}
+
+static void prefetch_nodes(struct sweep *s, const struct step *st, uint32_t m)
+{
+	prefetch_nodes_inline(s, st, m);
 }
 
 static void prefetch_source(struct sweep *s, const struct step *st, uint32_t m)
