@@ -251,8 +251,15 @@ static bool check_case(const struct options *o, unsigned kind, size_t n, uint64_
 		ok = false;
 		goto out;
 	}
-	struct vis_stack stack = vis_scene_stack(&scene);
-	stack.see_through = mark == MARK_NULL ? NULL : marks;
+	/* The windows' rectangles with the marks, and nothing else the scene may carry. */
+	struct vis_stack stack = {
+		.rects = scene.rects,
+		.n = scene.n,
+		.has_screen = scene.has_screen,
+		.screen_w = scene.screen_w,
+		.screen_h = scene.screen_h,
+		.see_through = mark == MARK_NULL ? NULL : marks,
+	};
 	want = malloc(stack.n + 1);
 	got = malloc(stack.n + 1);
 	if (want == NULL || got == NULL || vis_brute_compute(&stack, want) != 0) {
