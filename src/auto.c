@@ -27,8 +27,6 @@ int vis_auto_compute(const struct vis_stack *stack, uint8_t *states)
 {
 	uint64_t budget = REGION_BOXES_PER_STEP * sweep_steps(stack->n);
 	int rc = vis_region_compute_within(stack, states, budget);
-	if (rc == 1 && stack->see_through != NULL)
-		return vis_region_compute(stack, states); /* the sweep has no see-through yet */
 	if (rc != 1)
 		return rc;
 	return vis_gmv_heap_compute(stack, states);

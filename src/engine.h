@@ -34,13 +34,15 @@ int vis_compute(enum vis_engine engine, const struct vis_stack *stack, uint8_t *
 
 /*
  * O(n log² n) time, O(n log n) space: the sweep with per-node heaps; the three states cost
- * O(n log n) more inside it.
+ * O(n log n) more inside it. See-through rectangles are asked of the same sweep, in per-node
+ * heaps of their own: O(n log² n) still.
  */
 int vis_gmv_heap_compute(const struct vis_stack *stack, uint8_t *states);
 
 /*
  * O(n log n · α(n)) time, O(n log n) space: the sweep reading offline top lists; the three states
- * cost O(n log n) more inside it.
+ * cost O(n log n) more inside it. A stack with see-through rectangles costs O(n log² n): they are
+ * asked of the same sweep through per-node heaps of their own (sweep-impl.h, "Queries").
  */
 int vis_gmv_compute(const struct vis_stack *stack, uint8_t *states);
 

@@ -160,7 +160,10 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 		}
 		uint32_t k = STEP_Z(steps[i].zf) - 1;
 		if (steps[i].zf & STEP_DELETE) {
+			/* A query's deletion walks no node: it has no slots. */
 			del[k] = (uint32_t)src->len;
+			if (s->query && is_query(s, k + 1))
+				continue;
 			for (uint32_t j = first[k]; j < first[k + 1]; j++)
 				src->stream[src->len++] = cursor[canon[j]]++;
 		} else {
@@ -169,6 +172,8 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 		}
 	}
 	memset(cursor, 0, vis_segtree_entries(m) * sizeof(*cursor));
+	/* The queries' share of the count has no slots: the stream ends early. */
+	memset(src->stream + src->len, 0, (total - src->len) * sizeof(*src->stream));
 
 	/* Fill: the highest window alive at a slot is the top there. */
 	uint32_t *next = canon;
@@ -186,6 +191,8 @@ static int source_make(struct source *src, const struct vis_events *ev, struct s
 			__builtin_prefetch(src->stream + del[later]);
 			__builtin_prefetch(src->stream + del[later] + (first[later + 1] - first[later]) - 1);
 		}
+		if (s->query && is_query(s, (uint32_t)k + 1))
+			continue;
 		const uint32_t *from = after + first[k], *to = src->stream + del[k];
 		for (uint32_t j = 0; j < first[k + 1] - first[k]; j++) {
 			for (uint32_t s = next_free(next, from[j], to[j]); s < to[j];

@@ -16,6 +16,11 @@
  *                                                      prefetches what the next calls will read
  *   void source_free(struct source *)
  * Windows are named by z = k + 1 for kept window k, 0 standing for none (the paper's −∞).
+ *
+ * See-through windows (queries) hide nothing, so they never enter the tops, the sources or the
+ * occluders' summaries: the sweep above runs on the opaque windows alone, and the queries are a
+ * second set stored at their canonical nodes of the same tree, asked against the same tops (see
+ * "Queries" below). A stack without any runs the sweep compiled without them.
  */
 #include <errno.h>
 #include <stdbool.h>
@@ -25,6 +30,7 @@
 #include "bigalloc.h"
 #include "engine.h"
 #include "events.h"
+#include "heap.h"
 #include "segtree.h"
 
 /*
@@ -94,6 +100,32 @@ enum cand_state {
 };
 
 /*
+ * Queries: the see-through windows. Query q (range [a, b), canonical nodes C(q)) is visible on a
+ * slab iff some leaf of its range has no opaque top above it there, i.e. iff at some u in C(q),
+ * q > max(S_u, l_u), S_u the highest top among u's ancestors. As for the occluders, only states
+ * after all events at one x count, so queries are tested only then (end of the x's group), and
+ * their own events may come in any order among the others at that x. Per node v:
+ * - qa[qoff[v] …], a max-heap of the queries with v in C(q), qlen[v] long; its top, Q_v, is
+ *   always live: a query reported or deleted is popped lazily, but every node whose top it is
+ *   pops it at once (as gmv-heap's dead windows);
+ * - qh[v]: the highest query stored in v's subtree that is visible within it (0 if none):
+ *   Q_v if Q_v > l_v, and a child's qh if it exceeds top_v. A lower query fails where a higher
+ *   one fails, so the maximum is the whole answer: q is visible now iff q = qh[root] or lower and
+ *   reported once qh[root] passes it. qh depends on tops and l, so every occluder walk is
+ *   followed by a walk refreshing qh on its canonical nodes and their ancestors.
+ * - Unobscured: q on the screen, below no opaque window stored over its range once the events at
+ *   its x1 are done (the path tops and the canonical nodes' m), and overlapped by no higher opaque
+ *   window starting while it is active. Queries overlap one another, so a node holds any number
+ *   of candidates: ca[qoff[v] …], a min-heap (stored as ~z in a max-heap) clen[v] long, and
+ *   qsubmin[v] the least entry in v's subtree (UINT32_MAX if none). An opaque window's insertion
+ *   pops, at the nodes of its walk and inside its canonical subtrees, every entry below it;
+ *   entries of queries that ended or were overlapped elsewhere stay until popped so, which keeps
+ *   qsubmin a lower bound that every visit it causes pays for with a pop.
+ * Cost: O(log n) heap operations of O(log n) for each query's canonical nodes, and one more
+ * O(log n) walk for each occluder event: O(N log² N) in all on a stack with see-through windows.
+ */
+
+/*
  * An event as the sweep reads it, in schedule order, so that one sequential pass gives the window,
  * its leaf range and whether it is the last event at its x without touching the per-window arrays.
  */
@@ -121,6 +153,18 @@ struct sweep {
 	size_t nfound;
 	struct source *src;
 	uint32_t a, b, z; /* the current event's leaf range and window */
+	/* Queries (see below); all NULL or 0 for a stack without see-through windows. */
+	size_t nquery;
+	uint64_t *query;  /* a bit by z: a see-through window */
+	uint64_t *qdead;  /* a bit by z: a query deleted unreported */
+	uint32_t *qoff;	  /* by node: its slices' offset in qa and ca */
+	uint32_t *qlen;	  /* by node: the queries in its max-heap qa */
+	uint32_t *clen;	  /* by node: the candidates in its min-heap ca */
+	uint32_t *qh;	  /* by node: its query summary */
+	uint32_t *qsubmin; /* by node: the lowest candidate entry in its subtree */
+	uint32_t *qa, *ca;
+	struct step *qgroup; /* queries inserted at the current x */
+	size_t nqgroup;
 };
 
 static inline uint32_t max32(uint32_t a, uint32_t b)
@@ -179,9 +223,25 @@ static void count_canonical(const struct vis_events *ev, uint32_t *count, size_t
 		first[ev->n] = (uint32_t)*total;
 }
 
+static inline bool bit_get(const uint64_t *bits, uint32_t z)
+{
+	return bits[z / 64] >> (z % 64) & 1;
+}
+
+static inline void bit_set(uint64_t *bits, uint32_t z)
+{
+	bits[z / 64] |= (uint64_t)1 << (z % 64);
+}
+
 static inline bool is_reported(const struct sweep *s, uint32_t z)
 {
-	return s->reported[z / 64] >> (z % 64) & 1;
+	return bit_get(s->reported, z);
+}
+
+/* Whether window z is see-through; only for a sweep with queries (s->query set). */
+static inline bool is_query(const struct sweep *s, uint32_t z)
+{
+	return bit_get(s->query, z);
 }
 
 /* A node's l: the lowest window visible at some leaf of its subtree, within the subtree. */
@@ -389,6 +449,16 @@ static void sweep_free(struct sweep *s)
 	free(s->newly);
 	free(s->group);
 	free(s->found);
+	free(s->query);
+	free(s->qdead);
+	vis_bigfree(s->qoff);
+	vis_bigfree(s->qlen);
+	vis_bigfree(s->clen);
+	vis_bigfree(s->qh);
+	vis_bigfree(s->qsubmin);
+	vis_bigfree(s->qa);
+	vis_bigfree(s->ca);
+	free(s->qgroup);
 }
 
 #define STEPS_AHEAD 16
@@ -429,8 +499,8 @@ static struct step *make_steps(const struct vis_events *ev, const uint32_t *sche
  * at random: their windows' flags, then their paths' records, then what the top source reads at
  * their canonical nodes, each far enough ahead for the next to find it in the cache.
  */
-static inline void prefetch_ahead(struct sweep *s, const struct step *st, size_t left,
-				  const uint8_t *onscreen, uint32_t m)
+WALK_INLINE void prefetch_ahead(struct sweep *s, const struct step *st, size_t left,
+				const uint8_t *onscreen, uint32_t m, bool queries)
 {
 	if (PREFETCH_WINDOW_AHEAD < left) {
 		/* Read at random z, and out of the L2 on large stacks. */
@@ -444,10 +514,189 @@ static inline void prefetch_ahead(struct sweep *s, const struct step *st, size_t
 	}
 	if (PREFETCH_NODES_AHEAD < left && !near_previous(st + PREFETCH_NODES_AHEAD) &&
 	    walks(s, st + PREFETCH_NODES_AHEAD))
-		prefetch_nodes(s, st + PREFETCH_NODES_AHEAD, m);
+		{
+		if (queries)
+			prefetch_nodes_inline(s, st + PREFETCH_NODES_AHEAD, m);
+		else
+			prefetch_nodes(s, st + PREFETCH_NODES_AHEAD, m);
+	}
 	if (SOURCE_PREFETCH && PREFETCH_SOURCE_AHEAD < left &&
 	    !near_previous(st + PREFETCH_SOURCE_AHEAD) && walks(s, st + PREFETCH_SOURCE_AHEAD))
-		prefetch_source(s, st + PREFETCH_SOURCE_AHEAD, m);
+		{
+		if (queries)
+			walk(s, WALK_PREFETCH_SOURCE, st + PREFETCH_SOURCE_AHEAD, m);
+		else
+			prefetch_source(s, st + PREFETCH_SOURCE_AHEAD, m);
+	}
+}
+
+/*
+ * Sets up the queries' arrays: query[k] says whether kept window k is see-through. Returns 0, or
+ * -1 (ENOMEM, EOVERFLOW). O(q log m) for q queries, and O(m) for the per-node arrays.
+ */
+static int queries_make(struct sweep *s, const struct vis_events *ev, const uint8_t *query)
+{
+	size_t n = ev->n, nodes = vis_segtree_nodes(ev->nleaves), total = 0;
+	uint32_t m = ev->nleaves, out[VIS_SEGTREE_MAX_CANONICAL];
+	s->query = calloc(n / 64 + 1, sizeof(*s->query));
+	s->qdead = calloc(n / 64 + 1, sizeof(*s->qdead));
+	s->qoff = vis_bigalloc(nodes * sizeof(*s->qoff), true);
+	s->qlen = vis_bigalloc(nodes * sizeof(*s->qlen), true);
+	s->clen = vis_bigalloc(nodes * sizeof(*s->clen), true);
+	s->qh = vis_bigalloc(nodes * sizeof(*s->qh), true);
+	s->qsubmin = vis_bigalloc(nodes * sizeof(*s->qsubmin), false);
+	s->qgroup = malloc(n * sizeof(*s->qgroup));
+	if (!s->query || !s->qdead || !s->qoff || !s->qlen || !s->clen || !s->qh || !s->qsubmin ||
+	    !s->qgroup) {
+		errno = ENOMEM;
+		return -1;
+	}
+	/* qoff counts each node's queries first, then becomes their prefix sums. */
+	for (size_t k = 0; k < n; k++) {
+		if (!query[k])
+			continue;
+		s->nquery++;
+		bit_set(s->query, (uint32_t)k + 1);
+		size_t c = vis_segtree_canonical(m, ev->lo[k], ev->hi[k], out);
+		for (size_t j = 0; j < c; j++)
+			s->qoff[out[j]]++;
+		total += c;
+	}
+	if (total > UINT32_MAX) {
+		errno = EOVERFLOW;
+		return -1;
+	}
+	uint32_t sum = 0;
+	for (size_t v = 0; v < nodes; v++) {
+		uint32_t c = s->qoff[v];
+		s->qoff[v] = sum;
+		sum += c;
+		s->qsubmin[v] = UINT32_MAX;
+	}
+	s->qa = vis_bigalloc(total * sizeof(*s->qa) + 1, false);
+	s->ca = vis_bigalloc(total * sizeof(*s->ca) + 1, false);
+	if (!s->qa || !s->ca) {
+		errno = ENOMEM;
+		return -1;
+	}
+	return 0;
+}
+
+/* A query's insertion or deletion: its heaps; the tests wait for the end of its x. */
+static void query_event(struct sweep *s, const struct step *st, uint32_t m)
+{
+	if (st->zf & STEP_DELETE) {
+		if (s->cstate[s->z] == CAND_ACTIVE)
+			s->cstate[s->z] = CAND_DONE;
+		/* A reported query is gone already, and tops no heap. */
+		if (!is_reported(s, s->z)) {
+			bit_set(s->qdead, s->z);
+			qwalk(s, QWALK_CLEAN, 0, 0, m, &s->root);
+		}
+	} else {
+		qwalk(s, QWALK_PUSH, 0, 0, m, &s->root);
+		s->qgroup[s->nqgroup++] = *st;
+	}
+}
+
+/*
+ * After all events at one x, the queries' part: the opaque windows that started there (the
+ * group, before end_group() empties it) overlap the query candidates they meet; the queries
+ * that started there and are on the screen and under no higher opaque window become candidates;
+ * then every query visible now is reported, highest first.
+ */
+static void query_end_group(struct sweep *s, const struct vis_events *ev, const uint8_t *onscreen)
+{
+	uint32_t m = ev->nleaves, z;
+	for (size_t g = 0; g < s->ngroup; g++) {
+		set_step(s, &s->group[g]);
+		qfind(s, 0, 0, m);
+	}
+	for (size_t g = 0; g < s->nqgroup; g++) {
+		set_step(s, &s->qgroup[g]);
+		if (onscreen[s->z - 1] && q_on_top(s, 0, 0, m, &s->root)) {
+			s->cstate[s->z] = CAND_ACTIVE;
+			qcand_store(s, 0, 0, m);
+		}
+	}
+	s->nqgroup = 0;
+	while ((z = s->qh[0]) != 0) {
+		bit_set(s->reported, z);
+		set_window(s, ev, z - 1);
+		qwalk(s, QWALK_CLEAN, 0, 0, m, &s->root);
+	}
+}
+
+/*
+ * The events, in schedule order. Instantiated twice, with queries a constant: a stack without
+ * see-through windows runs the loop without a trace of them.
+ */
+WALK_INLINE void sweep_events(struct sweep *s, const struct vis_events *ev,
+			      const struct step *steps, const uint8_t *onscreen, bool queries)
+{
+	size_t n = ev->n;
+	uint32_t m = ev->nleaves;
+	bool prefetch = prefetch_pays(m);
+	for (size_t i = 0; i < 2 * n; i++) {
+		const struct step *st = &steps[i];
+		if (prefetch)
+			prefetch_ahead(s, st, 2 * n - i, onscreen, m, queries);
+		set_step(s, st);
+		if (queries && is_query(s, s->z)) {
+			query_event(s, st, m);
+		} else if (st->zf & STEP_DELETE) {
+			source_deleted(s->src, s->z);
+			/*
+			 * A window that tops no node is hidden wherever it is stored: deleting it
+			 * changes no summary and exposes nothing. A source that deletes lazily
+			 * need not even visit its nodes (on desktop-like stacks, most windows).
+			 */
+			if (walks(s, st)) {
+				if (queries) {
+					walk(s, WALK_DELETE, st, m);
+					qwalk(s, QWALK_REFRESH, 0, 0, m, &s->root);
+				} else {
+					walk_delete(s, st, m);
+				}
+			}
+			if (s->cstate[s->z] == CAND_ACTIVE) {
+				s->cstate[s->z] = CAND_DONE;
+				cand_store(s, 0, 0, m, 0);
+			}
+		} else {
+			if (queries) {
+				walk(s, WALK_INSERT, st, m);
+				qwalk(s, QWALK_REFRESH, 0, 0, m, &s->root);
+			} else {
+				walk_insert(s, st, m);
+			}
+			s->group[s->ngroup++] = *st;
+		}
+		/* Section 6: a newly reported window no longer counts in h anywhere. */
+		for (size_t j = 0; j < s->nnewly; j++) {
+			set_window(s, ev, s->newly[j] - 1);
+			refresh(s, 0, 0, m, &s->root);
+		}
+		s->nnewly = 0;
+		if (st->zf & STEP_LAST_AT_X) {
+			if (queries)
+				query_end_group(s, ev, onscreen);
+			end_group(s, ev, onscreen);
+		}
+	}
+}
+
+/*
+ * The loop with queries, a function of its own: a second copy inlined into sweep_run() would
+ * push it past the compiler's inlining limits, and the plain loop would lose its inlined walks
+ * (5% on gmv's grid).
+ */
+static __attribute__((noinline)) void sweep_events_queries(struct sweep *s,
+							   const struct vis_events *ev,
+							   const struct step *steps,
+							   const uint8_t *onscreen)
+{
+	sweep_events(s, ev, steps, onscreen, true);
 }
 
 /*
@@ -456,7 +705,7 @@ static inline void prefetch_ahead(struct sweep *s, const struct step *st, size_t
  * Returns 0, or -1 (ENOMEM). O(n log n) node visits, plus what the top source costs.
  */
 static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const uint8_t *onscreen,
-		     uint8_t *states)
+		     const uint8_t *query, uint8_t *states)
 {
 	struct source src;
 	size_t n = ev->n, nodes = vis_segtree_nodes(ev->nleaves);
@@ -481,44 +730,20 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 	}
 	for (size_t v = 0; v < nodes; v++)
 		s.submin[v] = UINT32_MAX;
+	if (query && queries_make(&s, ev, query) < 0) {
+		sweep_free(&s);
+		return -1;
+	}
 	struct step *steps = make_steps(ev, sched);
 	if (!steps || source_make(&src, ev, steps, &s) < 0) {
 		free(steps);
 		sweep_free(&s);
 		return -1;
 	}
-	bool prefetch = prefetch_pays(m);
-	for (size_t i = 0; i < 2 * n; i++) {
-		const struct step *st = &steps[i];
-		if (prefetch)
-			prefetch_ahead(&s, st, 2 * n - i, onscreen, m);
-		set_step(&s, st);
-		if (st->zf & STEP_DELETE) {
-			source_deleted(&src, s.z);
-			/*
-			 * A window that tops no node is hidden wherever it is stored: deleting it
-			 * changes no summary and exposes nothing. A source that deletes lazily
-			 * need not even visit its nodes (on desktop-like stacks, most windows).
-			 */
-			if (walks(&s, st))
-				walk_delete(&s, st, m);
-			if (s.cstate[s.z] == CAND_ACTIVE) {
-				s.cstate[s.z] = CAND_DONE;
-				cand_store(&s, 0, 0, m, 0);
-			}
-		} else {
-			walk_insert(&s, st, m);
-			s.group[s.ngroup++] = *st;
-		}
-		/* Section 6: a newly reported window no longer counts in h anywhere. */
-		for (size_t j = 0; j < s.nnewly; j++) {
-			set_window(&s, ev, s.newly[j] - 1);
-			refresh(&s, 0, 0, m, &s.root);
-		}
-		s.nnewly = 0;
-		if (st->zf & STEP_LAST_AT_X)
-			end_group(&s, ev, onscreen);
-	}
+	if (s.nquery)
+		sweep_events_queries(&s, ev, steps, onscreen);
+	else
+		sweep_events(&s, ev, steps, onscreen, false);
 	free(steps);
 	for (size_t k = 0; k < n; k++) {
 		uint32_t z = (uint32_t)k + 1;
@@ -534,13 +759,6 @@ static int sweep_run(const struct vis_events *ev, const uint32_t *sched, const u
 /* The engine: events, schedule, sweep. */
 static int sweep_compute(const struct vis_stack *stack, uint8_t *states)
 {
-	/* The sweep does not yet keep see-through rectangles apart from the occluders. */
-	for (size_t i = 0; stack->see_through != NULL && i < stack->n; i++) {
-		if (stack->see_through[i]) {
-			errno = EOPNOTSUPP;
-			return -1;
-		}
-	}
 	for (size_t i = 0; i < stack->n; i++)
 		states[i] = VIS_FULLY_OBSCURED;
 	struct vis_events ev;
@@ -548,19 +766,30 @@ static int sweep_compute(const struct vis_stack *stack, uint8_t *states)
 		return -1;
 	int rc = -1;
 	uint32_t *sched = malloc(2 * ev.n * sizeof(*sched) + 1);
-	uint8_t *onscreen = malloc(ev.n + 1);
+	uint8_t *onscreen = malloc(ev.n + 1), *query = NULL;
 	if (!sched || !onscreen) {
 		errno = ENOMEM;
 		goto out;
 	}
 	for (size_t k = 0; k < ev.n; k++)
 		onscreen[k] = vis_stack_on_screen(stack, ev.idx[k]);
+	/* The queries, if any window kept is see-through. */
+	for (size_t k = 0; stack->see_through != NULL && k < ev.n; k++) {
+		if (!stack->see_through[ev.idx[k]])
+			continue;
+		if (!query && !(query = calloc(ev.n, 1))) {
+			errno = ENOMEM;
+			goto out;
+		}
+		query[k] = 1;
+	}
 	if (vis_events_schedule(&ev, sched) < 0)
 		goto out;
-	rc = sweep_run(&ev, sched, onscreen, states);
+	rc = sweep_run(&ev, sched, onscreen, query, states);
 out:
 	free(sched);
 	free(onscreen);
+	free(query);
 	vis_events_finish(&ev);
 	return rc;
 }

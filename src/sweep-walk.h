@@ -240,7 +240,11 @@ WALK_INLINE void walk(struct sweep *s, enum walk_kind kind, const struct step *s
 	climb(s, kind, hop, 0, d, changed);
 }
 
-/* The walks, each a function of its own with its kind built in. */
+/*
+ * The walks, each a function of its own with its kind built in, for the plain event loop: with
+ * one caller each, the compiler inlines them there whatever their size. The loop with queries
+ * (sweep_events_queries()) inlines walk() itself rather than be a second caller.
+ */
 static void walk_insert(struct sweep *s, const struct step *st, uint32_t m)
 {
 	walk(s, WALK_INSERT, st, m);
@@ -269,7 +273,7 @@ static inline void prefetch_path(const struct sweep *s, uint32_t v, uint32_t lo,
  * Prefetches the records of the path nodes of the event of step st: down to the split node once,
  * then along each side.
  */
-static void prefetch_nodes(struct sweep *s, const struct step *st, uint32_t m)
+WALK_INLINE void prefetch_nodes_inline(struct sweep *s, const struct step *st, uint32_t m)
 {
 	uint32_t a = st->lo, b = st->hi, v = 0, lo = 0, hi = m, mid;
 	for (;;) {
@@ -285,6 +289,11 @@ static void prefetch_nodes(struct sweep *s, const struct step *st, uint32_t m)
 	prefetch_path(s, vis_segtree_right(v, lo, mid), mid, hi, a, b, b - 1);
 }
 
+static void prefetch_nodes(struct sweep *s, const struct step *st, uint32_t m)
+{
+	prefetch_nodes_inline(s, st, m);
+}
+
 static void prefetch_source(struct sweep *s, const struct step *st, uint32_t m)
 {
 	walk(s, WALK_PREFETCH_SOURCE, st, m);
@@ -294,4 +303,150 @@ static void prefetch_source(struct sweep *s, const struct step *st, uint32_t m)
 static inline bool walks(const struct sweep *s, const struct step *st)
 {
 	return !(st->zf & STEP_DELETE) || !SOURCE_LAZY_DELETE || s->ntop[STEP_Z(st->zf)] > 0;
+}
+
+/*
+ * The queries' walks (sweep-impl.h, "Queries"): the see-through windows' heaps and summaries,
+ * walked by node number with each node's entry at hand. Recursive: they run only on stacks with
+ * see-through windows, and their cost is the heaps', not the misses.
+ */
+
+/* The top of node v's query heap, 0 if empty. */
+static inline uint32_t qtop(const struct sweep *s, uint32_t v)
+{
+	return s->qlen[v] ? s->qa[s->qoff[v]] : 0;
+}
+
+/* Whether query z has left the heaps' account: reported, or deleted unreported. */
+static inline bool qgone(const struct sweep *s, uint32_t z)
+{
+	return is_reported(s, z) || bit_get(s->qdead, z);
+}
+
+/* Recomputes qh[v], node v covering [lo, hi) with entry e, from its heap and its children. */
+static inline void qupdate(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi,
+			   const struct entry *e)
+{
+	uint32_t q = qtop(s, v), h = q > entry_l(e) ? q : 0;
+	if (hi - lo > 1) {
+		uint32_t mid = vis_segtree_mid(lo, hi);
+		uint32_t c = max32(s->qh[vis_segtree_left(v)], s->qh[vis_segtree_right(v, lo, mid)]);
+		if (c > e->top)
+			h = max32(h, c);
+	}
+	s->qh[v] = h;
+}
+
+enum qwalk_kind {
+	QWALK_REFRESH, /* after an occluder walk over [a, b): tops and l changed there */
+	QWALK_PUSH,    /* query z starts: into the heaps of its canonical nodes */
+	QWALK_CLEAN,   /* query z is gone: off the heaps it tops */
+};
+
+/* Walks [a, b) from node v covering [lo, hi) with entry e, refreshing qh on the way back. */
+static void qwalk(struct sweep *s, enum qwalk_kind kind, uint32_t v, uint32_t lo, uint32_t hi,
+		  const struct entry *e)
+{
+	if (s->a <= lo && hi <= s->b) {
+		uint32_t *a = s->qa + s->qoff[v];
+		if (kind == QWALK_PUSH) {
+			vis_heap_push(a, &s->qlen[v], s->z);
+		} else if (kind == QWALK_CLEAN) {
+			while (s->qlen[v] && qgone(s, a[0]))
+				vis_heap_pop(a, &s->qlen[v]);
+		}
+	} else {
+		const struct record *r = &s->rec[v - lo];
+		uint32_t mid = vis_segtree_mid(lo, hi);
+		if (s->a < mid)
+			qwalk(s, kind, vis_segtree_left(v), lo, mid, &r->e[0]);
+		if (s->b > mid)
+			qwalk(s, kind, vis_segtree_right(v, lo, mid), mid, hi, &r->e[1]);
+	}
+	qupdate(s, v, lo, hi, e);
+}
+
+/* Recomputes qsubmin[v], node v covering [lo, hi). */
+static inline void qsubmin_update(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi)
+{
+	uint32_t mn = s->clen[v] ? ~s->ca[s->qoff[v]] : UINT32_MAX;
+	if (hi - lo > 1) {
+		uint32_t mid = vis_segtree_mid(lo, hi);
+		mn = min32(mn, min32(s->qsubmin[vis_segtree_left(v)],
+				     s->qsubmin[vis_segtree_right(v, lo, mid)]));
+	}
+	s->qsubmin[v] = mn;
+}
+
+/* Makes query z a candidate at the canonical nodes of [a, b). */
+static void qcand_store(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi)
+{
+	if (s->a <= lo && hi <= s->b) {
+		vis_heap_push(s->ca + s->qoff[v], &s->clen[v], ~s->z);
+	} else {
+		uint32_t mid = vis_segtree_mid(lo, hi);
+		if (s->a < mid)
+			qcand_store(s, vis_segtree_left(v), lo, mid);
+		if (s->b > mid)
+			qcand_store(s, vis_segtree_right(v, lo, mid), mid, hi);
+	}
+	qsubmin_update(s, v, lo, hi);
+}
+
+/* Pops node v's candidate entries below z, which overlap opaque window z: none is unobscured. */
+static inline void qpop_below(struct sweep *s, uint32_t v)
+{
+	uint32_t *a = s->ca + s->qoff[v];
+	while (s->clen[v] && ~a[0] < s->z) {
+		uint32_t c = ~a[0];
+		vis_heap_pop(a, &s->clen[v]);
+		if (s->cstate[c] == CAND_ACTIVE)
+			s->cstate[c] = CAND_OVERLAPPED;
+	}
+}
+
+/* Pops the candidate entries below z in v's subtree, all of which overlap window z. */
+static void qfind_below(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi)
+{
+	if (s->qsubmin[v] >= s->z)
+		return;
+	qpop_below(s, v);
+	if (hi - lo > 1) {
+		uint32_t mid = vis_segtree_mid(lo, hi);
+		qfind_below(s, vis_segtree_left(v), lo, mid);
+		qfind_below(s, vis_segtree_right(v, lo, mid), mid, hi);
+	}
+	qsubmin_update(s, v, lo, hi);
+}
+
+/* Pops the candidate entries below opaque window z stored where they overlap [a, b). */
+static void qfind(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi)
+{
+	if (s->qsubmin[v] >= s->z)
+		return;
+	if (s->a <= lo && hi <= s->b) {
+		qfind_below(s, v, lo, hi);
+		return;
+	}
+	qpop_below(s, v);
+	uint32_t mid = vis_segtree_mid(lo, hi);
+	if (s->a < mid)
+		qfind(s, vis_segtree_left(v), lo, mid);
+	if (s->b > mid)
+		qfind(s, vis_segtree_right(v, lo, mid), mid, hi);
+	qsubmin_update(s, v, lo, hi);
+}
+
+/* Whether no opaque window above query z is stored over [a, b): on_top() for a query. */
+static bool q_on_top(struct sweep *s, uint32_t v, uint32_t lo, uint32_t hi, const struct entry *e)
+{
+	if (e->top > s->z)
+		return false;
+	if (s->a <= lo && hi <= s->b)
+		return e->cm < s->z;
+	const struct record *r = &s->rec[v - lo];
+	uint32_t mid = vis_segtree_mid(lo, hi);
+	if (s->a < mid && !q_on_top(s, vis_segtree_left(v), lo, mid, &r->e[0]))
+		return false;
+	return !(s->b > mid && !q_on_top(s, vis_segtree_right(v, lo, mid), mid, hi, &r->e[1]));
 }
