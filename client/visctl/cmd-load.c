@@ -50,16 +50,58 @@ static int read_scene(struct live *l, const char *path, struct vis_scene *scene)
 	return VISCTL_EXIT_USAGE;
 }
 
+/* Whether a window's look needs requests of its own after create: a shape or opaque region. */
+static bool needs_look_requests(const struct vis_look *look)
+{
+	return look->shaped || look->opaque != VIS_OPAQUE_ALL;
+}
+
+/* Sends a window's shape and opaque region, its rectangles as the protocol's. */
+static bool send_look(struct vis_client *c, uint32_t window, const struct vis_look *look)
+{
+	const struct vis_rect *r[2] = { look->shape, look->opaque_rects };
+	uint32_t n[2] = { look->n_shape, look->n_opaque };
+	for (int k = 0; k < 2; k++) {
+		if ((k == 0 && !look->shaped) || (k == 1 && look->opaque == VIS_OPAQUE_ALL))
+			continue;
+		struct vis_rect32 *v = malloc((n[k] ? n[k] : 1) * sizeof(*v));
+		if (!v)
+			return false;
+		for (uint32_t i = 0; i < n[k]; i++)
+			v[i] = (struct vis_rect32){ r[k][i].x, r[k][i].y, (uint32_t)r[k][i].w,
+						    (uint32_t)r[k][i].h };
+		uint32_t seq = k == 0 ? vis_client_set_shape(c, window, 1, v, n[k])
+				      : vis_client_set_opaque(c, window, look->opaque, v, n[k]);
+		free(v);
+		if (!seq)
+			return false;
+	}
+	return true;
+}
+
+/*
+ * Creates the scene's windows. Borders and input-only go with create; shapes and opaque regions
+ * need the windows' IDs, which come at the batch's commit: then the windows are created unmapped
+ * and a second batch gives them their looks and maps them, so that no recompute sees them half
+ * made.
+ */
 int cmd_load_batch(struct vis_client *c, const struct vis_scene *scene, uint32_t flags,
 		   struct load *ld)
 {
+	bool second = false;
+	for (size_t i = 0; scene->looks && i < scene->n && !second; i++)
+		second = needs_look_requests(&scene->looks[i]);
+	uint32_t create_flags = second ? flags & ~(uint32_t)VIS_CREATE_MAP : flags;
 	uint32_t begin = vis_client_batch_begin(c);
 	if (!begin)
 		return -1;
 	for (size_t i = 0; i < scene->n; i++) {
 		const struct vis_rect *r = &scene->rects[i];
-		if (!vis_client_create_async(c, VIS_WINDOW_ROOT, r->x, r->y, (uint32_t)r->w,
-					     (uint32_t)r->h, flags, on_created, ld))
+		const struct vis_look *look = scene->looks ? &scene->looks[i] : NULL;
+		uint32_t f = create_flags | (look && look->input_only ? VIS_CREATE_INPUT_ONLY : 0);
+		if (!vis_client_create_window_async(c, VIS_WINDOW_ROOT, r->x, r->y, (uint32_t)r->w,
+						    (uint32_t)r->h, look ? (uint32_t)look->border : 0,
+						    f, on_created, ld))
 			return -1;
 		if ((i + 1) % LOAD_DRAIN_EVERY == 0 && live_drain(c) < 0)
 			return -1;
@@ -70,6 +112,24 @@ int cmd_load_batch(struct vis_client *c, const struct vis_scene *scene, uint32_t
 	if (vis_client_roundtrip(c) < 0 || ld->failed)
 		return -1;
 	/* batch-begin or batch-commit may have failed without a reply to carry it. */
+	if (vis_client_last_error(c, &e) && e.seq >= begin)
+		return -1;
+	if (!second)
+		return 0;
+	if (!(begin = vis_client_batch_begin(c)))
+		return -1;
+	for (size_t i = 0; i < scene->n; i++) {
+		if (needs_look_requests(&scene->looks[i]) &&
+		    !send_look(c, ld->windows[i], &scene->looks[i]))
+			return -1;
+		if ((flags & VIS_CREATE_MAP) && !vis_client_map(c, ld->windows[i]))
+			return -1;
+		if ((i + 1) % LOAD_DRAIN_EVERY == 0 && live_drain(c) < 0)
+			return -1;
+	}
+	if (!vis_client_batch_commit(c) || vis_client_roundtrip(c) < 0)
+		return -1;
+	/* A shape, opaque region or map of the second batch failed: the error says which. */
 	if (vis_client_last_error(c, &e) && e.seq >= begin)
 		return -1;
 	return 0;
@@ -90,7 +150,8 @@ int cmd_load(struct live *l, int argc, char **argv)
 			       "  line, {\"scene_id\":ID,\"window\":ID}). SCENE is a path or '-'.\n"
 			       "  A scene whose screen line differs from the daemon's screen is refused\n"
 			       "  (exit status 1): its states would not be visctl compute's. --any-screen\n"
-			       "  loads it on the daemon's screen all the same.\n");
+			       "  loads it on the daemon's screen all the same. Borders, shapes, opaque\n"
+			       "  regions and input-only windows load as the scene gives them.\n");
 			return fflush(stdout) == 0 ? VISCTL_EXIT_OK : VISCTL_EXIT_FAILURE;
 		}
 		if (strcmp(a, "--retain") == 0)

@@ -101,8 +101,8 @@ static void report_leftovers(struct live *l, const struct script *sc, const char
 /* Whether a command may stand inside a batch: the changes, which have no reply to wait for. */
 static int batchable(const char *name)
 {
-	static const char *const names[] = { "destroy", "map",	 "unmap", "move",
-					     "resize",	"raise", "lower", "stack" };
+	static const char *const names[] = { "destroy", "map",	 "unmap", "move",  "resize",
+					     "raise",	"lower", "stack", "shape", "opaque" };
 	for (size_t i = 0; i < sizeof(names) / sizeof(names[0]); i++)
 		if (strcmp(name, names[i]) == 0)
 			return 1;
