@@ -464,7 +464,9 @@ static void do_get_states(struct client *c, uint32_t seq)
 		goto out;
 	}
 	for (size_t i = 0; i < tree->n_order; i++)
-		if (tree->order[i] && server_may_see(c, tree->order[i])) {
+		/* Input-only windows are viewable but have no state: none is listed. */
+		if (tree->order[i] && tree->order[i]->state != VIS_WTREE_STATE_NONE &&
+		    server_may_see(c, tree->order[i])) {
 			keys[n] = tree->order[i]->id;
 			vals[n++] = tree->order[i]->state;
 		}

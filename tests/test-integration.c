@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 #include "engine.h"
+#include "look.h"
 #include "rng.h"
 #include "vis/visclient.h"
 
@@ -702,23 +703,37 @@ static void test_random(uint64_t seed, int steps)
 	struct vis_client *obs = connect_to(sock, VIS_ROLE_OBSERVER, &log);
 	vis_client_subscribe(obs, VIS_WINDOW_ALL, VIS_NOTICE_VISIBILITY, 0);
 	vis_client_roundtrip(obs);
-	/* The model: the stack as the test expects it, bottom to top. */
+	/* The model: the stack as the test expects it, bottom to top, with each window's look (its
+	 * rectangles kept beside it: the look's pointers are set when the stack is made). */
 	struct model {
 		uint32_t id;
 		struct vis_rect r;
 		bool mapped;
+		struct vis_look look;
+		struct vis_rect shape[4], opaque[4];
 	} m[64], tmp;
 	size_t n = 0;
 	for (int step = 0; step < steps; step++) {
-		int op = (int)vis_rng_below(&rng, 10);
+		int op = (int)vis_rng_below(&rng, 13);
 		int32_t x = (int32_t)vis_rng_range(&rng, -20, SCREEN_W);
 		int32_t y = (int32_t)vis_rng_range(&rng, -20, SCREEN_H);
 		uint32_t w = 1 + (uint32_t)vis_rng_below(&rng, vis_rng_below(&rng, 4) ? 60 : 220);
 		uint32_t h = 1 + (uint32_t)vis_rng_below(&rng, vis_rng_below(&rng, 4) ? 40 : 120);
 		if (n < 2 || (op == 0 && n < 64)) {
 			bool map = vis_rng_below(&rng, 5) != 0;
-			m[n].id = create(mgr, 0, x, y, w, h, map ? VIS_CREATE_MAP : 0);
+			bool input_only = vis_rng_below(&rng, 10) == 0;
+			uint32_t border = input_only ? 0 : (uint32_t)vis_rng_below(&rng, 3);
+			memset(&m[n], 0, sizeof m[n]);
+			uint32_t id = 0;
+			CHECK(vis_client_create_window(mgr, 0, x, y, w, h, border,
+						       (map ? VIS_CREATE_MAP : 0) |
+							       (input_only ? VIS_CREATE_INPUT_ONLY : 0),
+						       &id) == 0,
+			      "create failed");
+			m[n].id = id;
 			m[n].r = (struct vis_rect){ x, y, (int32_t)w, (int32_t)h };
+			m[n].look.border = (int32_t)border;
+			m[n].look.input_only = input_only;
 			m[n++].mapped = map;
 			continue;
 		}
@@ -769,6 +784,48 @@ static void test_random(uint64_t seed, int steps)
 			at += op == 8;
 			memmove(&m[at + 1], &m[at], (n - 1 - at) * sizeof *m);
 			m[at] = tmp;
+			break;
+		}
+		case 10: { /* configure: a new place, size and border at once */
+			if (m[k].look.input_only)
+				break;
+			uint32_t b = (uint32_t)vis_rng_below(&rng, 4);
+			vis_client_configure(mgr, id, x, y, w, h, b);
+			m[k].r = (struct vis_rect){ x, y, (int32_t)w, (int32_t)h };
+			m[k].look.border = (int32_t)b;
+			break;
+		}
+		case 11:
+		case 12: { /* a shape, or an opaque region: rectangles in window coordinates */
+			if (m[k].look.input_only)
+				break;
+			uint32_t count = (uint32_t)vis_rng_below(&rng, 5), mode = 1;
+			struct vis_rect32 r32[4];
+			struct vis_rect *r = op == 11 ? m[k].shape : m[k].opaque;
+			if (op == 12)
+				mode = count == 4 ? VIS_OPAQUE_MODE_ALL
+				     : count == 0 ? VIS_OPAQUE_MODE_NONE : VIS_OPAQUE_MODE_RECTS;
+			else if (count == 4)
+				mode = 0; /* back to the border box */
+			uint32_t nr = (op == 11 && mode == 1) || (op == 12 && mode == 2) ? count : 0;
+			for (uint32_t q = 0; q < nr; q++) {
+				r[q] = (struct vis_rect){ (int32_t)vis_rng_range(&rng, -3, m[k].r.w),
+							  (int32_t)vis_rng_range(&rng, -3, m[k].r.h),
+							  (int32_t)vis_rng_range(&rng, 1, m[k].r.w),
+							  (int32_t)vis_rng_range(&rng, 1, m[k].r.h) };
+				r32[q] = (struct vis_rect32){ r[q].x, r[q].y, (uint32_t)r[q].w,
+							      (uint32_t)r[q].h };
+			}
+			if (op == 11) {
+				vis_client_set_shape(mgr, id, mode, r32, nr);
+				m[k].look.shaped = mode == 1;
+				m[k].look.n_shape = nr;
+			} else {
+				vis_client_set_opaque(mgr, id, mode, r32, nr);
+				m[k].look.opaque = (uint8_t)mode;
+				m[k].look.n_opaque = nr;
+			}
+			break;
 		}
 		}
 		if (step % 7)
@@ -782,26 +839,40 @@ static void test_random(uint64_t seed, int steps)
 		      "queries");
 		CHECK(nt == n, "step %d: the daemon has %zu windows, the model %zu", step, nt, n);
 		struct vis_rect rects[64];
+		struct vis_look looks[64];
 		uint32_t of[64];
 		uint8_t want[64];
-		size_t mapped = 0;
+		size_t mapped = 0, stateless = 0;
 		for (size_t i = 0; i < n; i++) {
+			uint32_t look_flags = (m[i].look.shaped ? VIS_WINDOW_SHAPED : 0) |
+					      (m[i].look.opaque ? VIS_WINDOW_TRANSLUCENT : 0) |
+					      (m[i].look.input_only ? VIS_WINDOW_INPUT_ONLY : 0);
 			CHECK(t[i].window == m[i].id && t[i].x == m[i].r.x && t[i].y == m[i].r.y &&
 				      t[i].width == (uint32_t)m[i].r.w &&
 				      t[i].height == (uint32_t)m[i].r.h &&
+				      t[i].border == (uint32_t)m[i].look.border &&
+				      (t[i].flags & (VIS_WINDOW_SHAPED | VIS_WINDOW_TRANSLUCENT |
+						     VIS_WINDOW_INPUT_ONLY)) == look_flags &&
 				      !!(t[i].flags & VIS_WINDOW_MAPPED) == m[i].mapped,
 			      "step %d: window %zu of the stack is %u, the model says %u", step, i,
 			      t[i].window, m[i].id);
 			if (m[i].mapped) {
 				rects[mapped] = m[i].r;
+				looks[mapped] = m[i].look;
+				looks[mapped].shape = m[i].shape;
+				looks[mapped].opaque_rects = m[i].opaque;
+				stateless += m[i].look.input_only;
 				of[mapped++] = m[i].id;
 			}
 		}
-		struct vis_stack stack = { rects, mapped, true, SCREEN_W, SCREEN_H, NULL, NULL };
+		struct vis_stack stack = { rects, mapped, true, SCREEN_W, SCREEN_H, NULL, looks };
 		CHECK(vis_compute(VIS_ENGINE_BRUTE, &stack, want) == 0, "brute force");
-		CHECK(ns == mapped, "step %d: %zu states for %zu mapped windows", step, ns, mapped);
+		CHECK(ns == mapped - stateless, "step %d: %zu states for %zu mapped windows with pixels",
+		      step, ns, mapped - stateless);
 		vis_client_roundtrip(obs);
 		for (size_t i = 0; i < mapped; i++) {
+			if (want[i] == VIS_NO_STATE)
+				continue; /* input-only: no state, no notice */
 			uint32_t got = 99;
 			for (size_t q = 0; q < ns; q++)
 				if (st[q].window == of[i])

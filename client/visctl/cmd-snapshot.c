@@ -66,12 +66,13 @@ static void on_region(void *data, const struct vis_error *err, const struct vis_
 static int add_windows(struct stack_svg *pic, const struct vis_window_info *w, size_t n)
 {
 	struct vis_box *abs = malloc((n ? n : 1) * sizeof(*abs));
+	struct vis_box *inner = malloc((n ? n : 1) * sizeof(*inner));
 	struct vis_idmap placed;
 	size_t hidden = 0, orphans = 0;
 	int ret = -1;
 
 	vis_idmap_init(&placed);
-	if (abs == NULL)
+	if (abs == NULL || inner == NULL)
 		goto out;
 	for (size_t i = 0; i < n; i++) {
 		const struct vis_box *parent = w[i].parent ? vis_idmap_get(&placed, w[i].parent) : NULL;
@@ -80,14 +81,21 @@ static int add_windows(struct stack_svg *pic, const struct vis_window_info *w, s
 			orphans++;
 			continue;
 		}
+		/* x, y place the border box in the parent's inside, whose corner placed holds. */
 		int64_t x = (parent ? parent->x1 : 0) + w[i].x, y = (parent ? parent->y1 : 0) + w[i].y;
-		abs[i] = (struct vis_box){ x, y, x + w[i].width, y + w[i].height };
-		if (vis_idmap_put(&placed, w[i].window, &abs[i]) < 0)
+		int64_t b = w[i].border;
+		abs[i] = (struct vis_box){ x, y, x + w[i].width + 2 * b, y + w[i].height + 2 * b };
+		inner[i] = (struct vis_box){ x + b, y + b, x + b + w[i].width, y + b + w[i].height };
+		if (vis_idmap_put(&placed, w[i].window, &inner[i]) < 0)
 			goto out;
 		if (!(w[i].flags & VIS_WINDOW_VIEWABLE) || w[i].state > VIS_VISIBILITY_FULLY_OBSCURED)
 			hidden++;
 		else if (stack_svg_add(pic, w[i].window, w[i].parent, abs[i], (uint8_t)w[i].state) < 0)
 			goto out;
+		else {
+			pic->windows[pic->n - 1].inside = inner[i];
+			pic->windows[pic->n - 1].translucent = w[i].flags & VIS_WINDOW_TRANSLUCENT;
+		}
 	}
 	if (hidden)
 		stack_svg_note(pic, "Not drawn: %zu window%s not viewable.", hidden,
@@ -99,6 +107,7 @@ static int add_windows(struct stack_svg *pic, const struct vis_window_info *w, s
 out:
 	vis_idmap_finish(&placed);
 	free(abs);
+	free(inner);
 	return ret;
 }
 

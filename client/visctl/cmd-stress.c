@@ -52,8 +52,11 @@ static void usage(FILE *f)
 		"                      loop, each as soon as the pipeline has room)\n"
 		"  --pipeline K        operations in flight at most (default 1: one at a time)\n"
 		"  --mix LIST          KIND=WEIGHT,... of move resize raise lower restack map batch\n"
-		"                      (default move=40,resize=15,raise=15,lower=10,restack=5,map=10,\n"
-		"                      batch=5); map unmaps a window or maps one back\n"
+		"                      border shape opaque (default move=40,resize=15,raise=15,\n"
+		"                      lower=10,restack=5,map=10,batch=5); map unmaps a window or maps\n"
+		"                      one back; border sets a width of 0-3, shape gives rounded\n"
+		"                      corners, an L, no pixels or the border box, opaque all, none or\n"
+		"                      a shadow margin's inside\n"
 		"  --batch-size B      changes in a batch operation (default 8)\n"
 		"  --exposure          the subscribers ask for exposure notices too\n"
 		"  --seed S            the desktop and the operations (default 1)\n"
@@ -133,7 +136,7 @@ static int parse_mix(const char *list, uint32_t *mix)
 			k++;
 		if (k == STRESS_KINDS)
 			return bad_usage("--mix: unknown kind '%s' (move, resize, raise, lower, restack, "
-					 "map, batch)", item);
+					 "map, batch, border, shape, opaque)", item);
 		mix[k] = (uint32_t)weight;
 		total += weight;
 	}

@@ -401,7 +401,7 @@ static void write_window(const struct stack_svg *p, const struct view *v,
 			vis_state_name((enum vis_state)w->state));
 	}
 	/* A translucent window's visible parts are filled faintly: what they show through is seen. */
-	bool see_through = false;
+	bool see_through = w->translucent;
 	for (size_t j = w->first_px; j < w->first_px + w->n_px; j++)
 		see_through |= p->pixels[j].see_through;
 	bool open = false;
@@ -541,11 +541,12 @@ static void full_note(const struct stack_svg *p, const struct view *v, size_t le
 
 	snprintf(buf, len, "Filled: the visible parts; outlined: the whole window; label: its ID, "
 		 "in its largest visible part (tooltips say more).");
-	bool borders = false, shaped = false, see_through = false;
+	bool borders = false, shaped = false, see_through = false, faint = false;
 	for (size_t i = 0; i < p->n; i++) {
 		const struct stack_svg_window *w = &p->windows[i];
 		borders |= memcmp(&w->inside, &w->box, sizeof(w->box)) != 0;
 		shaped |= w->n_px > 0;
+		faint |= w->translucent;
 	}
 	for (size_t j = 0; j < p->n_pixels; j++)
 		see_through |= p->pixels[j].see_through;
@@ -555,6 +556,8 @@ static void full_note(const struct stack_svg *p, const struct view *v, size_t le
 		append(buf, len, " A thin inner line: a border's inside.");
 	if (see_through)
 		append(buf, len, " Hatched, faintly filled: translucent pixels, which hide nothing.");
+	else if (faint)
+		append(buf, len, " Faintly filled: windows with translucent pixels, which hide nothing.");
 	if (p->note[0])
 		append(buf, len, " %s", p->note);
 	for (size_t i = 0; i < p->n; i++) {

@@ -31,6 +31,7 @@ struct stack_svg_window {
 	/* Its pixels when it has a shape or translucent pixels: pixels[first_px …] (n_px = 0: the
 	 * whole box, opaque). */
 	size_t first_px, n_px;
+	bool translucent; /* some pixels hide nothing, which ones unknown (snapshots): faint fill */
 };
 
 /* A piece of a window's pixels, absolute, and whether it hides what lies below it. */

@@ -136,6 +136,24 @@ static void send_change(struct stress *s, const struct stress_change *c)
 	case STRESS_BATCH:
 		c->flag ? vis_client_map(s->mgr, id) : vis_client_unmap(s->mgr, id);
 		break;
+	case STRESS_BORDER: {
+		const struct vis_rect *r = &s->m.w[c->slot].r;
+		vis_client_configure(s->mgr, id, r->x, r->y, (uint32_t)r->w, (uint32_t)r->h,
+				     (uint32_t)c->a);
+		break;
+	}
+	case STRESS_SHAPE:
+	case STRESS_OPAQUE: {
+		struct vis_rect32 v[STRESS_LOOK_RECTS];
+		for (uint32_t i = 0; i < c->n_rects; i++)
+			v[i] = (struct vis_rect32){ c->rects[i].x, c->rects[i].y,
+						    (uint32_t)c->rects[i].w, (uint32_t)c->rects[i].h };
+		if (c->kind == STRESS_SHAPE)
+			vis_client_set_shape(s->mgr, id, c->mode, v, c->n_rects);
+		else
+			vis_client_set_opaque(s->mgr, id, c->mode, v, c->n_rects);
+		break;
+	}
 	}
 	s->r->changes++;
 	if (s->o->record)

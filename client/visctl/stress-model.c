@@ -13,7 +13,8 @@
 static const char *const kind_names[STRESS_KINDS] = {
 	[STRESS_MOVE] = "move",       [STRESS_RESIZE] = "resize", [STRESS_RAISE] = "raise",
 	[STRESS_LOWER] = "lower",     [STRESS_RESTACK] = "restack", [STRESS_MAP] = "map",
-	[STRESS_BATCH] = "batch",
+	[STRESS_BATCH] = "batch",     [STRESS_BORDER] = "border", [STRESS_SHAPE] = "shape",
+	[STRESS_OPAQUE] = "opaque",
 };
 
 const char *stress_kind_name(enum stress_kind kind)
@@ -164,6 +165,50 @@ static void toggle_map(struct stress_model *m, struct stress_change *c)
 	m->unmapped[m->n_unmapped++] = c->slot;
 }
 
+/* Draws a shape for window r with border b: rounded corners, an L, none, or the box again. */
+static void draw_shape(struct stress_model *m, const struct vis_rect *r, int32_t b,
+		       struct stress_change *c)
+{
+	int32_t bw = r->w + 2 * b, bh = r->h + 2 * b;
+	uint64_t roll = vis_rng_below(&m->rng, 8);
+	c->mode = 1;
+	if (roll < 3 && bw > 8 && bh > 8) {
+		/* Corners cut in two steps, as a small radius comes out a row at a time. */
+		c->rects[0] = (struct vis_rect){ -b + 3, -b, bw - 6, 1 };
+		c->rects[1] = (struct vis_rect){ -b + 1, -b + 1, bw - 2, 2 };
+		c->rects[2] = (struct vis_rect){ -b, -b + 3, bw, bh - 6 };
+		c->rects[3] = (struct vis_rect){ -b + 1, -b + bh - 3, bw - 2, 2 };
+		c->rects[4] = (struct vis_rect){ -b + 3, -b + bh - 1, bw - 6, 1 };
+		c->n_rects = 5;
+	} else if (roll < 6 && bw > 1 && bh > 1) {
+		c->rects[0] = (struct vis_rect){ -b, -b, bw, bh / 2 };
+		c->rects[1] = (struct vis_rect){ -b, -b + bh / 2, bw / 2, bh - bh / 2 };
+		c->n_rects = 2;
+	} else if (roll == 6) {
+		c->n_rects = 0; /* no pixels at all */
+	} else {
+		c->mode = 0;
+		c->n_rects = 0;
+	}
+}
+
+/* Draws an opaque region for window r: all, none, or the inside of a shadow margin. */
+static void draw_opaque(struct stress_model *m, const struct vis_rect *r, struct stress_change *c)
+{
+	uint64_t roll = vis_rng_below(&m->rng, 4);
+	int32_t margin = (int32_t)range(m, 4, 32);
+	c->n_rects = 0;
+	if (roll == 0) {
+		c->mode = VIS_OPAQUE_MODE_ALL;
+	} else if (roll == 1 || r->w <= 2 * margin || r->h <= 2 * margin) {
+		c->mode = VIS_OPAQUE_MODE_NONE;
+	} else {
+		c->mode = VIS_OPAQUE_MODE_RECTS;
+		c->rects[0] = (struct vis_rect){ margin, margin, r->w - 2 * margin, r->h - 2 * margin };
+		c->n_rects = 1;
+	}
+}
+
 void stress_model_change(struct stress_model *m, enum stress_kind kind, struct stress_change *c)
 {
 	memset(c, 0, sizeof(*c));
@@ -205,6 +250,23 @@ void stress_model_change(struct stress_model *m, enum stress_kind kind, struct s
 		c->kind = STRESS_MAP;
 		toggle_map(m, c);
 		break;
+	case STRESS_BORDER:
+		/* Within 31 bits: the inside is at most the screen's. */
+		c->a = (int32_t)vis_rng_below(&m->rng, 4);
+		w->look.border = c->a;
+		break;
+	case STRESS_SHAPE:
+		draw_shape(m, &w->r, w->look.border, c);
+		w->look.shaped = c->mode == 1;
+		w->look.n_shape = c->n_rects;
+		memcpy(w->shape, c->rects, c->n_rects * sizeof(*c->rects));
+		break;
+	case STRESS_OPAQUE:
+		draw_opaque(m, &w->r, c);
+		w->look.opaque = (uint8_t)c->mode;
+		w->look.n_opaque = c->n_rects;
+		memcpy(w->opaque, c->rects, c->n_rects * sizeof(*c->rects));
+		break;
 	}
 }
 
@@ -228,20 +290,27 @@ enum stress_kind stress_model_kind(struct stress_model *m, const uint32_t *mix, 
 int stress_model_states(const struct stress_model *m, uint8_t *states)
 {
 	struct vis_rect *rects = malloc((m->n ? m->n : 1) * sizeof(*rects));
+	struct vis_look *looks = malloc((m->n ? m->n : 1) * sizeof(*looks));
 	uint32_t *slots = malloc((m->n ? m->n : 1) * sizeof(*slots));
 	uint8_t *got = malloc(m->n ? m->n : 1);
 	int ret = -1;
-	if (!rects || !slots || !got)
+	bool any_look = false;
+	if (!rects || !looks || !slots || !got)
 		goto out;
 	size_t n = 0;
 	for (uint32_t k = m->bottom; k != STRESS_NONE; k = m->w[k].above) {
 		states[k] = VIS_VISIBILITY_NONE;
 		if (m->w[k].unmapped_at == STRESS_NONE) {
 			rects[n] = m->w[k].r;
+			looks[n] = m->w[k].look;
+			looks[n].shape = (struct vis_rect *)m->w[k].shape;
+			looks[n].opaque_rects = (struct vis_rect *)m->w[k].opaque;
+			any_look |= !vis_look_plain(&looks[n]);
 			slots[n++] = k;
 		}
 	}
-	struct vis_stack stack = { rects, n, true, m->screen_w, m->screen_h, NULL, NULL };
+	struct vis_stack stack = { rects, n, true, m->screen_w, m->screen_h, NULL,
+				   any_look ? looks : NULL };
 	if (vis_compute(VIS_ENGINE_AUTO, &stack, got) < 0)
 		goto out;
 	for (size_t i = 0; i < n; i++)
@@ -249,6 +318,7 @@ int stress_model_states(const struct stress_model *m, uint8_t *states)
 	ret = 0;
 out:
 	free(rects);
+	free(looks);
 	free(slots);
 	free(got);
 	return ret;
@@ -269,6 +339,9 @@ uint64_t stress_model_compare_tree(const struct stress_model *m,
 		bool mapped = w->unmapped_at == STRESS_NONE;
 		if (t->window == w->id && t->parent == VIS_WINDOW_ROOT && t->x == w->r.x &&
 		    t->y == w->r.y && t->width == (uint32_t)w->r.w && t->height == (uint32_t)w->r.h &&
+		    t->border == (uint32_t)w->look.border &&
+		    !!(t->flags & VIS_WINDOW_SHAPED) == w->look.shaped &&
+		    !!(t->flags & VIS_WINDOW_TRANSLUCENT) == (w->look.opaque != VIS_OPAQUE_ALL) &&
 		    !!(t->flags & VIS_WINDOW_MAPPED) == mapped)
 			continue;
 		if (bad++ < limit)
@@ -310,6 +383,21 @@ void stress_model_record(FILE *f, const struct stress_change *c)
 	case STRESS_MAP:
 	case STRESS_BATCH:
 		fprintf(f, "%s @%u\n", c->flag ? "map" : "unmap", at);
+		break;
+	case STRESS_BORDER:
+		fprintf(f, "border @%u %d\n", at, c->a);
+		break;
+	case STRESS_SHAPE:
+	case STRESS_OPAQUE:
+		fprintf(f, "%s @%u", c->kind == STRESS_SHAPE ? "shape" : "opaque", at);
+		if (c->kind == STRESS_SHAPE && c->mode == 0)
+			fprintf(f, " --box");
+		if (c->kind == STRESS_OPAQUE && c->mode != VIS_OPAQUE_MODE_RECTS)
+			fprintf(f, " %s", c->mode == VIS_OPAQUE_MODE_NONE ? "none" : "all");
+		for (uint32_t i = 0; i < c->n_rects; i++)
+			fprintf(f, " %d,%d,%d,%d", c->rects[i].x, c->rects[i].y, c->rects[i].w,
+				c->rects[i].h);
+		fputc('\n', f);
 		break;
 	}
 }

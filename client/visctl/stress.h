@@ -14,6 +14,7 @@
 
 #include "histogram.h"
 #include "idmap.h"
+#include "look.h"
 #include "rect.h"
 #include "rng.h"
 #include "vis/visclient.h"
@@ -27,8 +28,13 @@ enum stress_kind {
 	STRESS_RESTACK,
 	STRESS_MAP, /* maps an unmapped window or unmaps a mapped one */
 	STRESS_BATCH,
+	STRESS_BORDER, /* a new border width (configure, keeping the place and inside) */
+	STRESS_SHAPE,  /* a shape: rounded corners, an L, the border box again, or none */
+	STRESS_OPAQUE, /* an opaque region: all, none, or the inside of a shadow margin */
 };
-#define STRESS_KINDS 7
+#define STRESS_KINDS 10
+/* The most rectangles a change's shape or opaque region has. */
+#define STRESS_LOOK_RECTS 5
 
 /* The kind's name in --mix and in the reports. */
 const char *stress_kind_name(enum stress_kind kind);
@@ -57,7 +63,10 @@ struct stress_change {
 	enum stress_kind kind; /* not STRESS_BATCH */
 	bool flag;             /* map: true maps, false unmaps; restack: true above, false below */
 	uint32_t slot, sibling;
-	int32_t a, b; /* move: x, y; resize: width, height */
+	int32_t a, b; /* move: x, y; resize: width, height; border: the width */
+	uint32_t mode; /* shape: 1 shaped, 0 the border box; opaque: enum vis_opaque_mode */
+	uint32_t n_rects;
+	struct vis_rect rects[STRESS_LOOK_RECTS]; /* shape or opaque: window coordinates */
 };
 
 /*
@@ -69,6 +78,8 @@ struct stress_window {
 	uint32_t id; /* the daemon's */
 	struct vis_rect r;
 	uint32_t below, above, unmapped_at;
+	struct vis_look look; /* its arrays point into shape and opaque */
+	struct vis_rect shape[STRESS_LOOK_RECTS], opaque[STRESS_LOOK_RECTS];
 };
 #define STRESS_NONE UINT32_MAX
 
