@@ -51,8 +51,7 @@ enum {
 	PARENT = 8,   /* affected, with children: its own sweep without its depth's children */
 	SCAN = 16,    /* last partially obscured: what covers it outside within is looked up */
 	CLEAR = 32,   /* its pixels are not its whole box, all opaque (a shape, see-through, none) */
-	COVERED = 64, /* its parent is a window whose pixels, all opaque, hold the window's */
-	INPUT = 128,  /* input-only: no pixels, no state, never affected */
+	INPUT = 64,   /* input-only: no pixels, no state, never affected */
 };
 
 /* Whether a look leaves the window's pixels other than its whole border box, all opaque. */
@@ -157,6 +156,23 @@ static struct vis_box box_hull(struct vis_box a, struct vis_box b)
 }
 
 /*
+ * The part of flatten() for a window with a border or CLEAR: its inner box, its flags (an
+ * input-only window is never CHANGED, its state being always "none"). Returns whether it is CLEAR.
+ */
+static bool flatten_look(struct vis_window *w, uint8_t *flags)
+{
+	int64_t b = w->look.border;
+	struct vis_box in = { w->box.x1 + b, w->box.y1 + b, w->box.x2 - b, w->box.y2 - b };
+	w->inner = vis_box_intersect(in, w->clip);
+	if (!look_clear(&w->look))
+		return false;
+	*flags |= CLEAR;
+	if (w->look.input_only)
+		*flags = (uint8_t)((*flags & ~CHANGED) | INPUT);
+	return true;
+}
+
+/*
  * Lists the viewable windows in pre-order with their absolute and clipped boxes, and fills the
  * per-position arrays of wk; moves each one's state to old_state (wk->old keeps what it replaces);
  * flags CHANGED the windows new to the order or whose boxes moved (a window other than input-only
@@ -194,30 +210,25 @@ static int flatten(struct vis_wtree *tree, struct vis_wtree_work *wk)
 		box.x2 = box.x1 + w->width + 2 * b;
 		box.y2 = box.y1 + w->height + 2 * b;
 		struct vis_box clip = vis_box_intersect(box, p->inner);
-		struct vis_box in = { box.x1 + b, box.y1 + b, box.x2 - b, box.y2 - b };
-		bool clear = look_clear(&w->look), input = w->look.input_only;
 		uint8_t last = w->state;
-		bool changed = !input && (last == VIS_WTREE_STATE_NONE || !box_equal(box, w->box) ||
-					  !box_equal(clip, w->clip));
+		bool changed = last == VIS_WTREE_STATE_NONE || !box_equal(box, w->box) ||
+			       !box_equal(clip, w->clip);
 		w->box = box;
 		w->clip = clip;
-		w->inner = vis_box_intersect(in, clip);
+		w->inner = clip;
 		w->pos = n;
 		wk->old[n] = w->old_state;
 		w->old_state = last;
 		wk->last[n] = last;
 		wk->clips[n] = clip;
 		wk->depths[n] = w->depth;
-		wk->flags[n] = (uint8_t)((changed ? CHANGED : 0) | (clear ? CLEAR : 0) |
-					 (box_equal(box, clip) ? 0 : CUT) | (input ? INPUT : 0));
-		n_clear += clear;
+		wk->flags[n] = (uint8_t)((changed ? CHANGED : 0) | (box_equal(box, clip) ? 0 : CUT));
+		/* A look costs plain windows one test. */
+		if (b || look_clear(&w->look))
+			n_clear += flatten_look(w, &wk->flags[n]);
 		/* The parent, viewable, is already in the order. */
-		if (p->parent) {
-			if (!vis_box_empty(clip))
-				wk->flags[p->pos] |= CHILDREN;
-			if (!(wk->flags[p->pos] & CLEAR))
-				wk->flags[n] |= COVERED;
-		}
+		if (p->parent && !vis_box_empty(clip))
+			wk->flags[p->pos] |= CHILDREN;
 		tree->order[n++] = w;
 	}
 	tree->n_order = n;
@@ -315,13 +326,22 @@ static inline int add(const struct vis_wtree *tree, struct vis_wtree_work *wk, b
 }
 
 /*
+ * Whether the window at position i, not top-level, lies in its parent's pixels, all opaque (its
+ * parent is not CLEAR), so that it hides nothing its parent does not.
+ */
+static bool covered(const struct vis_wtree *tree, const struct vis_wtree_work *wk, size_t i)
+{
+	return !(wk->flags[tree->order[i]->parent->pos] & CLEAR);
+}
+
+/*
  * Runs the default engine over the windows of wk at positions first … n − 1 with pixels inside
  * within, each clipped to within; writes each one's state (its pixels' inside within) to
  * state_of[pos] (fully obscured for the others, and those below first). With max_depth 0, over
  * all of them in pre-order: exact for windows without children. With max_depth d, exact for the
  * windows at depth d, whose descendants must not hide them while the later windows' must: each
  * window at depth d goes above its descendants, which keep their place above the windows before
- * it. A descendant that its parent's pixels hold, all opaque (COVERED), hides nothing more than
+ * it. A descendant that its parent's pixels hold, all opaque (covered()), hides nothing more than
  * the parent and is left out: without CLEAR windows, every window deeper than d is.
  * With pieces, CLEAR windows are cut into pieces (look.h) and input-only ones have none; without,
  * there are none and every window is one rectangle.
@@ -341,8 +361,7 @@ static int sweep(const struct vis_wtree *tree, struct vis_wtree_work *wk, bool p
 			while (end < n && wk->depths[end] > max_depth)
 				end++;
 			for (size_t k = i + 1; pieces && k < end; k++)
-				if (!(wk->flags[k] & COVERED) &&
-				    add(tree, wk, pieces, k, within, &m) < 0)
+				if (!covered(tree, wk, k) && add(tree, wk, pieces, k, within, &m) < 0)
 					return -1;
 		}
 		if (add(tree, wk, pieces, i, within, &m) < 0)
@@ -603,27 +622,26 @@ static int complete(const struct vis_wtree *tree, struct vis_box within, struct 
 }
 
 /*
- * Applies the box rule to wk->raw of the affected windows: a window the clip cuts pixels away from
- * is never unobscured, as X compares the whole window. The pixels of an unshaped window are its
- * whole box, so a clip other than its box cuts it (CUT); a shaped one's may lie inside the clip
- * all the same. 0, or -1 with ENOMEM.
+ * Prepares the box rule for the shaped windows among the affected ones: a window the clip cuts
+ * pixels away from is never unobscured, as X compares the whole window. The pixels of an unshaped
+ * window are its whole box, so a clip other than its box cuts it (CUT); a shaped one's may all lie
+ * inside the clip all the same, and then it loses CUT. 0, or -1 with ENOMEM.
  */
-static int box_rule(const struct vis_wtree *tree, struct vis_wtree_work *wk)
+static int shaped_cuts(const struct vis_wtree *tree, struct vis_wtree_work *wk)
 {
 	for (size_t a = 0; a < wk->n_affected; a++) {
 		size_t i = wk->affected[a];
-		if (wk->raw[i] != VIS_UNOBSCURED || !(wk->flags[i] & CUT))
+		if (wk->raw[i] != VIS_UNOBSCURED || (wk->flags[i] & (CUT | CLEAR)) != (CUT | CLEAR))
 			continue;
 		const struct vis_window *w = tree->order[i];
-		int cut = 1;
-		if ((wk->flags[i] & CLEAR) && w->look.shaped) {
-			vis_pieces_reset(&wk->pieces);
-			cut = vis_pieces_add(&wk->pieces, &w->look, w->box, w->clip, 0);
-			if (cut < 0)
-				return -1;
-		}
-		if (cut)
-			wk->raw[i] = VIS_PARTIALLY_OBSCURED;
+		if (!w->look.shaped)
+			continue;
+		vis_pieces_reset(&wk->pieces);
+		int cut = vis_pieces_add(&wk->pieces, &w->look, w->box, w->clip, 0);
+		if (cut < 0)
+			return -1;
+		if (!cut)
+			wk->flags[i] &= (uint8_t)~CUT;
 	}
 	return 0;
 }
@@ -655,7 +673,7 @@ static int compute(struct vis_wtree *tree, const struct vis_box *damage, size_t 
 	select_affected(tree, damage, n_damage, bounds, wk);
 	struct vis_box within = damage ? select_within(tree, bounds, wk) : screen;
 	if (classify(tree, within, wk) < 0 || (damage && complete(tree, within, wk) < 0) ||
-	    box_rule(tree, wk) < 0) {
+	    (wk->n_clear && shaped_cuts(tree, wk) < 0)) {
 		unflatten(tree, wk);
 		return -1;
 	}
@@ -667,8 +685,12 @@ static int compute(struct vis_wtree *tree, const struct vis_box *damage, size_t 
 	}
 	for (size_t a = 0; a < wk->n_affected; a++) {
 		size_t i = wk->affected[a];
-		if (wk->raw[i] != wk->last[i])
-			tree->order[i]->state = wk->raw[i];
+		uint8_t s = wk->raw[i];
+		/* A window the clip cuts into is never unobscured, as X compares the whole window. */
+		if (s == VIS_UNOBSCURED && (wk->flags[i] & CUT))
+			s = VIS_PARTIALLY_OBSCURED;
+		if (s != wk->last[i])
+			tree->order[i]->state = s;
 	}
 	tree->stale = false;
 	return 0;
