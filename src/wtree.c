@@ -10,7 +10,8 @@ void vis_wtree_init(struct vis_wtree *tree, int32_t width, int32_t height)
 	tree->root.width = width;
 	tree->root.height = height;
 	tree->root.mapped = true;
-	tree->root.box = tree->root.clip = (struct vis_box){ 0, 0, width, height };
+	tree->root.box = (struct vis_box){ 0, 0, width, height };
+	tree->root.clip = tree->root.inner = tree->root.box;
 	vis_idmap_init(&tree->ids);
 	tree->next_id = 1;
 }

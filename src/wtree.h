@@ -34,8 +34,10 @@ struct vis_window {
 	/* Set by vis_wtree_compute(): enum vis_visibility numbering, 3 (none) when not viewable. */
 	uint8_t state, old_state;
 	/* Set by vis_wtree_compute() for viewable windows: the absolute border box; clipped to the
-	 * ancestors' insides and the screen, the box its pixels can be seen in (possibly empty); and
-	 * the box its children are clipped to: its inside, clipped so. */
+	 * parent's inner box (the screen for top-level windows), the box its pixels can be seen in
+	 * (possibly empty); and the box its children are clipped to: its inside, clipped so (its
+	 * box, clipped so, for an input-only window, which has no border). X also clips children to
+	 * a shaped parent's bounding shape; here they are clipped to these boxes only. */
 	struct vis_box box, clip, inner;
 	size_t pos; /* index in the tree's order, for viewable windows */
 	void *data; /* the daemon's */
@@ -149,45 +151,55 @@ struct vis_box vis_wtree_box(const struct vis_window *window);
 bool vis_wtree_viewable(const struct vis_window *window);
 
 /*
- * Recomputes every window's state with X.Org's VisibilityNotify semantics: a window is obscured by
- * later siblings of itself and of its ancestors (and their descendants), never by its own
- * descendants, and clipped by its ancestors and the screen; a window not wholly inside them is
- * never unobscured. Moves each state to old_state first, so that callers can see what changed.
+ * Recomputes every window's state with X.Org's VisibilityNotify semantics over the window's own
+ * pixels (its look's: its shape in its border box, look.h): a pixel is hidden by an opaque pixel
+ * of a later sibling of the window or of its ancestors (or of their descendants), never by its own
+ * descendants, and clipped by its ancestors' inner boxes and the screen. Unobscured when every
+ * pixel is seen (so none clipped), fully obscured when none is (a window without pixels is),
+ * else partially obscured; input-only windows keep VIS_WTREE_STATE_NONE, and hide nothing.
+ * Moves each state to old_state first, so that callers can see what changed.
  * Returns 0, or -1 with errno ENOMEM (states are then unchanged).
  * O((1 + D) · n log n) with the sweep, where D is the number of depths holding a viewable window
  * with viewable children: the sweep over the flattened tree (pre-order, each window clipped to
- * its ancestors) is exact for windows without children; one over the windows at depth ≤ d is
- * exact for those at depth d, whose descendants it leaves out. The sweeps start at the highest
- * top-level window that covers the screen, if any: the windows below it are fully obscured, so a
- * desktop with a maximized window near the top costs O(n) and the sweep over the windows above.
+ * its ancestors) is exact for windows without children; one over the windows at depth ≤ d, each
+ * one at depth d above its descendants, is exact for those at depth d (a descendant is left out
+ * when its parent's pixels, all opaque, hold it: always, without looks). The sweeps start at the
+ * highest top-level window, opaque and unshaped, that covers the screen, if any: the windows below
+ * it are fully obscured, so a desktop with a maximized window near the top costs O(n) and the
+ * sweep over the windows above. While no viewable window is shaped, translucent in part or
+ * input-only, each window is one rectangle for the engine (a border only makes it larger); else
+ * such windows are cut into pieces (look.h), and n counts the pieces.
  */
 int vis_wtree_compute(struct vis_wtree *tree);
 
 /*
  * As vis_wtree_compute(), with the same result, knowing where the tree changed since the last
  * recompute: damage[0 … n_damage − 1] holds, for every change (creating, mapping, unmapping,
- * moving, resizing, restacking, reparenting or destroying a window), the changed window's box as
- * vis_wtree_box() gives it just before and just after the change (once when the two are equal).
+ * moving, resizing, restacking, reparenting or destroying a window, or changing its border,
+ * shape or opaque region), the changed window's box as vis_wtree_box() gives it just before and
+ * just after the change (once when the two are equal).
  *
  * The rule: only the viewable windows new to the order (created, mapped, or under an ancestor
  * newly mapped), or whose box or clip moved, or whose clip meets a damage box have their states
  * recomputed; every other window keeps its state. It is exact: a change of window c changes
- * clips, viewability, stacking order and ancestry only inside c's subtree and between it and
- * other windows, and c's subtree lies in c's box before and after the change. So on every pixel
- * outside the damage, the windows that cover it, their order and their ancestry are those of the
- * last recompute, and a window whose clip stayed and misses the damage has the same pixels
- * covered. Of those that meet it, the ones last fully obscured below a top-level window whose
- * clip holds all the damage stay fully obscured (most windows of a desktop) and are left out too.
+ * clips, viewability, stacking order, ancestry and pixels only inside c's subtree and between it
+ * and other windows, and c's subtree lies in c's box before and after the change. So on every
+ * pixel outside the damage, the windows that cover it, their looks, their order and their ancestry
+ * are those of the last recompute, and a window whose clip stayed and misses the damage has the
+ * same pixels covered. Of those that meet it, the ones last fully obscured below a top-level
+ * window, opaque and unshaped, whose clip holds all the damage stay fully obscured (most windows
+ * of a desktop) and are left out too.
  *
  * How: the windows recomputed are classified inside one box, within, by the sweeps of
  * vis_wtree_compute() over the windows that meet it, each clipped to it (and over the depths of
  * those of them with children only). within is the hull of the damage on the screen and of the
- * clips of the new and moved windows. Outside within, a window's pixels are covered as at the
- * last recompute: one last unobscured or fully obscured was so there too; for one last partially
- * obscured, the windows above it are looked up (a box test each, the engine when none settles
- * it) within a budget of 4 visits per viewable window in all, highest windows first, past which
- * their clips join within instead. A window's state is its state inside within if it is the same
- * outside, else partially obscured.
+ * clips of the new and moved windows, and of the shaped ones (whose pixels might all lie on one
+ * side of within's edge). Outside within, a window's pixels are covered as at the last
+ * recompute: one last unobscured or fully obscured was so there too; for one last partially
+ * obscured, the windows above it are looked up (a box test each for those opaque and unshaped,
+ * the engine when none settles it, with the others' pieces) within a budget of 4 visits per
+ * viewable window in all, highest windows first, past which their clips join within instead.
+ * A window's state is its state inside within if it is the same outside, else partially obscured.
  *
  * Returns 0, or -1 with errno ENOMEM (states are then unchanged, and the next recompute is full).
  * O(n · d) for flattening and the damage tests (n viewable windows, d damage boxes; past 4 boxes
@@ -200,18 +212,22 @@ int vis_wtree_compute_damaged(struct vis_wtree *tree, const struct vis_box *dama
 			      size_t n_damage);
 
 /*
- * The window's own visible pixels (not covered by any later window in pre-order, descendants
- * included, as X's clip list) as rectangles in window coordinates, y-x banded, into a pixman
- * region (pixman_region32_t *, initialized by the caller). Needs a computed tree. 0 or -1 (ENOMEM).
- * O(n + r log r) for r overlapping windows.
+ * The window's own visible pixels (its shape inside its clip, not covered by an opaque pixel of
+ * any later window in pre-order, descendants included, as X's clip list) as rectangles relative
+ * to its border box's corner (window->box's, not the inside's: a border or a shape reaching into
+ * it starts at 0), y-x banded, into a pixman region (pixman_region32_t *, initialized by the
+ * caller); empty for input-only windows. Needs a computed tree. 0 or -1 (ENOMEM).
+ * O(n + r log r) for r pieces of the window and of the later windows that overlap it.
  */
 int vis_wtree_visible_region(const struct vis_wtree *tree, const struct vis_window *window,
 			     void *region);
 
 /*
  * The windows that show pixels of their own inside the screen box damage, bottom to top: the
- * sweep over the flattened tree, every window clipped to damage. Writes at most n_order windows
- * to out and returns how many, or -1 with ENOMEM. Needs a computed tree. O(n log n).
+ * sweep over the flattened tree, every window clipped to damage; a window shows where no opaque
+ * pixel of a later window covers it, so translucent ones and those seen through them are listed,
+ * input-only ones never. Writes at most n_order windows to out and returns how many, or -1 with
+ * ENOMEM. Needs a computed tree. O(n log n), n counting pieces as vis_wtree_compute() does.
  */
 long vis_wtree_repaint(const struct vis_wtree *tree, struct vis_box damage,
 		       struct vis_window **out);

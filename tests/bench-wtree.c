@@ -2,7 +2,8 @@
  * The cost of one recompute of the window tree after a single move, as the daemon pays it after
  * a client's move: a generated scene as top-level windows on the 3840×2160 screen, then random
  * moves, each followed by a recompute that is timed alone, in full (vis_wtree_compute) and from
- * the move's damage (vis_wtree_compute_damaged, the window's box before and after). Prints the
+ * the move's damage (vis_wtree_compute_damaged, the window's box before and after). The shaped
+ * and translucent kinds keep their looks (borders, shapes, opaque regions). Prints the
  * median, the 99th percentile and the mean per move. Not a test: run it from a release build,
  *   build-release/tests/bench-wtree [--kinds K,…] [--sizes N,…] [--moves M] [--seed S]
  * or `meson test -C build-release --benchmark`.
@@ -48,6 +49,15 @@ static int run(const struct vis_scene *scene, enum who who, bool damaged, size_t
 		if (!wins[i])
 			return -1;
 		wins[i]->mapped = true;
+		/* The shaped and translucent kinds give windows looks. */
+		const struct vis_look *l = scene->looks ? &scene->looks[i] : NULL;
+		if (l && l->input_only)
+			vis_wtree_set_input_only(wins[i]);
+		else if (l && (vis_wtree_set_border(wins[i], l->border) < 0 ||
+			       vis_wtree_set_shape(wins[i], l->shaped, l->shape, l->n_shape) < 0 ||
+			       vis_wtree_set_opaque(wins[i], (enum vis_opaque)l->opaque,
+						    l->opaque_rects, l->n_opaque) < 0))
+			return -1;
 	}
 	if (vis_wtree_compute(&tree) < 0)
 		return -1;

@@ -21,16 +21,66 @@ static struct vis_wtree tree;
 static struct vis_window *wins[CAP];
 static int nwins;
 
-/* Whether pixel (px, py) of the screen is inside w and every ancestor of it, and the screen. */
+/*
+ * The oracle: X's model applied to one pixel at a time, straight from the windows' fields.
+ * A window's border box starts at its parent's inside's corner + (x, y); the inside starts border
+ * pixels further in; shape and opaque rectangles are relative to the inside's corner.
+ */
+static void corner(const struct vis_window *w, int64_t *bx, int64_t *by)
+{
+	*bx = w->x;
+	*by = w->y;
+	for (const struct vis_window *a = w->parent; a->parent; a = a->parent) {
+		*bx += (int64_t)a->x + a->look.border;
+		*by += (int64_t)a->y + a->look.border;
+	}
+}
+
+static int in_rects(const struct vis_rect *r, uint32_t n, int64_t x, int64_t y)
+{
+	for (uint32_t k = 0; k < n; k++)
+		if (x >= r[k].x && y >= r[k].y && x < (int64_t)r[k].x + r[k].w &&
+		    y < (int64_t)r[k].y + r[k].h)
+			return 1;
+	return 0;
+}
+
+/* Whether pixel (px, py) of the screen is one of w's own (its shape in its border box). */
+static int pixel_of(const struct vis_window *w, int64_t px, int64_t py)
+{
+	const struct vis_look *l = &w->look;
+	int64_t bx, by, b = l->border;
+	if (l->input_only)
+		return 0;
+	corner(w, &bx, &by);
+	if (px < bx || py < by || px >= bx + w->width + 2 * b || py >= by + w->height + 2 * b)
+		return 0;
+	return !l->shaped || in_rects(l->shape, l->n_shape, px - bx - b, py - by - b);
+}
+
+/* Whether pixel (px, py) is an opaque pixel of w's own. */
+static int opaque_of(const struct vis_window *w, int64_t px, int64_t py)
+{
+	const struct vis_look *l = &w->look;
+	if (!pixel_of(w, px, py) || l->opaque == VIS_OPAQUE_NONE)
+		return 0;
+	if (l->opaque == VIS_OPAQUE_ALL)
+		return 1;
+	int64_t bx, by;
+	corner(w, &bx, &by);
+	return in_rects(l->opaque_rects, l->n_opaque, px - bx - l->border, py - by - l->border);
+}
+
+/* Whether pixel (px, py) of the screen is inside the screen and every ancestor's inside. */
 static int inside_chain(const struct vis_window *w, int64_t px, int64_t py)
 {
 	if (px < 0 || py < 0 || px >= SW || py >= SH)
 		return 0;
-	for (; w->parent; w = w->parent) {
-		int64_t ax = 0, ay = 0;
-		for (const struct vis_window *a = w; a->parent; a = a->parent)
-			ax += a->x, ay += a->y;
-		if (px < ax || py < ay || px >= ax + w->width || py >= ay + w->height)
+	for (const struct vis_window *a = w->parent; a->parent; a = a->parent) {
+		int64_t ax, ay, b = a->look.border;
+		corner(a, &ax, &ay);
+		if (px < ax + b || py < ay + b || px >= ax + b + a->width ||
+		    py >= ay + b + a->height)
 			return 0;
 	}
 	return 1;
@@ -57,14 +107,18 @@ static int obscures(const struct vis_window *w, const struct vis_window *q, int 
 	return 0;
 }
 
-/* Whether pixel p of the screen shows q (own: q's own pixels, not its descendants'). */
+/*
+ * Whether pixel p of the screen shows a pixel of q's: one of q's inside its ancestors and the
+ * screen, not under an opaque pixel of a window that obscures q (own: descendants included).
+ */
 static int shows(const struct vis_window *q, int64_t px, int64_t py, int own)
 {
-	if (!inside_chain(q, px, py))
+	if (!pixel_of(q, px, py) || !inside_chain(q, px, py))
 		return 0;
 	for (int i = 0; i < nwins; i++) {
 		const struct vis_window *w = wins[i];
-		if (w && viewable(w) && obscures(w, q, own) && inside_chain(w, px, py))
+		if (w && viewable(w) && obscures(w, q, own) && opaque_of(w, px, py) &&
+		    inside_chain(w, px, py))
 			return 0;
 	}
 	return 1;
@@ -81,18 +135,18 @@ static void check(uint64_t seed)
 			assert(q->state == VIS_WTREE_STATE_NONE);
 			continue;
 		}
-		int64_t ax = 0, ay = 0;
-		for (const struct vis_window *a = q; a->parent; a = a->parent)
-			ax += a->x, ay += a->y;
-		long seen = 0, all = 0;
+		int64_t ax, ay, b2 = 2 * (int64_t)q->look.border;
+		corner(q, &ax, &ay);
+		long seen = 0, all = 0, own_all = 0;
 		pixman_region32_t reg;
 		pixman_region32_init(&reg);
 		assert(vis_wtree_visible_region(&tree, q, &reg) == 0);
-		for (int64_t y = ay; y < ay + q->height; y++)
-			for (int64_t x = ax; x < ax + q->width; x++) {
-				all++;
+		for (int64_t y = ay; y < ay + q->height + b2; y++)
+			for (int64_t x = ax; x < ax + q->width + b2; x++) {
+				all += pixel_of(q, x, y);
 				seen += shows(q, x, y, 0);
 				int own = shows(q, x, y, 1);
+				own_all += own;
 				int in = pixman_region32_contains_point(&reg, (int)(x - ax),
 									(int)(y - ay), NULL);
 				if (own != in) {
@@ -103,8 +157,19 @@ static void check(uint64_t seed)
 					exit(1);
 				}
 			}
+		/* Nothing in the region outside the border box. */
+		int nr;
+		const pixman_box32_t *rb = pixman_region32_rectangles(&reg, &nr);
+		long area = 0;
+		for (int k = 0; k < nr; k++)
+			area += (long)(rb[k].x2 - rb[k].x1) * (rb[k].y2 - rb[k].y1);
+		assert(area == own_all);
 		pixman_region32_fini(&reg);
-		int want = seen == all ? 0 : seen ? 1 : 2;
+		int want = q->look.input_only ? VIS_WTREE_STATE_NONE
+			 : all == 0	      ? 2
+			 : seen == all	      ? 0
+			 : seen		      ? 1
+					      : 2;
 		if (q->state != want) {
 			fprintf(stderr, "seed %llu: window %u (depth %u) state %d, X says %d\n",
 				(unsigned long long)seed, q->id, q->depth, q->state, want);
@@ -294,6 +359,120 @@ static void geometry(struct vis_rng *r, int32_t g[4])
 	g[3] = 1 + (int32_t)vis_rng_below(r, 10);
 }
 
+/*
+ * Random looks. Shape and opaque rectangles are relative to the inside's corner and reach into
+ * the border and past the border box; a shape may be empty or made of abutting pieces.
+ */
+static struct vis_rect look_rect(struct vis_rng *r, const struct vis_window *w)
+{
+	if (family == EXTREME && vis_rng_below(r, 3) == 0)
+		return (struct vis_rect){ extreme_coord(r), extreme_coord(r), extreme_size(r),
+					  extreme_size(r) };
+	int64_t b = w->look.border, sw = w->width + 2 * b + 4, sh = w->height + 2 * b + 4;
+	if (sw > 48)
+		sw = 48;
+	if (sh > 48)
+		sh = 48;
+	struct vis_rect q;
+	q.x = (int32_t)((int64_t)vis_rng_below(r, (uint64_t)sw) - b - 2);
+	q.y = (int32_t)((int64_t)vis_rng_below(r, (uint64_t)sh) - b - 2);
+	q.w = 1 + (int32_t)vis_rng_below(r, (uint64_t)(sw / 2 + 1));
+	q.h = 1 + (int32_t)vis_rng_below(r, (uint64_t)(sh / 2 + 1));
+	return q;
+}
+
+/* n random rectangles into q, now and then one rectangle cut in two abutting ones; returns n. */
+static uint32_t look_rects(struct vis_rng *r, const struct vis_window *w, struct vis_rect *q,
+			   uint32_t max)
+{
+	uint32_t n = (uint32_t)vis_rng_below(r, max + 1);
+	for (uint32_t k = 0; k < n; k++)
+		q[k] = look_rect(r, w);
+	if (n >= 2 && vis_rng_below(r, 2)) {
+		/* q[0] and q[1]: one rectangle cut at a random column or row. */
+		struct vis_rect a = look_rect(r, w);
+		a.w = a.w < 2 ? 2 : a.w;
+		a.h = a.h < 2 ? 2 : a.h;
+		/* So that the second piece still starts inside the 32-bit range. */
+		a.x = a.x > INT32_MAX - 2 ? INT32_MAX - 2 : a.x;
+		a.y = a.y > INT32_MAX - 2 ? INT32_MAX - 2 : a.y;
+		a.w = (int64_t)a.x + a.w > INT32_MAX ? INT32_MAX - a.x : a.w;
+		a.h = (int64_t)a.y + a.h > INT32_MAX ? INT32_MAX - a.y : a.h;
+		q[0] = q[1] = a;
+		if (vis_rng_below(r, 2)) {
+			q[0].w = 1 + (int32_t)vis_rng_below(r, (uint64_t)a.w - 1);
+			q[1].x = a.x + q[0].w;
+			q[1].w = a.w - q[0].w;
+		} else {
+			q[0].h = 1 + (int32_t)vis_rng_below(r, (uint64_t)a.h - 1);
+			q[1].y = a.y + q[0].h;
+			q[1].h = a.h - q[0].h;
+		}
+	}
+	return n;
+}
+
+enum look_op { BORDER, SHAPE, OPAQUE };
+static const char *const look_names[] = { "border", "shape", "opaque" };
+
+/*
+ * Changes window i's look in both trees the same way, with the damage the daemon records: the
+ * window's box before and after. Returns the change's name.
+ */
+static const char *change_look(struct vis_rng *r, enum look_op op, int i)
+{
+	struct vis_window *a = wins[i], *b = twins[i];
+	struct vis_rect q[4];
+	damage_of(b);
+	switch (op) {
+	case BORDER: {
+		static const int32_t extreme[] = { 1, 7, INT32_MAX / 4, INT32_MAX / 2 };
+		int32_t v = vis_rng_below(r, 3) ? 0 : 1 + (int32_t)vis_rng_below(r, 2);
+		if (family == EXTREME && vis_rng_below(r, 2))
+			v = extreme[vis_rng_below(r, 4)];
+		int ra = vis_wtree_set_border(a, v), rb = vis_wtree_set_border(b, v);
+		bool fits = (int64_t)a->width + 2 * (int64_t)v <= INT32_MAX &&
+			    (int64_t)a->height + 2 * (int64_t)v <= INT32_MAX;
+		assert(ra == rb && (ra == 0) == (fits && !a->look.input_only));
+		break;
+	}
+	case SHAPE: {
+		bool shaped = vis_rng_below(r, 4) != 0;
+		uint32_t n = look_rects(r, a, q, 3);
+		int ra = vis_wtree_set_shape(a, shaped, q, n);
+		int rb = vis_wtree_set_shape(b, shaped, q, n);
+		assert(ra == rb && (ra == 0) == !a->look.input_only);
+		break;
+	}
+	case OPAQUE: {
+		uint64_t k = vis_rng_below(r, 4);
+		enum vis_opaque mode = k < 2 ? VIS_OPAQUE_ALL : k == 2 ? VIS_OPAQUE_NONE
+								     : VIS_OPAQUE_RECTS;
+		uint32_t n = look_rects(r, a, q, 3);
+		int ra = vis_wtree_set_opaque(a, mode, q, n);
+		int rb = vis_wtree_set_opaque(b, mode, q, n);
+		assert(ra == rb && (ra == 0) == !a->look.input_only);
+		break;
+	}
+	}
+	damage_of(b);
+	return look_names[op];
+}
+
+/* Gives the newest window of both trees a random look: most often none, now and then input-only. */
+static void random_look(struct vis_rng *r)
+{
+	int i = nwins - 1;
+	if (vis_rng_below(r, 8) == 0) {
+		vis_wtree_set_input_only(wins[i]);
+		vis_wtree_set_input_only(twins[i]);
+		return;
+	}
+	for (int op = BORDER; op <= OPAQUE; op++)
+		if (vis_rng_below(r, 4) == 0)
+			change_look(r, (enum look_op)op, i);
+}
+
 /* Creates a window under parent index p (-1: the screen) in both trees, with its damage. */
 static void create(int p, const int32_t g[4], bool mapped)
 {
@@ -380,13 +559,14 @@ static const char *edit(struct vis_rng *r)
 		int p = vis_rng_below(r, 3) ? pick(r) : -1;
 		if (nwins < CAP) {
 			create(p, g, vis_rng_below(r, 6) != 0);
+			random_look(r);
 			return "create";
 		}
 		if (i < 0)
 			return "nothing";
 	}
 	struct vis_window *a = wins[i];
-	switch (vis_rng_below(r, 9)) {
+	switch (vis_rng_below(r, 12)) {
 	case 0: {
 		/* Above or below a random sibling. */
 		int k = 0;
@@ -418,6 +598,10 @@ static const char *edit(struct vis_rng *r)
 	case 6:
 	case 7:
 		return change(a->mapped ? UNMAP : MAP, i, 0, 0, 0);
+	case 8:
+	case 9:
+	case 10:
+		return change_look(r, (enum look_op)(vis_rng_below(r, 3)), i);
 	default:
 		return change(DESTROY, i, 0, 0, 0);
 	}
@@ -446,6 +630,7 @@ static int random_trees(uint64_t first, uint64_t count, int batches)
 			int32_t g[4];
 			geometry(&r, g);
 			create(p, g, vis_rng_below(&r, 6) != 0);
+			random_look(&r);
 		}
 		check_both(seed, "creation");
 		for (int e = 0; e < batches; e++) {
@@ -571,14 +756,133 @@ static void scripted(void)
 	scene_end();
 }
 
+/* Sets window i's shape in both trees, with its damage; returns the change's name. */
+static const char *shape(int i, bool shaped, const struct vis_rect *q, uint32_t n)
+{
+	damage_of(twins[i]);
+	assert(vis_wtree_set_shape(wins[i], shaped, q, n) == 0);
+	assert(vis_wtree_set_shape(twins[i], shaped, q, n) == 0);
+	damage_of(twins[i]);
+	return "shape";
+}
+
+static const char *opaque(int i, enum vis_opaque mode, const struct vis_rect *q, uint32_t n)
+{
+	damage_of(twins[i]);
+	assert(vis_wtree_set_opaque(wins[i], mode, q, n) == 0);
+	assert(vis_wtree_set_opaque(twins[i], mode, q, n) == 0);
+	damage_of(twins[i]);
+	return "opaque";
+}
+
+static const char *border(int i, int32_t b)
+{
+	damage_of(twins[i]);
+	assert(vis_wtree_set_border(wins[i], b) == 0);
+	assert(vis_wtree_set_border(twins[i], b) == 0);
+	damage_of(twins[i]);
+	return "border";
+}
+
+/* A mapped input-only window under parent index p; returns its index. */
+static int put_input_only(int p, int32_t x, int32_t y, int32_t w, int32_t h)
+{
+	create(p, (int32_t[4]){ x, y, w, h }, false);
+	vis_wtree_set_input_only(wins[nwins - 1]);
+	vis_wtree_set_input_only(twins[nwins - 1]);
+	change(MAP, nwins - 1, 0, 0, 0);
+	return nwins - 1;
+}
+
+/*
+ * Looks, step by step: a shape that keeps a window's pixels on the screen when its box is not, or
+ * loses one, or is empty, or sticks out of the border box; translucent windows and opaque regions
+ * covering exactly in two pieces; borders, which obscure and clip children to the inside; an
+ * input-only window, which hides nothing but clips its children; a translucent window whose
+ * opaque child hides a window with children of its own.
+ */
+static void scripted_looks(void)
+{
+	enum { U = VIS_UNOBSCURED, P = VIS_PARTIALLY_OBSCURED, F = VIS_FULLY_OBSCURED };
+	scene_begin();
+	int s = put(-1, -2, 0, 6, 4);
+	check_both(0, shape(s, true, (struct vis_rect[]){ { 2, 0, 2, 2 } }, 1));
+	assert(state(s) == U);
+	check_both(0, shape(s, true, (struct vis_rect[]){ { 1, 0, 2, 2 } }, 1));
+	assert(state(s) == P);
+	check_both(0, shape(s, true, NULL, 0));
+	assert(state(s) == F);
+	check_both(0, shape(s, false, NULL, 0));
+	assert(state(s) == P);
+	int t = put(-1, 6, 4, 4, 4);
+	check_both(0, shape(t, true, (struct vis_rect[]){ { 0, 0, 3, 3 }, { 10, 10, 5, 5 } }, 2));
+	assert(state(t) == U);
+	scene_end();
+
+	scene_begin();
+	int c = put(-1, 2, 2, 6, 6), o = put(-1, 2, 2, 6, 6);
+	check_both(0, opaque(o, VIS_OPAQUE_NONE, NULL, 0));
+	assert(state(c) == U && state(o) == U);
+	check_both(0, opaque(o, VIS_OPAQUE_RECTS, (struct vis_rect[]){ { 0, 0, 6, 3 } }, 1));
+	assert(state(c) == P);
+	check_both(0, opaque(o, VIS_OPAQUE_RECTS,
+			     (struct vis_rect[]){ { 0, 0, 6, 3 }, { 0, 3, 6, 3 } }, 2));
+	assert(state(c) == F);
+	check_both(0, shape(o, true, (struct vis_rect[]){ { 0, 0, 6, 5 } }, 1));
+	assert(state(c) == P);
+	check_both(0, opaque(o, VIS_OPAQUE_ALL, NULL, 0));
+	assert(state(c) == P);
+	scene_end();
+
+	scene_begin();
+	int a = put(-1, 2, 2, 4, 4);
+	int k = put(a, 0, 0, 4, 4);
+	check_both(0, border(a, 1));
+	assert(state(a) == U && state(k) == U);
+	int e = put(-1, 7, 2, 3, 3);
+	check_both(0, "over the border");
+	assert(state(a) == P && state(k) == U);
+	check_both(0, change(MOVE, k, 0, 1, 0));
+	assert(state(k) == P);
+	check_both(0, border(a, 2));
+	assert(state(k) == P && state(e) == U);
+	scene_end();
+
+	scene_begin();
+	int under = put(-1, 0, 0, 4, 4);
+	int io = put_input_only(-1, 0, 0, 8, 8);
+	int x = put(io, 4, 4, 8, 8);
+	check_both(0, "input-only");
+	assert(state(under) == U && state(io) == VIS_WTREE_STATE_NONE && state(x) == P);
+	check_both(0, change(MOVE, x, 0, 0, 0));
+	assert(state(under) == F && state(x) == U);
+	scene_end();
+
+	scene_begin();
+	int w = put(-1, 0, 0, 8, 8);
+	put(w, 0, 0, 2, 2);
+	int sib = put(-1, 0, 0, 10, 10);
+	check_both(0, opaque(sib, VIS_OPAQUE_NONE, NULL, 0));
+	assert(state(w) == U);
+	int child = put(sib, 0, 0, 8, 8);
+	check_both(0, "translucent parent");
+	assert(state(w) == F && state(child) == U && state(sib) == U);
+	check_both(0, shape(sib, true, (struct vis_rect[]){ { 9, 9, 1, 1 } }, 1));
+	assert(state(w) == F && state(sib) == U);
+	check_both(0, change(RESIZE, child, 0, 8, 7));
+	assert(state(w) == P);
+	scene_end();
+}
+
 int main(void)
 {
 	scripted();
-	int scenes = random_trees(1, 3000, 10);
+	scripted_looks();
+	int scenes = random_trees(1, 10000, 10);
 	family = EXTREME;
 	int extremes = random_trees(1, 20000, 10);
 	family = CROWD;
-	int crowds = random_trees(1, 300, 20);
+	int crowds = random_trees(1, 600, 20);
 	family = SMALL;
 	/* Coordinates near the 32-bit limits: nesting adds offsets beyond them. */
 	vis_wtree_init(&tree, 100, 100);
