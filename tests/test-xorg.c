@@ -9,7 +9,8 @@
  * One difference is X's, not visd's: X reports a window whose shape reaches past its border box
  * partially obscured even when all its pixels are seen (miShapedWindowIn counts a band wholly
  * outside the box as obscured); visd follows the pixels. Such windows are marked, not failed.
- * Usage: test-xorg [--count N] [--seed S] (with DISPLAY set).
+ * With --visd SOCKET, also window trees made alike in X and in that visd (xorg-tree.c).
+ * Usage: test-xorg [--count N] [--seed S] [--visd SOCKET] (with DISPLAY set).
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -21,6 +22,7 @@
 #include "gen.h"
 #include "rng.h"
 #include "scene.h"
+#include "xorg-tree.h"
 
 struct x {
 	xcb_connection_t *c;
@@ -246,11 +248,14 @@ out:
 int main(int argc, char **argv)
 {
 	unsigned long count = 300, seed0 = 1;
+	const char *visd = NULL;
 	for (int i = 1; i + 1 < argc; i += 2) {
 		if (strcmp(argv[i], "--count") == 0)
 			count = strtoul(argv[i + 1], NULL, 10);
 		else if (strcmp(argv[i], "--seed") == 0)
 			seed0 = strtoul(argv[i + 1], NULL, 10);
+		else if (strcmp(argv[i], "--visd") == 0)
+			visd = argv[i + 1];
 	}
 	struct x x;
 	x.c = xcb_connect(NULL, NULL);
@@ -305,6 +310,16 @@ int main(int argc, char **argv)
 			scenes++;
 			vis_scene_finish(&s);
 		}
+	}
+	if (visd) {
+		unsigned long tree_quirks = 0, trees = count / 2 + 1;
+		int bad = xorg_trees(x.c, x.root, x.w, x.h, visd, trees, seed0, &tree_quirks);
+		if (bad < 0)
+			return 1;
+		printf("xorg: %lu trees (borders, children, shapes, input-only) in X and visd, %d "
+		       "disagreeing; %lu windows whose shape reaches past the border box marked\n",
+		       trees, bad, tree_quirks);
+		failed += (unsigned long)bad;
 	}
 	xcb_disconnect(x.c);
 	printf("xorg: %lu scenes on a %dx%d X screen, %lu disagreeing; %lu engine verdicts on windows whose shape "

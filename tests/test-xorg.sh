@@ -2,16 +2,29 @@
 # Runs test-xorg against a private Xvfb (a real X.Org server) on a small screen, so that many
 # edges coincide; skipped (exit 77) where Xvfb is not installed.
 test_xorg=$1
+visd=${2:-}
 command -v Xvfb >/dev/null 2>&1 || { echo "Xvfb not installed: skipped"; exit 77; }
 dir=$(mktemp -d) || exit 1
 exec 3>"$dir/display"
 Xvfb -displayfd 3 -screen 0 48x32x24 -nolisten tcp >"$dir/log" 2>&1 &
 xpid=$!
-trap 'kill $xpid 2>/dev/null; wait $xpid 2>/dev/null; rm -rf "$dir"' EXIT
+vpid=
+trap 'kill $xpid $vpid 2>/dev/null; wait $xpid $vpid 2>/dev/null; rm -rf "$dir"' EXIT
 for _ in $(seq 100); do
 	[ -s "$dir/display" ] && break
 	sleep 0.1
 done
 display=$(head -n 1 "$dir/display")
 [ -n "$display" ] || { echo "Xvfb did not start:"; cat "$dir/log"; exit 1; }
-DISPLAY=":$display" "$test_xorg" --count 400
+# A visd with the same screen, for the trees made in both.
+set --
+if [ -n "$visd" ]; then
+	"$visd" --socket "$dir/visd" --screen 48x32 2>"$dir/visd.log" &
+	vpid=$!
+	for _ in $(seq 100); do
+		[ -S "$dir/visd" ] && break
+		sleep 0.05
+	done
+	set -- --visd "$dir/visd"
+fi
+DISPLAY=":$display" "$test_xorg" --count 400 "$@"
