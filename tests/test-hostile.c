@@ -319,6 +319,15 @@ static void test_lying_lengths(void)
 	harness_expect_error(&c, c.seq, VIS_OP_MOVE, VIS_ERROR_MALFORMED,
 			     "move: 12 bytes declared, too few for its fields", true);
 	harness_close(&c);
+	/* A set-shape whose rectangle count lies: 1,000 rectangles said, one sent. */
+	harness_open_as(&c, hostile_visd.sock, VIS_ROLE_CLIENT);
+	n = harness_put(b, VIS_OP_SET_SHAPE, hostile_win[0], 1, 1000, 0, 0, 5, 5);
+	harness_request_raw(&c, b, n);
+	harness_expect_error(&c, c.seq, VIS_OP_SET_SHAPE, VIS_ERROR_MALFORMED,
+			     "set-shape: field 3: 1000 records need 16000 bytes, only 16 left in the "
+			     "message", true);
+	harness_close(&c);
+	hostile_check_unaffected();
 	/* A short map after a create must not take the create's window from stale bytes. */
 	harness_open_as(&c, hostile_visd.sock, VIS_ROLE_CLIENT);
 	uint32_t w = harness_create(&c, 0, 300, 200, 10, 10, VIS_CREATE_RETAIN);

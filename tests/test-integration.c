@@ -175,6 +175,77 @@ static void expect_error(struct vis_client *c, uint32_t seq, uint32_t code, int 
 		     e.seq, e.message);
 }
 
+/*
+ * Bad looks: every way a border, shape or opaque region can be wrong gets its error, and nothing
+ * changes; overlapping and repeated rectangles are a union, not an error.
+ */
+static void test_look_errors(struct vis_client *a, uint32_t p, uint32_t q)
+{
+	struct vis_window_info *before, *after;
+	size_t nb, na;
+	CHECK(vis_client_get_tree(a, &before, &nb) == 0, "tree");
+	uint32_t io;
+	CHECK(vis_client_create_window(a, 0, 0, 0, 5, 5, 0, VIS_CREATE_INPUT_ONLY, &io) == 0,
+	      "an input-only window");
+	const struct vis_rect32 ok[3] = { { 0, 0, 5, 5 }, { 0, 0, 5, 5 }, { 2, 2, 10, 10 } };
+	const struct vis_rect32 zero[2] = { { 0, 0, 5, 5 }, { 0, 0, 0, 5 } };
+	const struct vis_rect32 huge[1] = { { 0, 0, 0x80000000u, 5 } };
+	/* Borders: past the 32-bit range (with the size), on an input-only window. */
+	expect_error(a, vis_client_create_window_async(a, 0, 0, 0, 5, 5, 0x40000000u, 0, NULL, NULL),
+		     VIS_ERROR_VALUE, __LINE__);
+	expect_error(a, vis_client_create_window_async(a, 0, 0, 0, 0x7ffffff0u, 5, 8, 0, NULL, NULL),
+		     VIS_ERROR_VALUE, __LINE__);
+	expect_error(a, vis_client_create_window_async(a, 0, 0, 0, 5, 5, 1, VIS_CREATE_INPUT_ONLY,
+						       NULL, NULL),
+		     VIS_ERROR_MATCH, __LINE__);
+	expect_error(a, vis_client_configure(a, p, 0, 0, 0x7ffffff0u, 5, 8), VIS_ERROR_VALUE, __LINE__);
+	expect_error(a, vis_client_configure(a, p, 0, 0, 0, 5, 0), VIS_ERROR_VALUE, __LINE__);
+	expect_error(a, vis_client_configure(a, io, 0, 0, 5, 5, 1), VIS_ERROR_MATCH, __LINE__);
+	/* Shapes and opaque regions: zero or too large sizes, unknown modes, rectangles a mode
+	 * does not take, input-only windows. */
+	expect_error(a, vis_client_set_shape(a, q, 1, zero, 2), VIS_ERROR_VALUE, __LINE__);
+	expect_error(a, vis_client_set_shape(a, q, 1, huge, 1), VIS_ERROR_VALUE, __LINE__);
+	expect_error(a, vis_client_set_shape(a, q, 2, ok, 1), VIS_ERROR_VALUE, __LINE__);
+	expect_error(a, vis_client_set_shape(a, q, 0, ok, 1), VIS_ERROR_MATCH, __LINE__);
+	expect_error(a, vis_client_set_shape(a, io, 1, ok, 1), VIS_ERROR_MATCH, __LINE__);
+	expect_error(a, vis_client_set_opaque(a, q, 3, NULL, 0), VIS_ERROR_VALUE, __LINE__);
+	expect_error(a, vis_client_set_opaque(a, q, VIS_OPAQUE_MODE_NONE, ok, 1), VIS_ERROR_MATCH,
+		     __LINE__);
+	expect_error(a, vis_client_set_opaque(a, q, VIS_OPAQUE_MODE_RECTS, zero, 2), VIS_ERROR_VALUE,
+		     __LINE__);
+	expect_error(a, vis_client_set_opaque(a, io, VIS_OPAQUE_MODE_NONE, NULL, 0), VIS_ERROR_MATCH,
+		     __LINE__);
+	/* A list longer than the daemon's largest request (65,536 bytes by default): refused by
+	 * the library before anything is sent. */
+	uint32_t n_big = 65536 / 16 + 1;
+	struct vis_rect32 *big = calloc(n_big, sizeof *big);
+	CHECK(big, "out of memory");
+	for (uint32_t i = 0; i < n_big; i++)
+		big[i] = (struct vis_rect32){ (int32_t)i, 0, 1, 1 };
+	errno = 0;
+	CHECK(vis_client_set_shape(a, q, 1, big, n_big) == 0 && errno == EMSGSIZE &&
+		      vis_client_error(a) == 0,
+	      "a shape larger than a request was not refused with EMSGSIZE");
+	free(big);
+	vis_client_destroy_window(a, io);
+	CHECK(vis_client_sync(a) == 0 || vis_client_error(a) == 0, "sync after the errors");
+	CHECK(vis_client_get_tree(a, &after, &na) == 0 && na == nb &&
+		      memcmp(before, after, nb * sizeof *before) == 0,
+	      "the refused looks changed the tree");
+	free(before);
+	free(after);
+	/* Overlapping and repeated rectangles are a union: accepted, and the tree says shaped. */
+	vis_client_set_shape(a, q, 1, ok, 3);
+	CHECK(vis_client_sync(a) == 0, "an overlapping shape was refused");
+	CHECK(vis_client_get_tree(a, &after, &na) == 0, "tree");
+	for (size_t i = 0; i < na; i++)
+		if (after[i].window == q)
+			CHECK(after[i].flags & VIS_WINDOW_SHAPED, "window %u is not shaped", q);
+	free(after);
+	vis_client_set_shape(a, q, 0, NULL, 0);
+	CHECK(vis_client_sync(a) == 0, "unshaping failed");
+}
+
 /* The last visibility notice for w in a log, or NULL. */
 static const struct vis_notice *last_visibility(const struct log *l, uint32_t w)
 {
@@ -366,6 +437,7 @@ static void test_errors_and_roles(void)
 	expect_error(a, vis_client_get_repaint_async(a, (struct vis_rect32){ 0, 0, 0, 1 }, NULL,
 						     NULL),
 		     VIS_ERROR_VALUE, __LINE__);
+	test_look_errors(a, p, q);
 	/* Inside a batch everything is held: replies keep request order, and queries run after the
 	 * batch's changes, answering for the states after it; synchronous calls would wait forever
 	 * and are refused. */
