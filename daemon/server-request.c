@@ -320,6 +320,12 @@ static void do_look(struct client *c, uint32_t seq, uint32_t op, const union vis
 				    op == VIS_OP_SET_SHAPE ? "shaped" : "mode", mode, n);
 		return;
 	}
+	if (n > VIS_LOOK_MAX_RECTS) {
+		server_client_error(c, seq, op, VIS_ERROR_LIMIT,
+				    "%u rectangles: a shape or opaque region has at most %u", n,
+				    VIS_LOOK_MAX_RECTS);
+		return;
+	}
 	bool failed;
 	struct vis_rect *r = rects_arg(c, seq, op, &a[2], &failed);
 	if (failed)
@@ -539,6 +545,43 @@ out:
 	pixman_region32_fini(&reg);
 }
 
+/* Copies rectangles into words of the R record (the count is at most VIS_LOOK_MAX_RECTS). */
+static uint32_t *rect_words(const struct vis_rect *r, uint32_t n)
+{
+	uint32_t *v = malloc(((size_t)n * 4 + 1) * sizeof *v);
+	for (uint32_t i = 0; v && i < n; i++) {
+		v[4 * i] = (uint32_t)r[i].x;
+		v[4 * i + 1] = (uint32_t)r[i].y;
+		v[4 * i + 2] = (uint32_t)r[i].w;
+		v[4 * i + 3] = (uint32_t)r[i].h;
+	}
+	return v;
+}
+
+static void do_get_look(struct client *c, uint32_t seq, uint32_t id)
+{
+	struct vis_window *w = window_arg(c, seq, VIS_OP_GET_LOOK, id);
+	if (!w)
+		return;
+	const struct vis_look *l = &w->look;
+	uint32_t *shape = rect_words(l->shape, l->n_shape);
+	uint32_t *opaque = rect_words(l->opaque_rects, l->n_opaque);
+	if (!shape || !opaque) {
+		server_client_error(c, seq, VIS_OP_GET_LOOK, VIS_ERROR_LIMIT, "out of memory");
+	} else {
+		union vis_arg r[6] = { { .u = seq }, { .u = id }, { .u = l->shaped }, { .u = l->opaque } };
+		r[4].a.words = shape;
+		r[4].a.n = l->n_shape;
+		r[4].a.raw = NULL;
+		r[5].a.words = opaque;
+		r[5].a.n = l->n_opaque;
+		r[5].a.raw = NULL;
+		server_client_send(c, VIS_OP_LOOK, r);
+	}
+	free(shape);
+	free(opaque);
+}
+
 static void do_get_repaint(struct client *c, uint32_t seq, const union vis_arg *a)
 {
 	if (!size_ok(c, seq, VIS_OP_GET_REPAINT, a[2].u, a[3].u))
@@ -626,6 +669,9 @@ void server_client_dispatch(struct client *c, uint32_t seq, const struct vis_msg
 		return;
 	case VIS_OP_GET_REPAINT:
 		do_get_repaint(c, seq, a);
+		return;
+	case VIS_OP_GET_LOOK:
+		do_get_look(c, seq, a[0].u);
 		return;
 	case VIS_OP_SYNC: {
 		union vis_arg r[1] = { { .u = seq } };

@@ -62,6 +62,8 @@
 	M(SET_OPAQUE, 24, REQUEST, "set-opaque", "u:window u:mode aR:rects",                      \
 	  "Sets which pixels hide what is below: mode 0 all, 1 none, 2 the rects (window "        \
 	  "coordinates).")                                                                        \
+	M(GET_LOOK, 25, REQUEST, "get-look", "u:window",                                          \
+	  "Asks for a window's bounding shape and opaque region.")                                \
 	M(HELLO_REPLY, 64, REPLY, "hello-reply",                                                  \
 	  "u:seq u:version u:client u:role u:screen_width u:screen_height u:max_request",         \
 	  "Accepts the handshake; says the role granted and the largest request accepted.")       \
@@ -76,6 +78,9 @@
 	M(REPAINT, 70, REPLY, "repaint", "u:seq u:more aW:windows",                               \
 	  "Windows to repaint, bottom to top; more = 1 when another repaint reply follows.")      \
 	M(SYNCED, 71, REPLY, "synced", "u:seq", "Answers sync.")                                  \
+	M(LOOK, 72, REPLY, "look", "u:seq u:window u:shaped u:mode aR:shape aR:opaque",           \
+	  "A window's look: shaped 1 with its shape's rectangles (0: its border box); opaque "    \
+	  "mode 0 all, 1 none, 2 the opaque rectangles; window coordinates.")                     \
 	M(ERROR, 96, REPLY, "error", "u:seq u:opcode u:code s:message",                           \
 	  "A request failed: its sequence number and opcode, the code, a reason.")                \
 	M(VISIBILITY, 128, NOTICE, "visibility",                                                  \

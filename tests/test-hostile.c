@@ -269,9 +269,9 @@ static void test_truncated_extended(void)
 static void test_opcodes(void)
 {
 	harness_context("unknown opcodes");
-	/* The daemon's own: 64 hello-reply, 71 synced, 96 error, 128 visibility, 130 stack. */
+	/* The daemon's own: 64 hello-reply, 72 look, 96 error, 128 visibility, 130 stack. */
 	static const uint32_t ops[] = {
-		0, 25, 63, 64, 71, 96, 97, 127, 128, 130, 131, 1000, 0xffff
+		0, 26, 63, 64, 72, 96, 97, 127, 128, 130, 131, 1000, 0xffff
 	};
 	for (size_t i = 0; i < sizeof ops / sizeof *ops; i++) {
 		uint8_t b[24] = { 0 };

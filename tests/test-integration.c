@@ -242,8 +242,24 @@ static void test_look_errors(struct vis_client *a, uint32_t p, uint32_t q)
 		if (after[i].window == q)
 			CHECK(after[i].flags & VIS_WINDOW_SHAPED, "window %u is not shaped", q);
 	free(after);
+	/* get-look gives back what was set, rectangles and all. */
+	const struct vis_rect32 shadow = { 2, 2, 6, 6 };
+	vis_client_set_opaque(a, q, VIS_OPAQUE_MODE_RECTS, &shadow, 1);
+	struct vis_look_info look;
+	CHECK(vis_client_get_look(a, q, &look) == 0, "get-look");
+	CHECK(look.window == q && look.shaped == 1 && look.n_shape == 3 &&
+		      memcmp(look.shape, ok, sizeof ok) == 0 && look.mode == VIS_OPAQUE_MODE_RECTS &&
+		      look.n_opaque == 1 && memcmp(look.opaque, &shadow, sizeof shadow) == 0,
+	      "get-look: not what was set");
+	free(look.shape);
+	free(look.opaque);
 	vis_client_set_shape(a, q, 0, NULL, 0);
-	CHECK(vis_client_sync(a) == 0, "unshaping failed");
+	vis_client_set_opaque(a, q, VIS_OPAQUE_MODE_ALL, NULL, 0);
+	CHECK(vis_client_get_look(a, q, &look) == 0 && look.shaped == 0 && look.n_shape == 0 &&
+		      look.mode == VIS_OPAQUE_MODE_ALL && !look.shape && !look.opaque,
+	      "get-look after unshaping");
+	expect_error(a, vis_client_get_look_async(a, 999999, NULL, NULL), VIS_ERROR_WINDOW, __LINE__);
+	CHECK(vis_client_sync(a) == 0 || vis_client_error(a) == 0, "unshaping failed");
 }
 
 /* The last visibility notice for w in a log, or NULL. */

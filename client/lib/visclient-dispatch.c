@@ -5,6 +5,7 @@
  * does not exist breaks the connection (EPROTO), never the process.
  */
 #include <errno.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -22,6 +23,7 @@ static uint32_t reply_opcode(enum vis_reply_kind kind)
 		[VIS_REPLY_STATE] = VIS_OP_STATE,       [VIS_REPLY_STATES] = VIS_OP_STATES,
 		[VIS_REPLY_TREE] = VIS_OP_TREE,         [VIS_REPLY_REGION] = VIS_OP_REGION,
 		[VIS_REPLY_REPAINT] = VIS_OP_REPAINT,   [VIS_REPLY_SYNCED] = VIS_OP_SYNCED,
+		[VIS_REPLY_LOOK] = VIS_OP_LOOK,
 	};
 	return ops[kind];
 }
@@ -97,6 +99,10 @@ static void call_failed(const struct vis_pending *p, const struct vis_error *e)
 	case VIS_REPLY_SYNCED:
 		if (p->cb.done)
 			p->cb.done(p->data, e);
+		break;
+	case VIS_REPLY_LOOK:
+		if (p->cb.look)
+			p->cb.look(p->data, e, NULL);
 		break;
 	default:
 		break;
@@ -300,6 +306,54 @@ static void handle_hello(struct vis_client *c, const struct vis_msg *m)
 	c->connected = 1;
 }
 
+/* Reads an R array into new rectangles (NULL when empty or out of memory: *ok says which). */
+static struct vis_rect32 *read_rects(const union vis_arg *a, bool *ok)
+{
+	struct vis_rect32 *r = NULL;
+	*ok = true;
+	if (a->a.n == 0)
+		return NULL;
+	if (!(r = malloc((size_t)a->a.n * sizeof(*r)))) {
+		*ok = false;
+		return NULL;
+	}
+	for (uint32_t i = 0; i < a->a.n; i++)
+		r[i] = (struct vis_rect32){ (int32_t)vis_arg_word(a, 'R', i, 0),
+					    (int32_t)vis_arg_word(a, 'R', i, 1),
+					    vis_arg_word(a, 'R', i, 2), vis_arg_word(a, 'R', i, 3) };
+	return r;
+}
+
+/* Handles a look reply: the values must be ones the protocol has, the rectangles real ones. */
+static void handle_look(struct vis_client *c, const struct vis_msg *m, struct vis_pending *p)
+{
+	struct vis_look_info l = { .window = m->args[1].u, .shaped = m->args[2].u,
+				   .mode = m->args[3].u, .n_shape = m->args[4].a.n,
+				   .n_opaque = m->args[5].a.n };
+	if (l.window != p->window || l.shaped > 1 || l.mode > VIS_OPAQUE_MODE_RECTS ||
+	    (!l.shaped && l.n_shape) || (l.mode != VIS_OPAQUE_MODE_RECTS && l.n_opaque)) {
+		vis_client_fail(c, EPROTO, "look reply for window %u with shaped %u, mode %u, %u and %u "
+			      "rectangles, asked for %u", l.window, l.shaped, l.mode, l.n_shape,
+			      l.n_opaque, p->window);
+		return;
+	}
+	bool ok1, ok2;
+	l.shape = read_rects(&m->args[4], &ok1);
+	l.opaque = read_rects(&m->args[5], &ok2);
+	if (!ok1 || !ok2) {
+		free(l.shape);
+		free(l.opaque);
+		vis_client_fail(c, ENOMEM, "out of memory reading a look reply");
+		return;
+	}
+	struct vis_pending done = pop(c);
+	if (done.cb.look)
+		done.cb.look(done.data, NULL, &l);
+	free(done.items);
+	free(l.shape);
+	free(l.opaque);
+}
+
 /* Handles a reply other than an error: it must answer the oldest request waiting for one. */
 static void handle_reply(struct vis_client *c, const struct vis_msg *m)
 {
@@ -320,6 +374,9 @@ static void handle_reply(struct vis_client *c, const struct vis_msg *m)
 	switch (p->kind) {
 	case VIS_REPLY_HELLO:
 		handle_hello(c, m);
+		return;
+	case VIS_REPLY_LOOK:
+		handle_look(c, m, p);
 		return;
 	case VIS_REPLY_CREATED:
 		window = m->args[1].u;

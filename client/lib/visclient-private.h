@@ -23,6 +23,7 @@ enum vis_reply_kind {
 	VIS_REPLY_REGION,
 	VIS_REPLY_REPAINT,
 	VIS_REPLY_SYNCED,
+	VIS_REPLY_LOOK,
 };
 
 /*
@@ -42,6 +43,7 @@ struct vis_pending {
 		vis_rects_cb rects;
 		vis_windows_cb windows;
 		vis_done_cb done;
+		vis_look_cb look;
 	} cb;
 	void *data;
 	void *items; /* malloc'ed records of the chunks so far */

@@ -193,6 +193,15 @@ uint32_t vis_client_get_region_async(struct vis_client *c, uint32_t window, vis_
 	return vis_client_send(c, VIS_OP_GET_REGION, a, &p);
 }
 
+uint32_t vis_client_get_look_async(struct vis_client *c, uint32_t window, vis_look_cb cb,
+				   void *data)
+{
+	union vis_arg a[1] = { { .u = window } };
+	struct vis_pending p = { .kind = VIS_REPLY_LOOK, .window = window, .cb.look = cb,
+				 .data = data };
+	return vis_client_send(c, VIS_OP_GET_LOOK, a, &p);
+}
+
 uint32_t vis_client_get_repaint_async(struct vis_client *c, struct vis_rect32 damage,
 				      vis_windows_cb cb, void *data)
 {
@@ -274,6 +283,32 @@ static void on_rects(void *data, const struct vis_error *err, const struct vis_r
 		     size_t n)
 {
 	keep(data, err, rects, n, sizeof(*rects));
+}
+
+/* Called with a look reply: keeps copies of its arrays in the caller's vis_look_info. */
+static void on_look(void *data, const struct vis_error *err, const struct vis_look_info *l)
+{
+	struct answer *a = data;
+	struct vis_look_info *out = a->items;
+	a->done = 1;
+	a->failed = err != NULL;
+	if (err)
+		return;
+	*out = *l;
+	out->shape = out->opaque = NULL;
+	size_t size = sizeof(*l->shape);
+	if ((l->n_shape && !(out->shape = malloc(l->n_shape * size))) ||
+	    (l->n_opaque && !(out->opaque = malloc(l->n_opaque * size)))) {
+		free(out->shape);
+		free(out->opaque);
+		out->shape = out->opaque = NULL;
+		a->failed = 1;
+		return;
+	}
+	if (l->n_shape)
+		memcpy(out->shape, l->shape, l->n_shape * size);
+	if (l->n_opaque)
+		memcpy(out->opaque, l->opaque, l->n_opaque * size);
 }
 
 /* Called with the repaint reply. */
@@ -394,4 +429,15 @@ const char *vis_request_name(uint32_t opcode)
 {
 	const struct vis_msg_type *t = vis_msg_type_find(opcode);
 	return t && t->dir == VIS_DIR_REQUEST ? t->name : "?";
+}
+
+int vis_client_get_look(struct vis_client *c, uint32_t window, struct vis_look_info *look)
+{
+	struct answer a = { .items = look };
+	memset(look, 0, sizeof(*look));
+	if (vis_client_refuse_in_batch(c))
+		return -1;
+	if (await(c, vis_client_get_look_async(c, window, on_look, &a), &a) < 0)
+		return -1;
+	return 0;
 }

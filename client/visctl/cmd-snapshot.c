@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "idmap.h"
+#include "look.h"
 #include "live.h"
 #include "stack-svg.h"
 #include "visctl.h"
@@ -63,12 +64,57 @@ static void on_region(void *data, const struct vis_error *err, const struct vis_
  * Adds the tree's viewable windows to the picture at their absolute positions (pre-order puts
  * parents first). Windows not drawn are counted in the note. Returns 0, or -1 (ENOMEM).
  */
-static int add_windows(struct stack_svg *pic, const struct vis_window_info *w, size_t n)
+/*
+ * Draws a shaped or translucent window from its look (get-look): its pixels, opaque or see-through,
+ * within its border box. Returns 0, or -1 (the connection failed, or memory ran out).
+ */
+static int add_look(struct vis_client *c, struct stack_svg *pic, uint32_t window, struct vis_box box,
+		    int32_t border)
+{
+	struct vis_look_info info;
+	if (vis_client_get_look(c, window, &info) < 0)
+		return vis_client_error(c) ? -1 : 0; /* gone meanwhile: drawn as a box */
+	struct vis_look look = { .border = border, .shaped = info.shaped != 0,
+				 .opaque = (uint8_t)info.mode, .n_shape = info.n_shape,
+				 .n_opaque = info.n_opaque };
+	struct vis_pieces pieces = { 0 };
+	int ret = -1;
+	look.shape = malloc((info.n_shape + 1) * sizeof(*look.shape));
+	look.opaque_rects = malloc((info.n_opaque + 1) * sizeof(*look.opaque_rects));
+	if (!look.shape || !look.opaque_rects)
+		goto out;
+	for (uint32_t i = 0; i < info.n_shape; i++)
+		look.shape[i] = (struct vis_rect){ info.shape[i].x, info.shape[i].y,
+						   (int32_t)info.shape[i].width,
+						   (int32_t)info.shape[i].height };
+	for (uint32_t i = 0; i < info.n_opaque; i++)
+		look.opaque_rects[i] = (struct vis_rect){ info.opaque[i].x, info.opaque[i].y,
+							  (int32_t)info.opaque[i].width,
+							  (int32_t)info.opaque[i].height };
+	if (vis_pieces_add(&pieces, &look, box, box, 0) < 0)
+		goto out;
+	ret = 0;
+	for (size_t k = 0; k < pieces.stack.n && ret == 0; k++)
+		ret = stack_svg_add_pixels(pic, vis_rect_box(pieces.rects[k]),
+					   pieces.see_through[k] != 0);
+	/* Known pixels: the faint fill of an unknown translucency is not needed. */
+	pic->windows[pic->n - 1].translucent = false;
+out:
+	vis_pieces_finish(&pieces);
+	free(look.shape);
+	free(look.opaque_rects);
+	free(info.shape);
+	free(info.opaque);
+	return ret;
+}
+
+static int add_windows(struct vis_client *c, struct stack_svg *pic, const struct vis_window_info *w,
+		       size_t n)
 {
 	struct vis_box *abs = malloc((n ? n : 1) * sizeof(*abs));
 	struct vis_box *inner = malloc((n ? n : 1) * sizeof(*inner));
 	struct vis_idmap placed;
-	size_t hidden = 0, orphans = 0;
+	size_t hidden = 0, orphans = 0, input_only = 0;
 	int ret = -1;
 
 	vis_idmap_init(&placed);
@@ -88,18 +134,28 @@ static int add_windows(struct stack_svg *pic, const struct vis_window_info *w, s
 		inner[i] = (struct vis_box){ x + b, y + b, x + b + w[i].width, y + b + w[i].height };
 		if (vis_idmap_put(&placed, w[i].window, &inner[i]) < 0)
 			goto out;
-		if (!(w[i].flags & VIS_WINDOW_VIEWABLE) || w[i].state > VIS_VISIBILITY_FULLY_OBSCURED)
+		if (w[i].flags & VIS_WINDOW_INPUT_ONLY)
+			input_only++;
+		else if (!(w[i].flags & VIS_WINDOW_VIEWABLE) ||
+			 w[i].state > VIS_VISIBILITY_FULLY_OBSCURED)
 			hidden++;
 		else if (stack_svg_add(pic, w[i].window, w[i].parent, abs[i], (uint8_t)w[i].state) < 0)
 			goto out;
 		else {
 			pic->windows[pic->n - 1].inside = inner[i];
 			pic->windows[pic->n - 1].translucent = w[i].flags & VIS_WINDOW_TRANSLUCENT;
+			if ((w[i].flags & (VIS_WINDOW_SHAPED | VIS_WINDOW_TRANSLUCENT)) &&
+			    pic->n <= STACK_SVG_MAX_LABELS &&
+			    add_look(c, pic, w[i].window, abs[i], (int32_t)w[i].border) < 0)
+				goto out;
 		}
 	}
 	if (hidden)
 		stack_svg_note(pic, "Not drawn: %zu window%s not viewable.", hidden,
 			       hidden == 1 ? "" : "s");
+	if (input_only)
+		stack_svg_note(pic, "Not drawn: %zu input-only window%s (no pixels).", input_only,
+			       input_only == 1 ? "" : "s");
 	if (orphans)
 		stack_svg_note(pic, "Not drawn: %zu window%s under windows this connection cannot see.",
 			       orphans, orphans == 1 ? "" : "s");
@@ -203,7 +259,7 @@ int cmd_snapshot(struct live *l, int argc, char **argv)
 	s.pic.has_screen = true;
 	s.pic.screen_w = sw;
 	s.pic.screen_h = sh;
-	if (add_windows(&s.pic, tree, n) < 0) {
+	if (add_windows(c, &s.pic, tree, n) < 0) {
 		ret = live_error(l, "snapshot: %s", strerror(ENOMEM));
 	} else if (fetch_regions(c, &s) < 0) {
 		if (s.failed)

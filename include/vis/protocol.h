@@ -42,6 +42,9 @@ enum vis_create_flags {
 	VIS_CREATE_INPUT_ONLY = 1u << 2, /* X's InputOnly: no pixels, no state, hides nothing; border 0 */
 };
 
+/* The most rectangles a shape or an opaque region has, so that a look reply always fits. */
+#define VIS_LOOK_MAX_RECTS (1u << 18)
+
 /* Modes of the set-opaque request: which of a window's pixels hide what lies below it. */
 enum vis_opaque_mode {
 	VIS_OPAQUE_MODE_ALL = 0,   /* every pixel of its shape (the default) */

@@ -277,6 +277,21 @@ typedef void (*vis_windows_cb)(void *data, const struct vis_error *err, const ui
 typedef void (*vis_done_cb)(void *data, const struct vis_error *err);
 
 /*
+ * A window's look as get-look gives it: shaped 0 (its pixels are its border box) or 1 (the union of
+ * shape[0 … n_shape), window coordinates, clipped to the border box); mode an enum
+ * vis_opaque_mode, with opaque[0 … n_opaque) for VIS_OPAQUE_MODE_RECTS. The border is in
+ * vis_window_info.
+ */
+struct vis_look_info {
+	uint32_t window;
+	uint32_t shaped, mode;
+	uint32_t n_shape, n_opaque;
+	struct vis_rect32 *shape, *opaque;
+};
+typedef void (*vis_look_cb)(void *data, const struct vis_error *err,
+			    const struct vis_look_info *look);
+
+/*
  * Creates a window under parent (VIS_WINDOW_ROOT: the screen), its border box's corner at x, y
  * (parent coordinates: relative to the parent's inside), its inside width × height, with a border
  * of border pixels (X's border_width; 0 for VIS_CREATE_INPUT_ONLY windows); flags are enum
@@ -299,6 +314,9 @@ VIS_EXPORT uint32_t vis_client_get_region_async(struct vis_client *c, uint32_t w
 VIS_EXPORT uint32_t vis_client_get_repaint_async(struct vis_client *c, struct vis_rect32 damage,
 						 vis_windows_cb cb, void *data);
 VIS_EXPORT uint32_t vis_client_sync_async(struct vis_client *c, vis_done_cb cb, void *data);
+/* The window's shape and opaque region (look is NULL with err). */
+VIS_EXPORT uint32_t vis_client_get_look_async(struct vis_client *c, uint32_t window,
+					      vis_look_cb cb, void *data);
 
 /*
  * Synchronous forms: send, then block until the reply. Between batch-begin and batch-commit the
@@ -323,6 +341,9 @@ VIS_EXPORT int vis_client_get_region(struct vis_client *c, uint32_t window,
 				     struct vis_rect32 **rects, size_t *n);
 VIS_EXPORT int vis_client_get_repaint(struct vis_client *c, struct vis_rect32 damage,
 				      uint32_t **windows, size_t *n);
+/* Fills *look; look->shape and look->opaque are malloc'd (NULL when empty): the caller frees them. */
+VIS_EXPORT int vis_client_get_look(struct vis_client *c, uint32_t window,
+				   struct vis_look_info *look);
 /* Sends sync and waits for its reply; returns -1 if the connection failed or if any request
  * since the previous vis_client_sync() got an error. */
 VIS_EXPORT int vis_client_sync(struct vis_client *c);
