@@ -107,10 +107,25 @@ static int cmp64(const void *a, const void *b)
 	return (x > y) - (x < y);
 }
 
+/*
+ * Sorts v and drops repeats, returning how many are left. A look's edges are few (a rounded corner
+ * has a few dozen), where qsort's calls through a comparator cost most of the cutting: insertion
+ * sort for those.
+ */
 static size_t unique(int64_t *v, size_t n)
 {
+	if (n <= 64) {
+		for (size_t i = 1; i < n; i++) {
+			int64_t x = v[i];
+			size_t j = i;
+			for (; j > 0 && v[j - 1] > x; j--)
+				v[j] = v[j - 1];
+			v[j] = x;
+		}
+	} else {
+		qsort(v, n, sizeof(*v), cmp64);
+	}
 	size_t k = 0;
-	qsort(v, n, sizeof(*v), cmp64);
 	for (size_t i = 0; i < n; i++) {
 		if (k == 0 || v[k - 1] != v[i])
 			v[k++] = v[i];
