@@ -216,6 +216,42 @@ static void add_edges(struct edges *e, struct vis_box b)
 int vis_pieces_add(struct vis_pieces *p, const struct vis_look *look, struct vis_box abs,
 		   struct vis_box clip, uint32_t window)
 {
+	return vis_pieces_add_within(p, look, abs, clip, NULL, 0, window);
+}
+
+/* The boxes of within (absolute) as border-box coordinates clipped to limit, in a pixman region
+ * on the ranks. */
+static int within_region(pixman_region32_t *reg, const struct vis_box *within, size_t n,
+			 struct vis_box abs, struct vis_box limit, const struct edges *e)
+{
+	pixman_box32_t *boxes = malloc((n ? n : 1) * sizeof(*boxes));
+	size_t k = 0;
+	if (boxes == NULL) {
+		errno = ENOMEM;
+		return -1;
+	}
+	for (size_t i = 0; i < n; i++) {
+		struct vis_box b = vis_box_intersect(
+			(struct vis_box){ within[i].x1 - abs.x1, within[i].y1 - abs.y1,
+					  within[i].x2 - abs.x1, within[i].y2 - abs.y1 }, limit);
+		if (vis_box_empty(b))
+			continue;
+		boxes[k++] = (pixman_box32_t){ rank(e->x, e->nx, b.x1), rank(e->y, e->ny, b.y1),
+					       rank(e->x, e->nx, b.x2), rank(e->y, e->ny, b.y2) };
+	}
+	bool ok = pixman_region32_init_rects(reg, boxes, (int)k);
+	free(boxes);
+	if (!ok) {
+		errno = ENOMEM;
+		return -1;
+	}
+	return 0;
+}
+
+int vis_pieces_add_within(struct vis_pieces *p, const struct vis_look *look, struct vis_box abs,
+			  struct vis_box clip, const struct vis_box *within, size_t n_within,
+			  uint32_t window)
+{
 	static const struct vis_look plain = { 0 };
 	if (look == NULL)
 		look = &plain;
@@ -226,7 +262,7 @@ int vis_pieces_add(struct vis_pieces *p, const struct vis_look *look, struct vis
 	struct vis_box limit = vis_box_intersect(
 		(struct vis_box){ clip.x1 - abs.x1, clip.y1 - abs.y1, clip.x2 - abs.x1,
 				  clip.y2 - abs.y1 }, bb);
-	if (!cut_inside(look)) {
+	if (!cut_inside(look) && within == NULL) {
 		/* The border box, or what the clip leaves of it: one piece. */
 		if (!vis_box_empty(limit) &&
 		    push_region_box(p, limit, abs.x1, abs.y1, look->opaque == VIS_OPAQUE_NONE,
@@ -243,12 +279,15 @@ int vis_pieces_add(struct vis_pieces *p, const struct vis_look *look, struct vis
 	pixman_region32_t s, in, o, t;
 	int ret = -1;
 
-	if (ns + no > SIZE_MAX / 2 / sizeof(int64_t) - 2) {
+	if (within == NULL)
+		n_within = 0;
+	if (ns + no > SIZE_MAX / 4 / sizeof(int64_t) - 2 ||
+	    n_within > SIZE_MAX / 4 / sizeof(int64_t) - 2) {
 		errno = EOVERFLOW;
 		return -1;
 	}
-	e.x = malloc((2 * (ns + no) + 2) * sizeof(int64_t));
-	e.y = malloc((2 * (ns + no) + 2) * sizeof(int64_t));
+	e.x = malloc((2 * (ns + no + n_within) + 2) * sizeof(int64_t));
+	e.y = malloc((2 * (ns + no + n_within) + 2) * sizeof(int64_t));
 	if (e.x == NULL || e.y == NULL) {
 		free(e.x);
 		free(e.y);
@@ -262,6 +301,13 @@ int vis_pieces_add(struct vis_pieces *p, const struct vis_look *look, struct vis
 	}
 	if (!vis_box_empty(limit))
 		add_edges(&e, limit);
+	for (size_t k = 0; k < n_within; k++) {
+		struct vis_box r = vis_box_intersect(
+			(struct vis_box){ within[k].x1 - abs.x1, within[k].y1 - abs.y1,
+					  within[k].x2 - abs.x1, within[k].y2 - abs.y1 }, limit);
+		if (!vis_box_empty(r))
+			add_edges(&e, r);
+	}
 	e.nx = unique(e.x, e.nx);
 	e.ny = unique(e.y, e.ny);
 
@@ -280,8 +326,21 @@ int vis_pieces_add(struct vis_pieces *p, const struct vis_look *look, struct vis
 			errno = ENOMEM;
 			goto out_s;
 		}
+		/* And inside the region that clips it further (a shaped ancestor's). */
+		if (within != NULL) {
+			pixman_region32_t w;
+			if (within_region(&w, within, n_within, abs, limit, &e) < 0)
+				goto out_s;
+			bool ok = pixman_region32_intersect(&in, &in, &w);
+			pixman_region32_fini(&w);
+			if (!ok) {
+				errno = ENOMEM;
+				goto out_s;
+			}
+		}
 	}
-	bool was_cut = !pixman_region32_equal(&in, &s);
+	/* Empty regions may differ in their extents: compare only a shape with pixels. */
+	bool was_cut = pixman_region32_not_empty(&s) && !pixman_region32_equal(&in, &s);
 	switch (look->opaque) {
 	case VIS_OPAQUE_ALL:
 		if (push_region(p, &in, &e, abs.x1, abs.y1, false, window) < 0)

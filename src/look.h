@@ -83,6 +83,16 @@ int vis_pieces_init(struct vis_pieces *pieces, const struct vis_stack *windows);
 int vis_pieces_add(struct vis_pieces *pieces, const struct vis_look *look, struct vis_box abs,
 		   struct vis_box clip, uint32_t window);
 
+/*
+ * As vis_pieces_add(), the pixels further restricted to the union of within[0 … n_within)
+ * (absolute boxes; NULL: no restriction), as a shaped ancestor clips its descendants in X: the
+ * window counts as cut when the restriction takes pixels away too. O(k log k + w + b) for the
+ * look's k rectangles, the w boxes of within and the b pieces out.
+ */
+int vis_pieces_add_within(struct vis_pieces *pieces, const struct vis_look *look,
+			  struct vis_box abs, struct vis_box clip, const struct vis_box *within,
+			  size_t n_within, uint32_t window);
+
 /* Empties the pieces, keeping their arrays for reuse. O(1). */
 void vis_pieces_reset(struct vis_pieces *pieces);
 

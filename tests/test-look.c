@@ -361,6 +361,67 @@ static void test_cases(void)
 		   "window 3 3 3 1 1\nshape 0,0,1,1\n", "FNU");
 }
 
+/*
+ * vis_pieces_add_within() against the painter: the pieces are the window's pixels inside the clip
+ * and the union of the within boxes, opaque where the look says, each pixel once; the window is
+ * cut when any of its pixels is left out.
+ */
+static void test_within(uint64_t seed, size_t count)
+{
+	for (size_t c = 0; c < count && failures == 0; c++) {
+		struct vis_rng rng = { seed + c };
+		struct vis_scene s;
+		random_scene(&rng, &s, 1);
+		const struct vis_look *look = s.looks ? &s.looks[0] : NULL;
+		struct vis_rect r = s.rects[0];
+		struct vis_box bb = border_box(r, look);
+		struct vis_box clip = { vis_rng_range(&rng, -25, 60), vis_rng_range(&rng, -25, 60), 0, 0 };
+		clip.x2 = clip.x1 + vis_rng_range(&rng, 1, 90);
+		clip.y2 = clip.y1 + vis_rng_range(&rng, 1, 90);
+		struct vis_box within[3];
+		size_t nw = (size_t)vis_rng_below(&rng, 4);
+		for (size_t k = 0; k < nw; k++) {
+			within[k].x1 = vis_rng_range(&rng, -25, 60);
+			within[k].y1 = vis_rng_range(&rng, -25, 60);
+			within[k].x2 = within[k].x1 + vis_rng_range(&rng, 1, 50);
+			within[k].y2 = within[k].y1 + vis_rng_range(&rng, 1, 50);
+		}
+		struct vis_pieces p = { 0 };
+		int cut = vis_pieces_add_within(&p, look, bb, clip, within, nw, 0);
+		CHECK(cut >= 0);
+		bool want_cut = false, bad = false;
+		for (int64_t py = bb.y1; py < bb.y2 && !bad; py++)
+			for (int64_t px = bb.x1; px < bb.x2 && !bad; px++) {
+				bool mine, opaque, in = px >= clip.x1 && px < clip.x2 && py >= clip.y1 &&
+							py < clip.y2, inw = false;
+				pixel_of(r, look, px, py, &mine, &opaque);
+				for (size_t k = 0; k < nw; k++)
+					inw |= px >= within[k].x1 && px < within[k].x2 &&
+					       py >= within[k].y1 && py < within[k].y2;
+				in &= inw;
+				want_cut |= mine && !in;
+				int hits = 0, op = -1;
+				for (size_t k = 0; k < p.stack.n; k++) {
+					struct vis_box q = vis_rect_box(p.rects[k]);
+					if (px >= q.x1 && px < q.x2 && py >= q.y1 && py < q.y2) {
+						hits++;
+						op = !p.see_through[k];
+					}
+				}
+				if (hits != (mine && in) || (hits && op != opaque))
+					bad = true;
+			}
+		if (bad || (cut == 1) != want_cut) {
+			fprintf(stderr, "within, seed %" PRIu64 ": pieces or cut (%d) wrong; the window:\n",
+				seed + c, cut);
+			print_scene(&s);
+			failures++;
+		}
+		vis_pieces_finish(&p);
+		vis_scene_finish(&s);
+	}
+}
+
 int main(int argc, char **argv)
 {
 	uint64_t seed = 1;
@@ -378,11 +439,13 @@ int main(int argc, char **argv)
 		count = 1;
 	test_cases();
 	test_random(seed, count);
+	test_within(seed, count / 4);
 	if (failures) {
 		fprintf(stderr, "test-look: %d failures\n", failures);
 		return 1;
 	}
 	printf("test-look: %zu random scenes (and each moved to both 32-bit ends) and the cases "
-	       "agree with the painter on every engine\n", count);
+	       "agree with the painter on every engine; %zu windows cut within a clip and boxes\n",
+	       count, count / 4);
 	return 0;
 }
