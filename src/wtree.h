@@ -59,7 +59,7 @@ struct vis_wtree {
 	/* A recompute failed after it had rewritten the boxes: the states no longer go with them,
 	 * so the next recompute must be a full one. */
 	bool stale;
-	struct vis_wtree_work *work; /* the recomputes' scratch (wtree-compute.c), or NULL */
+	struct vis_wtree_work *work; /* the recomputes' scratch (wtree-work.h), or NULL */
 };
 
 /* Sets up an empty tree over a screen of width × height (≥ 1). O(1). */
