@@ -16,6 +16,20 @@
  */
 #define SCAN_VISITS_PER_WINDOW 4
 
+/*
+ * How many windows the lookups that need the engine with pieces may take in all, as a share of
+ * the viewable windows (1 / LOOKUP_ENGINE_SHARE), before the others grow within instead. Such a
+ * lookup cuts every window with a look that meets the clip outside within into pieces and sweeps
+ * them: per window, about what the full recompute pays, and one lookup takes dozens of windows,
+ * as translucent windows and shadows are large. Without a limit, a move of any window of a
+ * 1,000-window translucent desktop made several such lookups and cost 3 times the full recompute.
+ * Measured with bench-wtree there (medians after one move): no such lookups, or n/8 windows, make
+ * moves of the top window (a drag) 1.6 times slower, as within then grows to most of the screen;
+ * n/4 keeps their cost, and moves of any window cost what the full recompute does (n/3 and n/2:
+ * 3% and 6% more).
+ */
+#define LOOKUP_ENGINE_SHARE 4
+
 /* The pre-order successor of w among viewable windows: unmapped subtrees are skipped. */
 static struct vis_window *next_viewable(struct vis_window *w)
 {
@@ -224,6 +238,67 @@ static int classify(const struct vis_wtree *tree, struct vis_box within, struct 
 	return 0;
 }
 
+/* The parts of the clip c outside within, into parts: the rows above and below within, then left
+ * and right of it, those not empty. Returns how many, and their hull. */
+static size_t outside_parts(struct vis_box c, struct vis_box within, struct vis_box parts[4],
+			    struct vis_box *hull)
+{
+	int64_t top = c.y1 > within.y1 ? c.y1 : within.y1, bottom = c.y2 < within.y2 ? c.y2 : within.y2;
+	struct vis_box all[4] = {
+		{ c.x1, c.y1, c.x2, c.y2 < within.y1 ? c.y2 : within.y1 },
+		{ c.x1, c.y1 > within.y2 ? c.y1 : within.y2, c.x2, c.y2 },
+		{ c.x1, top, c.x2 < within.x1 ? c.x2 : within.x1, bottom },
+		{ c.x1 > within.x2 ? c.x1 : within.x2, top, c.x2, bottom },
+	};
+	size_t k = 0;
+	*hull = (struct vis_box){ 0, 0, 0, 0 };
+	for (size_t p = 0; p < 4; p++)
+		if (!vis_box_empty(all[p])) {
+			*hull = box_hull(*hull, all[p]);
+			parts[k++] = all[p];
+		}
+	return k;
+}
+
+/* The position just past the subtree of the window at position i: its descendants, which never
+ * obscure it. */
+static size_t subtree_end(const struct vis_wtree_work *wk, size_t n, size_t i)
+{
+	size_t end = i + 1;
+	while (end < n && wk->depths[end] > wk->depths[i])
+		end++;
+	return end;
+}
+
+/*
+ * What the lookup of the SCAN window at position i (outside_state()) may cost beyond its visits:
+ * 0 when a window with its whole clip opaque covers the clip's parts outside within, or when no
+ * window with a look meets them; else the number of windows that meet them, which the engine would
+ * take, those with a look as pieces. An upper bound: within only grows after, and the state inside
+ * within may settle the lookup before the engine. O(windows above).
+ */
+static size_t lookup_cost(const struct vis_wtree *tree, const struct vis_wtree_work *wk, size_t i,
+			  struct vis_box within)
+{
+	struct vis_box parts[4], hull, c = wk->clips[i];
+	size_t n = tree->n_order, k = outside_parts(c, within, parts, &hull), met = 0;
+	size_t end = subtree_end(wk, n, i);
+	bool clear = false;
+	for (size_t j = n; j-- > end;) {
+		struct vis_box b = vis_box_intersect(wk->clips[j], c);
+		bool hit = false;
+		for (size_t p = 0; p < k && !hit; p++)
+			hit = meets(b, parts[p]);
+		if (!hit || (wk->flags[j] & INPUT))
+			continue;
+		if (!(wk->flags[j] & CLEAR) && vis_box_contains(b, hull))
+			return 0;
+		clear |= (wk->flags[j] & CLEAR) != 0;
+		met++;
+	}
+	return clear ? met : 0;
+}
+
 /*
  * The box to classify the affected windows in: bounds, the damage on the screen, grown to hold the
  * clips of those whose last state says nothing about their pixels outside it (new or moved, and
@@ -249,16 +324,22 @@ static struct vis_box select_within(const struct vis_wtree *tree, struct vis_box
 	}
 	/* A lookup visits the windows above: the highest are the cheapest. */
 	uint64_t budget = (uint64_t)SCAN_VISITS_PER_WINDOW * n;
+	size_t engine = n / LOOKUP_ENGINE_SHARE;
 	for (size_t a = wk->n_affected; a-- > 0;) {
 		size_t i = wk->affected[a];
 		if (!(wk->flags[i] & SCAN))
 			continue;
 		if (n - i <= budget) {
 			budget -= n - i;
-		} else {
-			wk->flags[i] &= (uint8_t)~SCAN;
-			within = box_hull(within, wk->clips[i]);
+			/* Only windows with a look make a lookup cost more than its visits. */
+			size_t cost = wk->n_clear ? lookup_cost(tree, wk, i, within) : 0;
+			if (cost <= engine) {
+				engine -= cost;
+				continue;
+			}
 		}
+		wk->flags[i] &= (uint8_t)~SCAN;
+		within = box_hull(within, wk->clips[i]);
 	}
 	return within;
 }
@@ -287,25 +368,9 @@ static int outside_state(const struct vis_wtree *tree, size_t i, struct vis_box 
 	size_t n = tree->n_order;
 	if (inside == VIS_PARTIALLY_OBSCURED)
 		return inside;
-	/* The clip minus within: the rows above and below within, then left and right of it. */
-	struct vis_box c = wk->clips[i], hull = { 0, 0, 0, 0 };
-	int64_t top = c.y1 > within.y1 ? c.y1 : within.y1, bottom = c.y2 < within.y2 ? c.y2 : within.y2;
-	struct vis_box pieces[4] = {
-		{ c.x1, c.y1, c.x2, c.y2 < within.y1 ? c.y2 : within.y1 },
-		{ c.x1, c.y1 > within.y2 ? c.y1 : within.y2, c.x2, c.y2 },
-		{ c.x1, top, c.x2 < within.x1 ? c.x2 : within.x1, bottom },
-		{ c.x1 > within.x2 ? c.x1 : within.x2, top, c.x2, bottom },
-	};
-	size_t k = 0;
-	for (size_t p = 0; p < 4; p++)
-		if (!vis_box_empty(pieces[p])) {
-			hull = box_hull(hull, pieces[p]);
-			pieces[k++] = pieces[p];
-		}
-	size_t end = i + 1, m = k;
+	struct vis_box c = wk->clips[i], hull, pieces[4];
+	size_t k = outside_parts(c, within, pieces, &hull), end = subtree_end(wk, n, i), m = k;
 	bool clear = false;
-	while (end < n && wk->depths[end] > wk->depths[i])
-		end++; /* descendants never obscure */
 	/* The windows that meet the pieces go above them in rects, in any order: a piece's state
 	 * depends only on the union of their opaque pixels. */
 	for (size_t j = n; j-- > end;) {
