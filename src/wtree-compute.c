@@ -1,64 +1,9 @@
-/* The window tree's states, visible regions and repaint sets, computed with the core's engines. */
+/* The window tree's states, full and damaged recomputes, computed with the core's engines. */
 #include <errno.h>
-#include <pixman.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "engine.h"
-#include "look.h"
-#include "wtree.h"
-
-/*
- * The scratch of a recompute, kept in the tree from one recompute to the next: the arrays are
- * carved out of one block, allocated again only when the tree outgrows it. The arrays indexed by
- * position in the order (cap ≥ the viewable windows) copy what the passes after flattening read,
- * so that those passes stream through memory instead of visiting windows: only flattening visits
- * every window, and only the windows whose state changes are visited again. affected lists the
- * positions of the windows whose states are recomputed, bottom to top; hidden, the windows that
- * are not viewable but whose state or old_state is not "none", the only ones outside the order
- * whose states change.
- *
- * Windows whose pixels are not their whole box, all opaque (a shape, an opaque region other than
- * all, input-only: CLEAR) are cut into pieces (look.h) for the engine; while no viewable window is
- * CLEAR (n_clear = 0), every window is one rectangle and the pieces are never touched.
- */
-struct vis_wtree_work {
-	void *block;
-	size_t cap;
-	struct vis_box *clips;  /* per position: the window's clip */
-	size_t *index;          /* each input rectangle's position */
-	size_t *affected, n_affected;
-	struct vis_window **hidden;
-	size_t n_hidden;
-	struct vis_rect *rects; /* the engine's input (cap + 4: a lookup adds up to 4 boxes) */
-	uint32_t *depths;       /* per position: its depth */
-	uint8_t *flags;         /* per position: the flags below */
-	uint8_t *last;          /* per position: its state from the last recompute */
-	uint8_t *old;           /* per position: its old_state before this recompute, to undo */
-	uint8_t *raw;           /* per position: the state before the box rule (X's comparison) */
-	uint8_t *level;         /* per position: the result of one depth's sweep */
-	uint8_t *states;        /* the engine's output (cap + 4) */
-	size_t n_clear;         /* viewable CLEAR windows */
-	struct vis_pieces pieces;  /* the engine's input when some are */
-	uint8_t *piece_states;     /* its output, cap_piece_states long */
-	size_t cap_piece_states;
-};
-
-enum {
-	CHANGED = 1,  /* new to the order, or its box or clip is not the last recompute's */
-	CUT = 2,      /* its clip is not its box: unless shaped, it is never unobscured */
-	CHILDREN = 4, /* it has viewable children with pixels that can be seen */
-	PARENT = 8,   /* affected, with children: its own sweep without its depth's children */
-	SCAN = 16,    /* last partially obscured: what covers it outside within is looked up */
-	CLEAR = 32,   /* its pixels are not its whole box, all opaque (a shape, see-through, none) */
-	INPUT = 64,   /* input-only: no pixels, no state, never affected */
-};
-
-/* Whether a look leaves the window's pixels other than its whole border box, all opaque. */
-static bool look_clear(const struct vis_look *look)
-{
-	return look->input_only || look->shaped || look->opaque != VIS_OPAQUE_ALL;
-}
+#include "wtree-work.h"
 
 /*
  * How many windows the lookups of SCAN windows may visit in all, per viewable window, before the
@@ -72,56 +17,18 @@ static bool look_clear(const struct vis_look *look)
 #define SCAN_VISITS_PER_WINDOW 4
 
 /*
- * Makes room in wk for count windows, keeping its block when it is large enough and doubling it
- * at least otherwise. 0, or -1 with ENOMEM (wk is then as it was).
+ * How many windows the lookups that need the engine with pieces may take in all, as a share of
+ * the viewable windows (1 / LOOKUP_ENGINE_SHARE), before the others grow within instead. Such a
+ * lookup cuts every window with a look that meets the clip outside within into pieces and sweeps
+ * them: per window, about what the full recompute pays, and one lookup takes dozens of windows,
+ * as translucent windows and shadows are large. Without a limit, a move of any window of a
+ * 1,000-window translucent desktop made several such lookups and cost 3 times the full recompute.
+ * Measured with bench-wtree there (medians after one move): no such lookups, or n/8 windows, make
+ * moves of the top window (a drag) 1.6 times slower, as within then grows to most of the screen;
+ * n/4 keeps their cost, and moves of any window cost what the full recompute does (n/3 and n/2:
+ * 3% and 6% more).
  */
-static int work_reserve(struct vis_wtree_work *wk, size_t count)
-{
-	if (wk->block && count <= wk->cap)
-		return 0;
-	size_t n = count > 2 * wk->cap ? count : 2 * wk->cap;
-	n = n ? n : 1;
-	/* Widest first, so that every array is aligned: the sizes above rects are multiples of 8. */
-	size_t per = sizeof *wk->clips + sizeof *wk->index + sizeof *wk->affected +
-		     sizeof *wk->hidden + sizeof *wk->rects + sizeof *wk->depths + 6;
-	size_t extra = 4 * (sizeof *wk->rects + 1);
-	char *b = n <= (SIZE_MAX - extra) / per ? malloc(n * per + extra) : NULL;
-	if (!b) {
-		errno = ENOMEM;
-		return -1;
-	}
-	free(wk->block);
-	wk->block = b;
-	wk->cap = n;
-	wk->clips = (struct vis_box *)(void *)b;
-	b += n * sizeof *wk->clips;
-	wk->index = (size_t *)(void *)b;
-	b += n * sizeof *wk->index;
-	wk->affected = (size_t *)(void *)b;
-	b += n * sizeof *wk->affected;
-	wk->hidden = (struct vis_window **)(void *)b;
-	b += n * sizeof *wk->hidden;
-	wk->rects = (struct vis_rect *)(void *)b;
-	b += (n + 4) * sizeof *wk->rects;
-	wk->depths = (uint32_t *)(void *)b;
-	b += n * sizeof *wk->depths;
-	uint8_t **bytes[] = { &wk->flags, &wk->last, &wk->old, &wk->raw, &wk->level, &wk->states };
-	for (size_t k = 0; k < sizeof bytes / sizeof *bytes; k++) {
-		*bytes[k] = (uint8_t *)b;
-		b += n;
-	}
-	return 0;
-}
-
-void vis_wtree_work_destroy(struct vis_wtree_work *work)
-{
-	if (work) {
-		free(work->block);
-		vis_pieces_finish(&work->pieces);
-		free(work->piece_states);
-	}
-	free(work);
-}
+#define LOOKUP_ENGINE_SHARE 4
 
 /* The pre-order successor of w among viewable windows: unmapped subtrees are skipped. */
 static struct vis_window *next_viewable(struct vis_window *w)
@@ -164,7 +71,7 @@ static bool flatten_look(struct vis_window *w, uint8_t *flags)
 	int64_t b = w->look.border;
 	struct vis_box in = { w->box.x1 + b, w->box.y1 + b, w->box.x2 - b, w->box.y2 - b };
 	w->inner = vis_box_intersect(in, w->clip);
-	if (!look_clear(&w->look))
+	if (!wtree_work_look_clear(&w->look))
 		return false;
 	*flags |= CLEAR;
 	if (w->look.input_only)
@@ -224,7 +131,7 @@ static int flatten(struct vis_wtree *tree, struct vis_wtree_work *wk)
 		wk->depths[n] = w->depth;
 		wk->flags[n] = (uint8_t)((changed ? CHANGED : 0) | (box_equal(box, clip) ? 0 : CUT));
 		/* A look costs plain windows one test. */
-		if (b || look_clear(&w->look))
+		if (b || wtree_work_look_clear(&w->look))
 			n_clear += flatten_look(w, &wk->flags[n]);
 		/* The parent, viewable, is already in the order. */
 		if (p->parent && !vis_box_empty(clip))
@@ -243,140 +150,6 @@ static void unflatten(struct vis_wtree *tree, const struct vis_wtree_work *wk)
 		tree->order[i]->old_state = wk->old[i];
 }
 
-static struct vis_rect box_rect(struct vis_box b)
-{
-	return (struct vis_rect){ (int32_t)b.x1, (int32_t)b.y1, (int32_t)(b.x2 - b.x1),
-				  (int32_t)(b.y2 - b.y1) };
-}
-
-/* Makes room for n piece states. 0, or -1 with ENOMEM. */
-static int reserve_piece_states(struct vis_wtree_work *wk, size_t n)
-{
-	if (n < wk->cap_piece_states)
-		return 0;
-	size_t cap = n + 1 > 2 * wk->cap_piece_states ? n + 1 : 2 * wk->cap_piece_states;
-	uint8_t *s = realloc(wk->piece_states, cap);
-	if (!s) {
-		errno = ENOMEM;
-		return -1;
-	}
-	wk->piece_states = s;
-	wk->cap_piece_states = cap;
-	return 0;
-}
-
-/*
- * Adds window w, at position i, clipped to c, to wk's pieces, numbered i: its look's pieces (none
- * for an input-only window), or c for a window whose pixels are its whole box, all opaque.
- */
-static int add_pieces(struct vis_wtree_work *wk, const struct vis_window *w, size_t i,
-		      struct vis_box c)
-{
-	if (!look_clear(&w->look))
-		return vis_pieces_add(&wk->pieces, NULL, c, c, (uint32_t)i) < 0 ? -1 : 0;
-	return vis_pieces_add(&wk->pieces, &w->look, w->box, c, (uint32_t)i) < 0 ? -1 : 0;
-}
-
-/* A window's state from the bits (1 << state) of its pieces' states; none: no pixels. */
-static uint8_t join(unsigned met)
-{
-	if (met == 1u << VIS_UNOBSCURED)
-		return VIS_UNOBSCURED;
-	if (met == 0 || met == 1u << VIS_FULLY_OBSCURED)
-		return VIS_FULLY_OBSCURED;
-	return VIS_PARTIALLY_OBSCURED;
-}
-
-/*
- * Runs the default engine over wk's pieces and joins their states into state_of[pos] of the
- * windows they belong to (each one's pieces are consecutive); windows without pieces keep theirs.
- */
-static int run_pieces(struct vis_wtree_work *wk, uint8_t *state_of)
-{
-	struct vis_pieces *p = &wk->pieces;
-	size_t m = p->stack.n;
-	if (reserve_piece_states(wk, m) < 0)
-		return -1;
-	p->stack.rects = p->rects;
-	p->stack.see_through = p->see_through;
-	if (vis_compute(VIS_ENGINE_AUTO, &p->stack, wk->piece_states) < 0)
-		return -1;
-	for (size_t k = 0; k < m;) {
-		uint32_t i = p->window[k];
-		unsigned met = 0;
-		for (; k < m && p->window[k] == i; k++)
-			met |= 1u << wk->piece_states[k];
-		state_of[i] = join(met);
-	}
-	return 0;
-}
-
-/* Adds the window at position i, clipped to within, to the engine's input: a box or pieces. */
-static inline int add(const struct vis_wtree *tree, struct vis_wtree_work *wk, bool pieces,
-		      size_t i, struct vis_box within, size_t *m)
-{
-	struct vis_box c = vis_box_intersect(wk->clips[i], within);
-	if (vis_box_empty(c))
-		return 0;
-	if (pieces)
-		return add_pieces(wk, tree->order[i], i, c);
-	wk->rects[*m] = box_rect(c);
-	wk->index[(*m)++] = i;
-	return 0;
-}
-
-/*
- * Whether the window at position i, not top-level, lies in its parent's pixels, all opaque (its
- * parent is not CLEAR), so that it hides nothing its parent does not.
- */
-static bool covered(const struct vis_wtree *tree, const struct vis_wtree_work *wk, size_t i)
-{
-	return !(wk->flags[tree->order[i]->parent->pos] & CLEAR);
-}
-
-/*
- * Runs the default engine over the windows of wk at positions first … n − 1 with pixels inside
- * within, each clipped to within; writes each one's state (its pixels' inside within) to
- * state_of[pos] (fully obscured for the others, and those below first). With max_depth 0, over
- * all of them in pre-order: exact for windows without children. With max_depth d, exact for the
- * windows at depth d, whose descendants must not hide them while the later windows' must: each
- * window at depth d goes above its descendants, which keep their place above the windows before
- * it. A descendant that its parent's pixels hold, all opaque (covered()), hides nothing more than
- * the parent and is left out: without CLEAR windows, every window deeper than d is.
- * With pieces, CLEAR windows are cut into pieces (look.h) and input-only ones have none; without,
- * there are none and every window is one rectangle.
- */
-static int sweep(const struct vis_wtree *tree, struct vis_wtree_work *wk, bool pieces,
-		 size_t first, size_t n, uint32_t max_depth, struct vis_box within,
-		 uint8_t *state_of)
-{
-	size_t m = 0;
-	memset(state_of, VIS_FULLY_OBSCURED, n);
-	if (pieces)
-		vis_pieces_reset(&wk->pieces);
-	for (size_t i = first; i < n;) {
-		size_t end = i + 1;
-		if (max_depth && wk->depths[i] >= max_depth) {
-			/* Its subtree: deeper windows are reached from their ancestor here. */
-			while (end < n && wk->depths[end] > max_depth)
-				end++;
-			for (size_t k = i + 1; pieces && k < end; k++)
-				if (!covered(tree, wk, k) && add(tree, wk, pieces, k, within, &m) < 0)
-					return -1;
-		}
-		if (add(tree, wk, pieces, i, within, &m) < 0)
-			return -1;
-		i = end;
-	}
-	if (pieces)
-		return run_pieces(wk, state_of);
-	struct vis_stack stack = { wk->rects, m, false, 0, 0, NULL, NULL };
-	if (vis_compute(VIS_ENGINE_AUTO, &stack, wk->states) < 0)
-		return -1;
-	for (size_t k = 0; k < m; k++)
-		state_of[wk->index[k]] = wk->states[k];
-	return 0;
-}
 
 /*
  * The position of the highest top-level window whose clip holds within and whose pixels are its
@@ -430,13 +203,13 @@ static void select_affected(const struct vis_wtree *tree, const struct vis_box *
  * Sets wk->raw of every affected window to its state before the box rule, as its pixels inside
  * within (a box inside the screen) alone would have it: fully obscured with none there.
  * A window without visible children takes the sweep over all windows; one with them, the sweep
- * for its depth, in which its descendants do not hide it (see sweep()).
+ * for its depth, in which its descendants do not hide it (see wtree_work_sweep()).
  */
 static int classify(const struct vis_wtree *tree, struct vis_box within, struct vis_wtree_work *wk)
 {
 	size_t n = tree->n_order, first = cover(wk, n, within);
 	bool pieces = wk->n_clear > 0;
-	if (sweep(tree, wk, pieces, first, n, 0, within, wk->raw) < 0)
+	if (wtree_work_sweep(tree, wk, pieces, first, n, 0, within, wk->raw) < 0)
 		return -1;
 	for (size_t a = 0; a < wk->n_affected; a++) {
 		size_t i = wk->affected[a];
@@ -453,7 +226,7 @@ static int classify(const struct vis_wtree *tree, struct vis_box within, struct 
 		}
 		if (!next)
 			break;
-		if (sweep(tree, wk, pieces, first, n, next, within, wk->level) < 0)
+		if (wtree_work_sweep(tree, wk, pieces, first, n, next, within, wk->level) < 0)
 			return -1;
 		for (size_t a = 0; a < wk->n_affected; a++) {
 			size_t i = wk->affected[a];
@@ -463,6 +236,67 @@ static int classify(const struct vis_wtree *tree, struct vis_box within, struct 
 		depth_done = next;
 	}
 	return 0;
+}
+
+/* The parts of the clip c outside within, into parts: the rows above and below within, then left
+ * and right of it, those not empty. Returns how many, and their hull. */
+static size_t outside_parts(struct vis_box c, struct vis_box within, struct vis_box parts[4],
+			    struct vis_box *hull)
+{
+	int64_t top = c.y1 > within.y1 ? c.y1 : within.y1, bottom = c.y2 < within.y2 ? c.y2 : within.y2;
+	struct vis_box all[4] = {
+		{ c.x1, c.y1, c.x2, c.y2 < within.y1 ? c.y2 : within.y1 },
+		{ c.x1, c.y1 > within.y2 ? c.y1 : within.y2, c.x2, c.y2 },
+		{ c.x1, top, c.x2 < within.x1 ? c.x2 : within.x1, bottom },
+		{ c.x1 > within.x2 ? c.x1 : within.x2, top, c.x2, bottom },
+	};
+	size_t k = 0;
+	*hull = (struct vis_box){ 0, 0, 0, 0 };
+	for (size_t p = 0; p < 4; p++)
+		if (!vis_box_empty(all[p])) {
+			*hull = box_hull(*hull, all[p]);
+			parts[k++] = all[p];
+		}
+	return k;
+}
+
+/* The position just past the subtree of the window at position i: its descendants, which never
+ * obscure it. */
+static size_t subtree_end(const struct vis_wtree_work *wk, size_t n, size_t i)
+{
+	size_t end = i + 1;
+	while (end < n && wk->depths[end] > wk->depths[i])
+		end++;
+	return end;
+}
+
+/*
+ * What the lookup of the SCAN window at position i (outside_state()) may cost beyond its visits:
+ * 0 when a window with its whole clip opaque covers the clip's parts outside within, or when no
+ * window with a look meets them; else the number of windows that meet them, which the engine would
+ * take, those with a look as pieces. An upper bound: within only grows after, and the state inside
+ * within may settle the lookup before the engine. O(windows above).
+ */
+static size_t lookup_cost(const struct vis_wtree *tree, const struct vis_wtree_work *wk, size_t i,
+			  struct vis_box within)
+{
+	struct vis_box parts[4], hull, c = wk->clips[i];
+	size_t n = tree->n_order, k = outside_parts(c, within, parts, &hull), met = 0;
+	size_t end = subtree_end(wk, n, i);
+	bool clear = false;
+	for (size_t j = n; j-- > end;) {
+		struct vis_box b = vis_box_intersect(wk->clips[j], c);
+		bool hit = false;
+		for (size_t p = 0; p < k && !hit; p++)
+			hit = meets(b, parts[p]);
+		if (!hit || (wk->flags[j] & INPUT))
+			continue;
+		if (!(wk->flags[j] & CLEAR) && vis_box_contains(b, hull))
+			return 0;
+		clear |= (wk->flags[j] & CLEAR) != 0;
+		met++;
+	}
+	return clear ? met : 0;
 }
 
 /*
@@ -490,16 +324,22 @@ static struct vis_box select_within(const struct vis_wtree *tree, struct vis_box
 	}
 	/* A lookup visits the windows above: the highest are the cheapest. */
 	uint64_t budget = (uint64_t)SCAN_VISITS_PER_WINDOW * n;
+	size_t engine = n / LOOKUP_ENGINE_SHARE;
 	for (size_t a = wk->n_affected; a-- > 0;) {
 		size_t i = wk->affected[a];
 		if (!(wk->flags[i] & SCAN))
 			continue;
 		if (n - i <= budget) {
 			budget -= n - i;
-		} else {
-			wk->flags[i] &= (uint8_t)~SCAN;
-			within = box_hull(within, wk->clips[i]);
+			/* Only windows with a look make a lookup cost more than its visits. */
+			size_t cost = wk->n_clear ? lookup_cost(tree, wk, i, within) : 0;
+			if (cost <= engine) {
+				engine -= cost;
+				continue;
+			}
 		}
+		wk->flags[i] &= (uint8_t)~SCAN;
+		within = box_hull(within, wk->clips[i]);
 	}
 	return within;
 }
@@ -528,25 +368,9 @@ static int outside_state(const struct vis_wtree *tree, size_t i, struct vis_box 
 	size_t n = tree->n_order;
 	if (inside == VIS_PARTIALLY_OBSCURED)
 		return inside;
-	/* The clip minus within: the rows above and below within, then left and right of it. */
-	struct vis_box c = wk->clips[i], hull = { 0, 0, 0, 0 };
-	int64_t top = c.y1 > within.y1 ? c.y1 : within.y1, bottom = c.y2 < within.y2 ? c.y2 : within.y2;
-	struct vis_box pieces[4] = {
-		{ c.x1, c.y1, c.x2, c.y2 < within.y1 ? c.y2 : within.y1 },
-		{ c.x1, c.y1 > within.y2 ? c.y1 : within.y2, c.x2, c.y2 },
-		{ c.x1, top, c.x2 < within.x1 ? c.x2 : within.x1, bottom },
-		{ c.x1 > within.x2 ? c.x1 : within.x2, top, c.x2, bottom },
-	};
-	size_t k = 0;
-	for (size_t p = 0; p < 4; p++)
-		if (!vis_box_empty(pieces[p])) {
-			hull = box_hull(hull, pieces[p]);
-			pieces[k++] = pieces[p];
-		}
-	size_t end = i + 1, m = k;
+	struct vis_box c = wk->clips[i], hull, pieces[4];
+	size_t k = outside_parts(c, within, pieces, &hull), end = subtree_end(wk, n, i), m = k;
 	bool clear = false;
-	while (end < n && wk->depths[end] > wk->depths[i])
-		end++; /* descendants never obscure */
 	/* The windows that meet the pieces go above them in rects, in any order: a piece's state
 	 * depends only on the union of their opaque pixels. */
 	for (size_t j = n; j-- > end;) {
@@ -564,12 +388,12 @@ static int outside_state(const struct vis_wtree *tree, size_t i, struct vis_box 
 		}
 		clear |= (wk->flags[j] & CLEAR) != 0;
 		wk->index[m - k] = j;
-		wk->rects[m++] = box_rect(b);
+		wk->rects[m++] = wtree_work_box_rect(b);
 	}
 	if (m == k)
 		return VIS_UNOBSCURED;
 	for (size_t p = 0; p < k; p++)
-		wk->rects[p] = box_rect(pieces[p]);
+		wk->rects[p] = wtree_work_box_rect(pieces[p]);
 	uint8_t *states = wk->states;
 	if (clear) {
 		/* Some have a look: the same stack, cut into pieces; the first k are the boxes'. */
@@ -578,11 +402,11 @@ static int outside_state(const struct vis_wtree *tree, size_t i, struct vis_box 
 			if (vis_pieces_add(&wk->pieces, NULL, pieces[p], pieces[p], 0) < 0)
 				return -1;
 		for (size_t q = k; q < m; q++)
-			if (add_pieces(wk, tree->order[wk->index[q - k]], 1,
+			if (wtree_work_add_pieces(wk, tree->order[wk->index[q - k]], 1,
 				       vis_rect_box(wk->rects[q])) < 0)
 				return -1;
 		struct vis_pieces *pc = &wk->pieces;
-		if (reserve_piece_states(wk, pc->stack.n) < 0)
+		if (wtree_work_reserve_piece_states(wk, pc->stack.n) < 0)
 			return -1;
 		pc->stack.rects = pc->rects;
 		pc->stack.see_through = pc->see_through;
@@ -657,7 +481,7 @@ static int compute(struct vis_wtree *tree, const struct vis_box *damage, size_t 
 		return -1;
 	}
 	struct vis_wtree_work *wk = tree->work;
-	if (work_reserve(wk, tree->count) < 0)
+	if (wtree_work_reserve(wk, tree->count) < 0)
 		return -1;
 	struct vis_box screen = tree->root.clip, bounds = { 0, 0, 0, 0 };
 	if (tree->stale) {
@@ -705,94 +529,4 @@ int vis_wtree_compute_damaged(struct vis_wtree *tree, const struct vis_box *dama
 			      size_t n_damage)
 {
 	return compute(tree, damage, n_damage);
-}
-
-/*
- * Initializes region with the union of the pieces numbered num (only the opaque ones, with
- * opaque), relative to ox, oy. 0, or -1 (region is then still initialized).
- */
-static int pieces_region(const struct vis_pieces *p, uint32_t num, bool opaque, int64_t ox,
-			 int64_t oy, pixman_region32_t *region)
-{
-	size_t n = 0;
-	pixman_box32_t *boxes = malloc((p->stack.n ? p->stack.n : 1) * sizeof *boxes);
-	pixman_region32_init(region);
-	if (!boxes)
-		return -1;
-	for (size_t k = 0; k < p->stack.n; k++) {
-		if (p->window[k] != num || (opaque && p->see_through[k]))
-			continue;
-		struct vis_box b = vis_rect_box(p->rects[k]);
-		boxes[n++] = (pixman_box32_t){ (int32_t)(b.x1 - ox), (int32_t)(b.y1 - oy),
-					       (int32_t)(b.x2 - ox), (int32_t)(b.y2 - oy) };
-	}
-	pixman_region32_fini(region);
-	bool ok = pixman_region32_init_rects(region, boxes, (int)n);
-	free(boxes);
-	return ok ? 0 : -1;
-}
-
-int vis_wtree_visible_region(const struct vis_wtree *tree, const struct vis_window *window,
-			     void *out)
-{
-	pixman_region32_t *region = out;
-	struct vis_box clip = window->clip;
-	pixman_region32_clear(region);
-	if (window->state == VIS_WTREE_STATE_NONE || window->state == VIS_FULLY_OBSCURED ||
-	    vis_box_empty(clip))
-		return 0;
-	/* Its own pixels, numbered 0, and the later windows' inside its clip, numbered 1. The boxes
-	 * lie in the clip, so in window coordinates in [0, INT32_MAX) (the box's sides' range). */
-	struct vis_wtree_work wk = { 0 };
-	int64_t ox = window->box.x1, oy = window->box.y1;
-	int rc = -1;
-	if (add_pieces(&wk, window, 0, clip) < 0)
-		goto out;
-	for (size_t i = window->pos + 1; i < tree->n_order; i++) {
-		const struct vis_window *w = tree->order[i];
-		if (!w)
-			continue;
-		struct vis_box c = vis_box_intersect(w->clip, clip);
-		if (!vis_box_empty(c) && add_pieces(&wk, w, 1, c) < 0)
-			goto out;
-	}
-	pixman_region32_t own, above;
-	bool ok = pieces_region(&wk.pieces, 0, false, ox, oy, &own) == 0;
-	ok &= pieces_region(&wk.pieces, 1, true, ox, oy, &above) == 0;
-	ok = ok && pixman_region32_subtract(region, &own, &above);
-	pixman_region32_fini(&own);
-	pixman_region32_fini(&above);
-	if (ok)
-		rc = 0;
-out:
-	vis_pieces_finish(&wk.pieces);
-	if (rc < 0)
-		errno = ENOMEM;
-	return rc;
-}
-
-long vis_wtree_repaint(const struct vis_wtree *tree, struct vis_box damage,
-		       struct vis_window **out)
-{
-	size_t n = tree->n_order;
-	struct vis_wtree_work wk = { 0 };
-	bool pieces = false;
-	if (work_reserve(&wk, n) < 0)
-		return -1;
-	for (size_t i = 0; i < n; i++) {
-		const struct vis_window *w = tree->order[i];
-		wk.clips[i] = w ? w->clip : (struct vis_box){ 0, 0, 0, 0 };
-		pieces |= w && look_clear(&w->look);
-	}
-	long count = -1;
-	if (sweep(tree, &wk, pieces, 0, n, 0, damage, wk.raw) == 0) {
-		count = 0;
-		for (size_t i = 0; i < n; i++)
-			if (wk.raw[i] != VIS_FULLY_OBSCURED)
-				out[count++] = tree->order[i];
-	}
-	free(wk.block);
-	vis_pieces_finish(&wk.pieces);
-	free(wk.piece_states);
-	return count;
 }

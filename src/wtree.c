@@ -1,4 +1,5 @@
-/* The window tree: creation, destruction and restacking; the states are in wtree-compute.c. */
+/* The window tree: creation, destruction and restacking; states in wtree-compute.c, queries in
+ * wtree-query.c. */
 #include <errno.h>
 #include <stdlib.h>
 

@@ -59,7 +59,7 @@ struct vis_wtree {
 	/* A recompute failed after it had rewritten the boxes: the states no longer go with them,
 	 * so the next recompute must be a full one. */
 	bool stale;
-	struct vis_wtree_work *work; /* the recomputes' scratch (wtree-compute.c), or NULL */
+	struct vis_wtree_work *work; /* the recomputes' scratch (wtree-work.h), or NULL */
 };
 
 /* Sets up an empty tree over a screen of width × height (≥ 1). O(1). */
@@ -198,13 +198,17 @@ int vis_wtree_compute(struct vis_wtree *tree);
  * recompute: one last unobscured or fully obscured was so there too; for one last partially
  * obscured, the windows above it are looked up (a box test each for those opaque and unshaped,
  * the engine when none settles it, with the others' pieces) within a budget of 4 visits per
- * viewable window in all, highest windows first, past which their clips join within instead.
+ * viewable window in all, highest windows first, past which their clips join within instead; and
+ * so do the clips of those whose lookups might hand the engine windows with a look once such
+ * lookups would take more than n / 4 windows in all (cutting and sweeping them costs as much as
+ * the full recompute's sweep does for as many windows).
  * A window's state is its state inside within if it is the same outside, else partially obscured.
  *
  * Returns 0, or -1 with errno ENOMEM (states are then unchanged, and the next recompute is full).
  * O(n · d) for flattening and the damage tests (n viewable windows, d damage boxes; past 4 boxes
- * their hull is tested first), O(n) for the lookups with the engine over at most 4n boxes, and the
- * sweeps over the m windows that meet within: O(n · d + (1 + D) · m log m + n log n) at worst.
+ * their hull is tested first), O(n) for the lookups with the engine over at most 4n boxes (n / 4
+ * windows when some have a look, cut into their pieces), and the sweeps over the m windows that
+ * meet within: O(n · d + (1 + D) · m log m + n log n) at worst.
  * As within grows towards the screen, this becomes vis_wtree_compute(): no separate fall-back to
  * it is needed, and the worst case stays within a constant of it, but for the damage tests.
  */

@@ -874,15 +874,29 @@ static void scripted_looks(void)
 	scene_end();
 }
 
-int main(void)
+/*
+ * test-wtree [--scale K] [--first S]: K times as many random trees of each family (default 1),
+ * seeds from S on (default 1), for longer runs by hand; a failure prints the seed to rerun from.
+ */
+int main(int argc, char **argv)
 {
+	uint64_t scale = 1, first = 1;
+	for (int i = 1; i < argc; i += 2) {
+		char *end = NULL;
+		uint64_t v = i + 1 < argc ? strtoull(argv[i + 1], &end, 10) : 0;
+		if (!end || *end || !v || (strcmp(argv[i], "--scale") && strcmp(argv[i], "--first"))) {
+			fprintf(stderr, "usage: test-wtree [--scale K] [--first S]\n");
+			return 2;
+		}
+		*(strcmp(argv[i], "--scale") ? &first : &scale) = v;
+	}
 	scripted();
 	scripted_looks();
-	int scenes = random_trees(1, 10000, 10);
+	int scenes = random_trees(first, 10000 * scale, 10);
 	family = EXTREME;
-	int extremes = random_trees(1, 20000, 10);
+	int extremes = random_trees(first, 20000 * scale, 10);
 	family = CROWD;
-	int crowds = random_trees(1, 600, 20);
+	int crowds = random_trees(first, 600 * scale, 20);
 	family = SMALL;
 	/* Coordinates near the 32-bit limits: nesting adds offsets beyond them. */
 	vis_wtree_init(&tree, 100, 100);

@@ -1,0 +1,179 @@
+/* The window tree's scratch and its sweep: what the recomputes and the queries share. */
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "engine.h"
+#include "wtree-work.h"
+
+/* Makes room in wk for count windows: one block, so that a recompute allocates nothing. */
+int wtree_work_reserve(struct vis_wtree_work *wk, size_t count)
+{
+	if (wk->block && count <= wk->cap)
+		return 0;
+	size_t n = count > 2 * wk->cap ? count : 2 * wk->cap;
+	n = n ? n : 1;
+	/* Widest first, so that every array is aligned: the sizes above rects are multiples of 8. */
+	size_t per = sizeof *wk->clips + sizeof *wk->index + sizeof *wk->affected +
+		     sizeof *wk->hidden + sizeof *wk->rects + sizeof *wk->depths + 6;
+	size_t extra = 4 * (sizeof *wk->rects + 1);
+	char *b = n <= (SIZE_MAX - extra) / per ? malloc(n * per + extra) : NULL;
+	if (!b) {
+		errno = ENOMEM;
+		return -1;
+	}
+	free(wk->block);
+	wk->block = b;
+	wk->cap = n;
+	wk->clips = (struct vis_box *)(void *)b;
+	b += n * sizeof *wk->clips;
+	wk->index = (size_t *)(void *)b;
+	b += n * sizeof *wk->index;
+	wk->affected = (size_t *)(void *)b;
+	b += n * sizeof *wk->affected;
+	wk->hidden = (struct vis_window **)(void *)b;
+	b += n * sizeof *wk->hidden;
+	wk->rects = (struct vis_rect *)(void *)b;
+	b += (n + 4) * sizeof *wk->rects;
+	wk->depths = (uint32_t *)(void *)b;
+	b += n * sizeof *wk->depths;
+	uint8_t **bytes[] = { &wk->flags, &wk->last, &wk->old, &wk->raw, &wk->level, &wk->states };
+	for (size_t k = 0; k < sizeof bytes / sizeof *bytes; k++) {
+		*bytes[k] = (uint8_t *)b;
+		b += n;
+	}
+	return 0;
+}
+
+/* Frees what a work holds, for the queries' works on the stack and the tree's. */
+void wtree_work_finish(struct vis_wtree_work *wk)
+{
+	free(wk->block);
+	vis_pieces_finish(&wk->pieces);
+	free(wk->piece_states);
+}
+
+void vis_wtree_work_destroy(struct vis_wtree_work *work)
+{
+	if (work)
+		wtree_work_finish(work);
+	free(work);
+}
+
+/* Makes room for n piece states, kept apart from the block: pieces outnumber windows. */
+int wtree_work_reserve_piece_states(struct vis_wtree_work *wk, size_t n)
+{
+	if (n < wk->cap_piece_states)
+		return 0;
+	size_t cap = n + 1 > 2 * wk->cap_piece_states ? n + 1 : 2 * wk->cap_piece_states;
+	uint8_t *s = realloc(wk->piece_states, cap);
+	if (!s) {
+		errno = ENOMEM;
+		return -1;
+	}
+	wk->piece_states = s;
+	wk->cap_piece_states = cap;
+	return 0;
+}
+
+/* Adds a window's pieces: a plain window's clip needs no cutting. */
+int wtree_work_add_pieces(struct vis_wtree_work *wk, const struct vis_window *w, size_t i,
+			  struct vis_box c)
+{
+	if (!wtree_work_look_clear(&w->look))
+		return vis_pieces_add(&wk->pieces, NULL, c, c, (uint32_t)i) < 0 ? -1 : 0;
+	return vis_pieces_add(&wk->pieces, &w->look, w->box, c, (uint32_t)i) < 0 ? -1 : 0;
+}
+
+/* A window's state from the bits (1 << state) of its pieces' states; none: no pixels. */
+static uint8_t join(unsigned met)
+{
+	if (met == 1u << VIS_UNOBSCURED)
+		return VIS_UNOBSCURED;
+	if (met == 0 || met == 1u << VIS_FULLY_OBSCURED)
+		return VIS_FULLY_OBSCURED;
+	return VIS_PARTIALLY_OBSCURED;
+}
+
+/*
+ * Runs the default engine over wk's pieces and joins their states into state_of[pos] of the
+ * windows they belong to (each one's pieces are consecutive); windows without pieces keep theirs.
+ */
+static int run_pieces(struct vis_wtree_work *wk, uint8_t *state_of)
+{
+	struct vis_pieces *p = &wk->pieces;
+	size_t m = p->stack.n;
+	if (wtree_work_reserve_piece_states(wk, m) < 0)
+		return -1;
+	p->stack.rects = p->rects;
+	p->stack.see_through = p->see_through;
+	if (vis_compute(VIS_ENGINE_AUTO, &p->stack, wk->piece_states) < 0)
+		return -1;
+	for (size_t k = 0; k < m;) {
+		uint32_t i = p->window[k];
+		unsigned met = 0;
+		for (; k < m && p->window[k] == i; k++)
+			met |= 1u << wk->piece_states[k];
+		state_of[i] = join(met);
+	}
+	return 0;
+}
+
+/* Adds the window at position i, clipped to within, to the engine's input: a box or pieces. */
+static inline int add(const struct vis_wtree *tree, struct vis_wtree_work *wk, bool pieces,
+		      size_t i, struct vis_box within, size_t *m)
+{
+	struct vis_box c = vis_box_intersect(wk->clips[i], within);
+	if (vis_box_empty(c))
+		return 0;
+	if (pieces)
+		return wtree_work_add_pieces(wk, tree->order[i], i, c);
+	wk->rects[*m] = wtree_work_box_rect(c);
+	wk->index[(*m)++] = i;
+	return 0;
+}
+
+/*
+ * Whether the window at position i, not top-level, lies in its parent's pixels, all opaque (its
+ * parent is not CLEAR), so that it hides nothing its parent does not.
+ */
+static bool covered(const struct vis_wtree *tree, const struct vis_wtree_work *wk, size_t i)
+{
+	return !(wk->flags[tree->order[i]->parent->pos] & CLEAR);
+}
+
+/*
+ * The sweep of the recomputes and of the repaint sets (wtree-work.h): with max_depth, each window
+ * at that depth goes above its own subtree, which covered() thins out.
+ */
+int wtree_work_sweep(const struct vis_wtree *tree, struct vis_wtree_work *wk, bool pieces,
+		     size_t first, size_t n, uint32_t max_depth, struct vis_box within,
+		     uint8_t *state_of)
+{
+	size_t m = 0;
+	memset(state_of, VIS_FULLY_OBSCURED, n);
+	if (pieces)
+		vis_pieces_reset(&wk->pieces);
+	for (size_t i = first; i < n;) {
+		size_t end = i + 1;
+		if (max_depth && wk->depths[i] >= max_depth) {
+			/* Its subtree: deeper windows are reached from their ancestor here. */
+			while (end < n && wk->depths[end] > max_depth)
+				end++;
+			for (size_t k = i + 1; pieces && k < end; k++)
+				if (!covered(tree, wk, k) && add(tree, wk, pieces, k, within, &m) < 0)
+					return -1;
+		}
+		if (add(tree, wk, pieces, i, within, &m) < 0)
+			return -1;
+		i = end;
+	}
+	if (pieces)
+		return run_pieces(wk, state_of);
+	struct vis_stack stack = { wk->rects, m, false, 0, 0, NULL, NULL };
+	if (vis_compute(VIS_ENGINE_AUTO, &stack, wk->states) < 0)
+		return -1;
+	for (size_t k = 0; k < m; k++)
+		state_of[wk->index[k]] = wk->states[k];
+	return 0;
+}
