@@ -88,8 +88,9 @@ static bool flatten_look(struct vis_window *w, uint8_t *flags)
  *
  * X's geometry: a window's border box starts at its parent's inside's corner + (x, y); its clip is
  * that box clipped to the parent's inner box (the screen for top-level windows), and its inner box,
- * which its children are clipped to, is its inside so clipped. X clips children to a shaped
- * parent's bounding shape too; here they are clipped to its inside's box only.
+ * which its children are clipped to, is its inside so clipped. As X, a shaped window clips its
+ * descendants to its bounding shape too: they are flagged UNDER (and CLEAR), and cut into pieces
+ * by what the shapes above them leave (wtree-work.c).
  */
 static int flatten(struct vis_wtree *tree, struct vis_wtree_work *wk)
 {
@@ -131,8 +132,13 @@ static int flatten(struct vis_wtree *tree, struct vis_wtree_work *wk)
 		wk->depths[n] = w->depth;
 		wk->flags[n] = (uint8_t)((changed ? CHANGED : 0) | (box_equal(box, clip) ? 0 : CUT));
 		/* A look costs plain windows one test. */
-		if (b || wtree_work_look_clear(&w->look))
-			n_clear += flatten_look(w, &wk->flags[n]);
+		bool clear = (b || wtree_work_look_clear(&w->look)) && flatten_look(w, &wk->flags[n]);
+		/* A shaped ancestor clips it to its shape: its pixels are no box either. */
+		if (p->parent && (p->look.shaped || (wk->flags[p->pos] & UNDER))) {
+			wk->flags[n] |= CLEAR | UNDER;
+			clear = true;
+		}
+		n_clear += clear;
 		/* The parent, viewable, is already in the order. */
 		if (p->parent && !vis_box_empty(clip))
 			wk->flags[p->pos] |= CHILDREN;
@@ -317,7 +323,8 @@ static struct vis_box select_within(const struct vis_wtree *tree, struct vis_box
 		if (vis_box_empty(wk->clips[i]))
 			continue;
 		if ((wk->flags[i] & CHANGED) ||
-		    ((wk->flags[i] & CLEAR) && tree->order[i]->look.shaped))
+		    ((wk->flags[i] & CLEAR) &&
+		     (tree->order[i]->look.shaped || (wk->flags[i] & UNDER))))
 			within = box_hull(within, wk->clips[i]);
 		else if (wk->last[i] == VIS_PARTIALLY_OBSCURED)
 			wk->flags[i] |= SCAN;
@@ -455,17 +462,16 @@ static int shaped_cuts(const struct vis_wtree *tree, struct vis_wtree_work *wk)
 {
 	for (size_t a = 0; a < wk->n_affected; a++) {
 		size_t i = wk->affected[a];
-		if (wk->raw[i] != VIS_UNOBSCURED || (wk->flags[i] & (CUT | CLEAR)) != (CUT | CLEAR))
-			continue;
 		const struct vis_window *w = tree->order[i];
-		if (!w->look.shaped)
+		/* Under a shaped ancestor even a window its clip holds may be cut by the shape. */
+		bool under = wk->flags[i] & UNDER;
+		if (wk->raw[i] != VIS_UNOBSCURED ||
+		    !(under || ((wk->flags[i] & (CUT | CLEAR)) == (CUT | CLEAR) && w->look.shaped)))
 			continue;
-		vis_pieces_reset(&wk->pieces);
-		int cut = vis_pieces_add(&wk->pieces, &w->look, w->box, w->clip, 0);
+		int cut = wtree_work_cut(w, w->clip);
 		if (cut < 0)
 			return -1;
-		if (!cut)
-			wk->flags[i] &= (uint8_t)~CUT;
+		wk->flags[i] = (uint8_t)(cut ? wk->flags[i] | CUT : wk->flags[i] & ~CUT);
 	}
 	return 0;
 }

@@ -76,13 +76,95 @@ int wtree_work_reserve_piece_states(struct vis_wtree_work *wk, size_t n)
 	return 0;
 }
 
-/* Adds a window's pieces: a plain window's clip needs no cutting. */
+/* Whether some ancestor of w (not the root) has a bounding shape. O(depth). */
+static bool under_shape(const struct vis_window *w)
+{
+	for (const struct vis_window *a = w->parent; a && a->parent; a = a->parent)
+		if (a->look.shaped)
+			return true;
+	return false;
+}
+
+/*
+ * The part of the clip c that w's shaped ancestors leave: their shapes (inside their insides, as
+ * X clips children to a parent's bounding shape and inside) cut c into boxes, in *out (malloc'd,
+ * *n of them). 0, or -1 with ENOMEM or EOVERFLOW.
+ */
+static int shape_clip(const struct vis_window *w, struct vis_box c, struct vis_box **out,
+		      size_t *n)
+{
+	struct vis_box *boxes = malloc(sizeof(*boxes));
+	size_t nb = 1;
+	struct vis_pieces tmp = { 0 };
+	if (!boxes)
+		goto nomem;
+	boxes[0] = c;
+	for (const struct vis_window *a = w->parent; a && a->parent && nb; a = a->parent) {
+		if (!a->look.shaped)
+			continue;
+		int64_t b = a->look.border;
+		struct vis_box inside = { a->box.x1 + b, a->box.y1 + b, a->box.x2 - b, a->box.y2 - b };
+		struct vis_look shape = { .border = a->look.border, .shaped = true,
+					  .shape = a->look.shape, .n_shape = a->look.n_shape };
+		vis_pieces_reset(&tmp);
+		for (size_t k = 0; k < nb; k++) {
+			struct vis_box in = vis_box_intersect(boxes[k], inside);
+			if (!vis_box_empty(in) && vis_pieces_add(&tmp, &shape, a->box, in, 0) < 0)
+				goto fail;
+		}
+		struct vis_box *more = realloc(boxes, (tmp.stack.n + 1) * sizeof(*boxes));
+		if (!more)
+			goto nomem;
+		boxes = more;
+		nb = tmp.stack.n;
+		for (size_t k = 0; k < nb; k++)
+			boxes[k] = vis_rect_box(tmp.rects[k]);
+	}
+	vis_pieces_finish(&tmp);
+	*out = boxes;
+	*n = nb;
+	return 0;
+nomem:
+	errno = ENOMEM;
+fail:
+	vis_pieces_finish(&tmp);
+	free(boxes);
+	return -1;
+}
+
+/* Adds a window's pieces, or says whether it is cut (pieces NULL: to a scratch). */
+static int add_window(const struct vis_window *w, size_t i, struct vis_box c,
+		      struct vis_pieces *pieces)
+{
+	const struct vis_look *look = wtree_work_look_clear(&w->look) ? &w->look : NULL;
+	if (!under_shape(w)) {
+		/* A plain window's clip needs no cutting. */
+		return look ? vis_pieces_add(pieces, look, w->box, c, (uint32_t)i)
+			    : vis_pieces_add(pieces, NULL, c, c, (uint32_t)i);
+	}
+	struct vis_box *within;
+	size_t n;
+	if (shape_clip(w, c, &within, &n) < 0)
+		return -1;
+	/* With no boxes left, nothing of it is seen: within is then empty, not absent. */
+	int rc = vis_pieces_add_within(pieces, look, w->box, c, within, n, (uint32_t)i);
+	free(within);
+	return rc;
+}
+
+/* Adds a window's pieces: under shaped ancestors, what their shapes leave of them. */
 int wtree_work_add_pieces(struct vis_wtree_work *wk, const struct vis_window *w, size_t i,
 			  struct vis_box c)
 {
-	if (!wtree_work_look_clear(&w->look))
-		return vis_pieces_add(&wk->pieces, NULL, c, c, (uint32_t)i) < 0 ? -1 : 0;
-	return vis_pieces_add(&wk->pieces, &w->look, w->box, c, (uint32_t)i) < 0 ? -1 : 0;
+	return add_window(w, i, c, &wk->pieces) < 0 ? -1 : 0;
+}
+
+int wtree_work_cut(const struct vis_window *w, struct vis_box c)
+{
+	struct vis_pieces scratch = { 0 };
+	int rc = add_window(w, 0, c, &scratch);
+	vis_pieces_finish(&scratch);
+	return rc;
 }
 
 /* A window's state from the bits (1 << state) of its pieces' states; none: no pixels. */

@@ -59,6 +59,7 @@ enum {
 	SCAN = 16,    /* last partially obscured: what covers it outside within is looked up */
 	CLEAR = 32,   /* its pixels are not its whole box, all opaque (a shape, see-through, none) */
 	INPUT = 64,   /* input-only: no pixels, no state, never affected */
+	UNDER = 128,  /* under a shaped ancestor, whose shape clips it (with CLEAR) */
 };
 
 /* Whether a look leaves the window's pixels other than its whole border box, all opaque. Inline:
@@ -94,6 +95,12 @@ int wtree_work_reserve_piece_states(struct vis_wtree_work *wk, size_t n);
  */
 int wtree_work_add_pieces(struct vis_wtree_work *wk, const struct vis_window *w, size_t i,
 			  struct vis_box c);
+
+/*
+ * Whether the clip c, and the shapes of w's shaped ancestors (which clip their descendants, as
+ * in X), cut pixels away from window w: 1, 0, or -1 with ENOMEM or EOVERFLOW.
+ */
+int wtree_work_cut(const struct vis_window *w, struct vis_box c);
 
 /*
  * Runs the default engine over the windows of wk at positions first … n − 1 with pixels inside

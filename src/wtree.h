@@ -36,8 +36,9 @@ struct vis_window {
 	/* Set by vis_wtree_compute() for viewable windows: the absolute border box; clipped to the
 	 * parent's inner box (the screen for top-level windows), the box its pixels can be seen in
 	 * (possibly empty); and the box its children are clipped to: its inside, clipped so (its
-	 * box, clipped so, for an input-only window, which has no border). X also clips children to
-	 * a shaped parent's bounding shape; here they are clipped to these boxes only. */
+	 * box, clipped so, for an input-only window, which has no border). As in X, a shaped
+	 * window's descendants are also clipped to its bounding shape: the boxes bound that, and the
+	 * recomputes cut such windows by the shapes above them (UNDER, wtree-work.h). */
 	struct vis_box box, clip, inner;
 	size_t pos; /* index in the tree's order, for viewable windows */
 	void *data; /* the daemon's */

@@ -71,7 +71,8 @@ static int opaque_of(const struct vis_window *w, int64_t px, int64_t py)
 	return in_rects(l->opaque_rects, l->n_opaque, px - bx - l->border, py - by - l->border);
 }
 
-/* Whether pixel (px, py) of the screen is inside the screen and every ancestor's inside. */
+/* Whether pixel (px, py) of the screen is inside the screen and every ancestor's inside (and
+ * shape). */
 static int inside_chain(const struct vis_window *w, int64_t px, int64_t py)
 {
 	if (px < 0 || py < 0 || px >= SW || py >= SH)
@@ -81,6 +82,9 @@ static int inside_chain(const struct vis_window *w, int64_t px, int64_t py)
 		corner(a, &ax, &ay);
 		if (px < ax + b || py < ay + b || px >= ax + b + a->width ||
 		    py >= ay + b + a->height)
+			return 0;
+		/* A shaped ancestor clips its descendants to its shape, as X does. */
+		if (a->look.shaped && !in_rects(a->look.shape, a->look.n_shape, px - ax - b, py - ay - b))
 			return 0;
 	}
 	return 1;
@@ -867,10 +871,14 @@ static void scripted_looks(void)
 	int child = put(sib, 0, 0, 8, 8);
 	check_both(0, "translucent parent");
 	assert(state(w) == F && state(child) == U && state(sib) == U);
+	/* A shaped parent clips its child to its shape, as X does: the child keeps no pixel, and w
+	 * shows through the translucent parent again. */
 	check_both(0, shape(sib, true, (struct vis_rect[]){ { 9, 9, 1, 1 } }, 1));
-	assert(state(w) == F && state(sib) == U);
+	assert(state(w) == U && state(sib) == U && state(child) == F);
+	check_both(0, shape(sib, true, (struct vis_rect[]){ { 0, 0, 10, 7 } }, 1));
+	assert(state(w) == P && state(child) == P);
 	check_both(0, change(RESIZE, child, 0, 8, 7));
-	assert(state(w) == P);
+	assert(state(w) == P && state(child) == U);
 	scene_end();
 }
 

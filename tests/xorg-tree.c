@@ -2,8 +2,8 @@
  * Window trees against a real X server: random trees of windows with borders, children, bounding
  * shapes (SHAPE) and InputOnly leaves are made in X and, the same, in a running visd through
  * libvisclient; every window's last VisibilityNotify state from X must be visd's state, and
- * InputOnly windows must get none from either. Shaped windows get no children here: X clips
- * children to a shaped parent's shape, visd to its inside box (a difference visd documents).
+ * InputOnly windows must get none from either. Shaped windows have children too: X clips them
+ * to their parent's shape, and so does visd.
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -66,11 +66,10 @@ static int make_tree(struct vis_rng *rng, struct node *t, int32_t W, int32_t H)
 			}
 		}
 	}
-	/* Shapes, on leaves only (see above): halves of the border box, a corner, nothing, or a
-	 * piece past the box. */
+	/* Shapes: halves of the border box, a corner, nothing, or a piece past the box. */
 	for (int i = 0; i < n; i++) {
 		struct node *v = &t[i];
-		if (v->input_only || v->has_children || vis_rng_below(rng, 3) != 0)
+		if (v->input_only || vis_rng_below(rng, 3) != 0)
 			continue;
 		int16_t b = (int16_t)v->border;
 		uint16_t bw = (uint16_t)(v->w + 2 * v->border), bh = (uint16_t)(v->h + 2 * v->border);
