@@ -157,9 +157,13 @@ static struct vis_box to_box(struct vis_rect r, int32_t border, struct vis_box l
 	return vis_box_intersect(b, limit);
 }
 
-/* Builds a pixman region (rank space) from the boxes of rects clipped to limit. */
-static int region_of(pixman_region32_t *reg, const struct vis_rect *rects, size_t n,
-		     int32_t border, struct vis_box limit, const struct edges *e)
+/*
+ * Builds a pixman region on the ranks from the boxes box_of(k) gives for k < n (border-box
+ * coordinates, clipped; empty ones skipped): a look's rectangles, or the boxes that clip it.
+ */
+static int ranked_region(pixman_region32_t *reg, size_t n,
+			 struct vis_box (*box_of)(const void *src, size_t k, const void *arg),
+			 const void *src, const void *arg, const struct edges *e)
 {
 	pixman_box32_t *boxes = malloc((n ? n : 1) * sizeof(*boxes));
 	size_t k = 0;
@@ -168,7 +172,7 @@ static int region_of(pixman_region32_t *reg, const struct vis_rect *rects, size_
 		return -1;
 	}
 	for (size_t i = 0; i < n; i++) {
-		struct vis_box b = to_box(rects[i], border, limit);
+		struct vis_box b = box_of(src, i, arg);
 		if (vis_box_empty(b))
 			continue;
 		boxes[k++] = (pixman_box32_t){ rank(e->x, e->nx, b.x1), rank(e->y, e->ny, b.y1),
@@ -181,6 +185,26 @@ static int region_of(pixman_region32_t *reg, const struct vis_rect *rects, size_
 		return -1;
 	}
 	return 0;
+}
+
+/* Where a look's rectangles go: in the border box of a window with this border, within limit. */
+struct rect_frame {
+	int32_t border;
+	struct vis_box limit;
+};
+
+static struct vis_box rect_box_of(const void *src, size_t k, const void *arg)
+{
+	const struct rect_frame *f = arg;
+	return to_box(((const struct vis_rect *)src)[k], f->border, f->limit);
+}
+
+/* Builds a pixman region (rank space) from the boxes of rects clipped to limit. */
+static int region_of(pixman_region32_t *reg, const struct vis_rect *rects, size_t n,
+		     int32_t border, struct vis_box limit, const struct edges *e)
+{
+	struct rect_frame f = { border, limit };
+	return ranked_region(reg, n, rect_box_of, rects, &f, e);
 }
 
 /* Adds a region's boxes (rank space, relative to the border box at ox, oy) as pieces. */
@@ -219,33 +243,22 @@ int vis_pieces_add(struct vis_pieces *p, const struct vis_look *look, struct vis
 	return vis_pieces_add_within(p, look, abs, clip, NULL, 0, window);
 }
 
-/* The boxes of within (absolute) as border-box coordinates clipped to limit, in a pixman region
- * on the ranks. */
-static int within_region(pixman_region32_t *reg, const struct vis_box *within, size_t n,
-			 struct vis_box abs, struct vis_box limit, const struct edges *e)
+/* Where boxes that clip a window go: relative to its border box at abs, within limit. */
+struct box_frame {
+	struct vis_box abs, limit;
+};
+
+/* An absolute box in border-box coordinates, clipped to limit. */
+static struct vis_box relative(struct vis_box b, const struct box_frame *f)
 {
-	pixman_box32_t *boxes = malloc((n ? n : 1) * sizeof(*boxes));
-	size_t k = 0;
-	if (boxes == NULL) {
-		errno = ENOMEM;
-		return -1;
-	}
-	for (size_t i = 0; i < n; i++) {
-		struct vis_box b = vis_box_intersect(
-			(struct vis_box){ within[i].x1 - abs.x1, within[i].y1 - abs.y1,
-					  within[i].x2 - abs.x1, within[i].y2 - abs.y1 }, limit);
-		if (vis_box_empty(b))
-			continue;
-		boxes[k++] = (pixman_box32_t){ rank(e->x, e->nx, b.x1), rank(e->y, e->ny, b.y1),
-					       rank(e->x, e->nx, b.x2), rank(e->y, e->ny, b.y2) };
-	}
-	bool ok = pixman_region32_init_rects(reg, boxes, (int)k);
-	free(boxes);
-	if (!ok) {
-		errno = ENOMEM;
-		return -1;
-	}
-	return 0;
+	return vis_box_intersect((struct vis_box){ b.x1 - f->abs.x1, b.y1 - f->abs.y1,
+						   b.x2 - f->abs.x1, b.y2 - f->abs.y1 },
+				 f->limit);
+}
+
+static struct vis_box within_box_of(const void *src, size_t k, const void *arg)
+{
+	return relative(((const struct vis_box *)src)[k], arg);
 }
 
 int vis_pieces_add_within(struct vis_pieces *p, const struct vis_look *look, struct vis_box abs,
@@ -301,10 +314,9 @@ int vis_pieces_add_within(struct vis_pieces *p, const struct vis_look *look, str
 	}
 	if (!vis_box_empty(limit))
 		add_edges(&e, limit);
+	struct box_frame frame = { abs, limit };
 	for (size_t k = 0; k < n_within; k++) {
-		struct vis_box r = vis_box_intersect(
-			(struct vis_box){ within[k].x1 - abs.x1, within[k].y1 - abs.y1,
-					  within[k].x2 - abs.x1, within[k].y2 - abs.y1 }, limit);
+		struct vis_box r = relative(within[k], &frame);
 		if (!vis_box_empty(r))
 			add_edges(&e, r);
 	}
@@ -329,7 +341,7 @@ int vis_pieces_add_within(struct vis_pieces *p, const struct vis_look *look, str
 		/* And inside the region that clips it further (a shaped ancestor's). */
 		if (within != NULL) {
 			pixman_region32_t w;
-			if (within_region(&w, within, n_within, abs, limit, &e) < 0)
+			if (ranked_region(&w, n_within, within_box_of, within, &frame, &e) < 0)
 				goto out_s;
 			bool ok = pixman_region32_intersect(&in, &in, &w);
 			pixman_region32_fini(&w);
