@@ -28,13 +28,18 @@ wait_socket "$sock"
 [ -S "$sock" ] || { echo "visd did not start" >&2; cat "$dir/visd.log" >&2; exit 1; }
 v() { "$visctl" -s "$sock" "$@"; }
 
-# The key property, through the command line: load a scene, read the states back.
-for kind in random tiles cascade; do
-	"$visctl" gen $kind 300 7 >"$dir/scene" || fail "gen $kind"
+# The key property, through the command line: load a scene, read the states back. Shaped and
+# translucent scenes go through load's second batch, which gives the windows their looks; at 60
+# windows, several of their states depend on those looks.
+for spec in "random 300 7" "tiles 300 7" "cascade 300 7" "shaped 60 4" "shaped 60 10" \
+	"translucent 60 9" "translucent 60 10"; do
+	set -- $spec
+	kind=$1
+	"$visctl" gen $kind "$2" "$3" >"$dir/scene" || fail "gen $kind"
 	v load --retain --json "$dir/scene" |
 		sed 's/^{"scene_id":\([0-9]*\),"window":\([0-9]*\)}$/\1 \2/' >"$dir/map" ||
 		fail "load --json $kind"
-	[ "$(wc -l <"$dir/map")" -eq 300 ] || fail "load $kind printed $(wc -l <"$dir/map") lines"
+	[ "$(wc -l <"$dir/map")" -eq "$2" ] || fail "load $kind printed $(wc -l <"$dir/map") lines"
 	"$visctl" compute "$dir/scene" >"$dir/want.scene-ids" || fail "compute $kind"
 	awk 'NR == FNR { id[$1] = $2; next } { print id[$1], $2 }' "$dir/map" "$dir/want.scene-ids" |
 		sort -n >"$dir/want"
@@ -47,6 +52,43 @@ for kind in random tiles cascade; do
 	v --role manager script "$dir/clear" || fail "clearing $kind"
 done
 [ -z "$(v --role observer states)" ] || fail "windows left after clearing"
+
+# Looks through the command line: create --border and --input-only, border, shape, opaque (in a
+# script's batch too), read back by tree; states as visctl compute has them for the same scene.
+cat >"$dir/looks.script" <<'EOF2'
+create 100 100 200 100 --map --retain
+create 150 120 50 50 --map --retain --border 3
+create 0 0 400 400 --map --retain --input-only
+create 300 100 100 100 --map --retain
+batch-begin
+shape @4 0,0,50,100
+opaque @1 10,10,180,80
+batch-commit
+border @4 2
+EOF2
+v script "$dir/looks.script" >"$dir/ids" 2>"$dir/err" || fail "looks script: $(cat "$dir/err")"
+read -r w1 w2 w3 w4 < <(cut -d' ' -f1 "$dir/ids" | tr '\n' ' ')
+v --role observer tree >"$dir/tree"
+grep -qx "$w1 0 100 100 200 100 mapped [a-z-]* retained 0 translucent" "$dir/tree" &&
+	grep -qx "$w2 0 150 120 50 50 mapped [a-z-]* retained 3 -" "$dir/tree" &&
+	grep -qx "$w3 0 0 0 400 400 mapped none retained 0 input-only" "$dir/tree" &&
+	grep -qx "$w4 0 300 100 100 100 mapped [a-z-]* retained 2 shaped" "$dir/tree" ||
+	fail "looks script: the tree says $(cat "$dir/tree")"
+printf 'window 1 100 100 200 100\nopaque 10,10,180,80\nwindow 2 150 120 50 50\nborder 3\n' \
+	>"$dir/looks.scene"
+printf 'window 3 0 0 400 400\ninput-only\nwindow 4 300 100 100 100\nborder 2\nshape 0,0,50,100\n' \
+	>>"$dir/looks.scene"
+"$visctl" compute "$dir/looks.scene" | awk -v a="$w1" -v b="$w2" -v c="$w4" \
+	'{ id = $1 == 1 ? a : $1 == 2 ? b : c; print id, $2 }' | sort -n >"$dir/want"
+v --role observer states | sort -n >"$dir/got"
+cmp -s "$dir/want" "$dir/got" || fail "looks: daemon states $(cat "$dir/got"), compute's $(cat "$dir/want")"
+v shape "$w1" 0,0,0,5 2>"$dir/err"
+[ $? -eq 2 ] && grep -q "rectangle 1 '0,0,0,5' is not X,Y,W,H" "$dir/err" || fail "shape with W 0: $(cat "$dir/err")"
+v --role manager opaque "$w3" none 2>"$dir/err"
+[ $? -eq 1 ] && grep -q "input-only" "$dir/err" || fail "opaque on an input-only window: $(cat "$dir/err")"
+v --role manager border "$w3" 2 2>"$dir/err"
+[ $? -eq 1 ] && grep -q "input-only" "$dir/err" || fail "border on an input-only window: $(cat "$dir/err")"
+printf 'destroy %s\n' "$w1" "$w2" "$w3" "$w4" | v --role manager script - || fail "clearing the looks"
 
 # A scene made for another screen: refused, its states would not be compute's; --any-screen.
 printf 'screen 100 100\nwindow 1 0 0 150 50\n' >"$dir/small.scene"
