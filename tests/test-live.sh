@@ -82,6 +82,11 @@ printf 'window 3 0 0 400 400\ninput-only\nwindow 4 300 100 100 100\nborder 2\nsh
 	'{ id = $1 == 1 ? a : $1 == 2 ? b : c; print id, $2 }' | sort -n >"$dir/want"
 v --role observer states | sort -n >"$dir/got"
 cmp -s "$dir/want" "$dir/got" || fail "looks: daemon states $(cat "$dir/got"), compute's $(cat "$dir/want")"
+[ "$(v --role observer look "$w4" | tr '\n' ';')" = "shape 0,0,50,100;opaque all;" ] &&
+	[ "$(v --role observer look "$w1" | tr '\n' ';')" = "shape box;opaque 10,10,180,80;" ] &&
+	v --role observer look --json "$w4" |
+	python3 -c 'import json, sys; o = json.load(sys.stdin); assert o["shaped"] and o["shape"] == [[0, 0, 50, 100]] and o["opaque"] == "all", o' ||
+	fail "look: $(v --role observer look "$w4" | tr '\n' ';')"
 v shape "$w1" 0,0,0,5 2>"$dir/err"
 [ $? -eq 2 ] && grep -q "rectangle 1 '0,0,0,5' is not X,Y,W,H" "$dir/err" || fail "shape with W 0: $(cat "$dir/err")"
 v --role manager opaque "$w3" none 2>"$dir/err"

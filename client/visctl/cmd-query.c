@@ -141,6 +141,46 @@ int cmd_region(struct live *l, int argc, char **argv)
 	return VISCTL_EXIT_OK;
 }
 
+/* Prints n rectangles as " X,Y,W,H" (or JSON arrays [X,Y,W,H] joined by commas). */
+static void print_rects(const struct vis_rect32 *r, uint32_t n, bool json)
+{
+	for (uint32_t i = 0; i < n; i++)
+		printf(json ? "%s[%d,%d,%u,%u]" : "%s%d,%d,%u,%u", json ? (i ? "," : "") : " ", r[i].x,
+		       r[i].y, r[i].width, r[i].height);
+}
+
+int cmd_look(struct live *l, int argc, char **argv)
+{
+	struct vis_look_info look;
+	uint32_t id;
+	bool json = false;
+	int ret;
+	if (live_expect_args(l, &argc, argv, 1, "ID", &json, &ret) < 0 ||
+	    live_window_arg(l, argv[0], argv[1], &id, &ret) < 0)
+		return ret;
+	if (!live_connect(l))
+		return VISCTL_EXIT_FAILURE;
+	if (vis_client_get_look(l->client, id, &look) < 0)
+		return query_failed(l, argc, argv);
+	static const char *const modes[] = { "all", "none", "rects" };
+	if (json) {
+		printf("{\"window\":%u,\"shaped\":%s,\"shape\":[", id, json_bool(look.shaped));
+		print_rects(look.shape, look.n_shape, true);
+		printf("],\"opaque\":\"%s\",\"opaque_rects\":[", modes[look.mode]);
+		print_rects(look.opaque, look.n_opaque, true);
+		printf("]}\n");
+	} else {
+		printf("shape%s", look.shaped ? "" : " box");
+		print_rects(look.shape, look.n_shape, false);
+		printf("\nopaque%s", look.mode == VIS_OPAQUE_MODE_RECTS ? "" : look.mode ? " none" : " all");
+		print_rects(look.opaque, look.n_opaque, false);
+		printf("\n");
+	}
+	free(look.shape);
+	free(look.opaque);
+	return VISCTL_EXIT_OK;
+}
+
 int cmd_repaint(struct live *l, int argc, char **argv)
 {
 	struct vis_rect32 damage;

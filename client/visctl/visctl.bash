@@ -4,7 +4,8 @@
 # Installed as `visctl` into bash-completion's completionsdir; or source it from ~/.bashrc.
 
 _visctl_commands="compute gen bench plot-service create destroy map unmap move resize raise
-	lower stack border shape opaque load states tree region repaint snapshot watch script sync
+	lower stack border shape opaque load states tree region repaint look snapshot watch script
+	sync
 	stress help"
 _visctl_engines="auto gmv gmv-heap region brute"
 _visctl_kinds="random uniform grid cascade tiles nested shaped translucent"
@@ -19,7 +20,7 @@ _visctl_options() {
 	create) echo "--parent --map --retain --border --input-only --help" ;;
 	shape) echo "--box --help" ;;
 	load) echo "--retain --any-screen --json --help" ;;
-	states | tree | region | repaint) echo "--json --help" ;;
+	states | tree | region | repaint | look) echo "--json --help" ;;
 	snapshot) echo "--svg --help" ;;
 	watch) echo "--json --count --help" ;;
 	stress) echo "-c -n --count --duration -R --pipeline --mix --batch-size --exposure --seed

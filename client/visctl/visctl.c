@@ -78,6 +78,13 @@ static const struct visctl_command commands[] = {
 	  "  Prints, bottom to top, the IDs of the windows whose own pixels show inside the\n"
 	  "  screen rectangle X Y W H (screen coordinates).\n"
 	  "  --json: one object a line, {\"window\":ID}.\n" },
+	{ "look", NULL, cmd_look, "[--json] ID",
+	  "  Prints the window's bounding shape and opaque region as set (window\n"
+	  "  coordinates, as the scene format and the shape and opaque commands take them):\n"
+	  "  'shape box' (no shape: its border box), 'shape' alone (no pixels) or 'shape\n"
+	  "  X,Y,W,H ...'; then 'opaque all', 'opaque none' or 'opaque X,Y,W,H ...'.\n"
+	  "  --json: one object, {\"window\":ID,\"shaped\":BOOL,\"shape\":[[X,Y,W,H],...],\n"
+	  "  \"opaque\":\"all\"|\"none\"|\"rects\",\"opaque_rects\":[...]}.\n" },
 	{ "snapshot", NULL, cmd_snapshot, "--svg FILE", NULL },
 	{ "watch", NULL, cmd_watch, "[--json] [--count N] [ID...]", NULL },
 	{ "script", NULL, cmd_script, "FILE|-", NULL },

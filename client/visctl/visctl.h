@@ -50,6 +50,7 @@ int cmd_resize(struct live *l, int argc, char **argv);
 int cmd_raise(struct live *l, int argc, char **argv);
 int cmd_lower(struct live *l, int argc, char **argv);
 int cmd_border(struct live *l, int argc, char **argv);
+int cmd_look(struct live *l, int argc, char **argv);
 int cmd_shape(struct live *l, int argc, char **argv);
 int cmd_opaque(struct live *l, int argc, char **argv);
 int cmd_stack(struct live *l, int argc, char **argv);
