@@ -326,6 +326,20 @@ static void do_look(struct client *c, uint32_t seq, uint32_t op, const union vis
 				    VIS_LOOK_MAX_RECTS);
 		return;
 	}
+	/* The rectangles count against the window's owner while it is connected, as its windows do:
+	 * a connection cannot hold the daemon's memory and recomputes without bound. */
+	struct client *owner = vis_idmap_get(&c->server->clients_by_id, w->owner);
+	uint32_t replaced = op == VIS_OP_SET_SHAPE ? w->look.n_shape : w->look.n_opaque;
+	if (owner && n > replaced &&
+	    owner->n_look_rects + (n - replaced) > c->server->opt.max_look_rects) {
+		server_client_error(c, seq, op, VIS_ERROR_LIMIT,
+				    "the windows of client %u would have %llu shape and opaque "
+				    "rectangles, past the limit of %u (visd --max-look-rects)",
+				    owner->id,
+				    (unsigned long long)(owner->n_look_rects + (n - replaced)),
+				    c->server->opt.max_look_rects);
+		return;
+	}
 	bool failed;
 	struct vis_rect *r = rects_arg(c, seq, op, &a[2], &failed);
 	if (failed)
@@ -337,6 +351,9 @@ static void do_look(struct client *c, uint32_t seq, uint32_t op, const union vis
 		server_client_error(c, seq, op, VIS_ERROR_LIMIT, "out of memory");
 		return;
 	}
+	if (owner)
+		owner->n_look_rects = owner->n_look_rects - replaced +
+				      (op == VIS_OP_SET_SHAPE ? w->look.n_shape : w->look.n_opaque);
 	/* The pixels changed inside the border box: it is the damage, as it was and is. */
 	changed(c, w, VIS_STACK_LOOK);
 }

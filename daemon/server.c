@@ -544,8 +544,10 @@ static void window_gone(void *data, struct vis_window *w)
 	struct server *server = data;
 	server_notify_stack(server, w, VIS_STACK_DESTROY);
 	struct client *owner = vis_idmap_get(&server->clients_by_id, w->owner);
-	if (owner)
+	if (owner) {
 		owner->n_windows--;
+		owner->n_look_rects -= (uint64_t)w->look.n_shape + w->look.n_opaque;
+	}
 	if (w->retained)
 		server_quota_release(server, w);
 	struct window_data *d = w->data;

@@ -27,6 +27,7 @@ struct server_options {
 	uint32_t max_restricted_clients; /* connections on the restricted socket */
 	uint32_t hello_timeout; /* seconds a connection has to complete hello */
 	uint32_t max_windows;   /* windows one connection owns */
+	uint32_t max_look_rects; /* shape and opaque rectangles of the windows one connection owns */
 	uint32_t max_depth;     /* window tree depth (top-level windows: 1) */
 	uint32_t max_subs;      /* subscriptions per connection */
 	uint32_t max_pending;   /* bytes waiting to be written to one connection */
@@ -130,6 +131,7 @@ struct client {
 	size_t n_subs, cap_subs;
 	bool all_exposure; /* holds a subscription to every window with exposures */
 	uint32_t n_windows; /* windows it owns */
+	uint64_t n_look_rects; /* shape and opaque rectangles of the windows it owns */
 	struct output out;
 	struct event *resume; /* runs the requests left over by the budget, next turn */
 	struct event *hello_timer; /* ends it if hello has not succeeded within hello_timeout */

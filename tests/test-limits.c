@@ -67,7 +67,8 @@ static void test_configured_limits(void)
 	struct harness_daemon d = { 0 };
 	harness_start(&d, limits_visd,
 		      (const char *[]){ "--max-clients", "4", "--max-windows", "4", "--max-depth",
-					"2", "--max-subscriptions", "2", NULL });
+					"2", "--max-subscriptions", "2", "--max-look-rects", "10",
+					NULL });
 	struct harness_conn m, c;
 	harness_open(&m, d.sock);
 	harness_hello(&m, VIS_ROLE_MANAGER);
@@ -82,6 +83,40 @@ static void test_configured_limits(void)
 	limits_expect_limit(&c, seq, VIS_OP_CREATE, "--max-windows");
 	harness_req(&c, VIS_OP_DESTROY, w[3]);
 	w[3] = harness_create(&c, 0, 0, 0, 5, 5, 0); /* room again */
+
+	harness_context("look rectangles per connection");
+	{
+		/* set-shape w, shaped 1, k rectangles of 1x1; set-opaque w, mode 2, k of them. */
+		uint32_t words[3 + 4 * 8];
+		for (uint32_t k = 0; k < 8; k++) {
+			words[3 + 4 * k] = k;
+			words[4 + 4 * k] = 0;
+			words[5 + 4 * k] = words[6 + 4 * k] = 1;
+		}
+		uint8_t b[VIS_MSG_HEADER + sizeof words];
+#define LOOK(op, win, mode, k)                                                                   \
+	(words[0] = (win), words[1] = (mode), words[2] = (k),                                   \
+	 harness_request_raw(&c, b, harness_build(b, (op), words, 3 + 4 * (size_t)(k))))
+		LOOK(VIS_OP_SET_SHAPE, w[0], 1, 6);
+		seq = LOOK(VIS_OP_SET_SHAPE, w[1], 1, 6);
+		limits_expect_limit(&c, seq, VIS_OP_SET_SHAPE, "--max-look-rects");
+		LOOK(VIS_OP_SET_OPAQUE, w[1], 2, 4); /* 6 + 4: the limit exactly */
+		seq = LOOK(VIS_OP_SET_OPAQUE, w[2], 2, 1);
+		limits_expect_limit(&c, seq, VIS_OP_SET_OPAQUE, "--max-look-rects");
+		LOOK(VIS_OP_SET_SHAPE, w[0], 1, 2); /* replacing 6 by 2 frees 4 */
+		LOOK(VIS_OP_SET_SHAPE, w[2], 1, 4);
+		seq = LOOK(VIS_OP_SET_SHAPE, w[3], 1, 1);
+		limits_expect_limit(&c, seq, VIS_OP_SET_SHAPE, "--max-look-rects");
+		/* The manager, changing the client's window, is held to the client's count. */
+		words[0] = w[3], words[1] = 1, words[2] = 1;
+		seq = harness_request_raw(&m, b, harness_build(b, VIS_OP_SET_SHAPE, words, 7));
+		limits_expect_limit(&m, seq, VIS_OP_SET_SHAPE, "--max-look-rects");
+		harness_req(&c, VIS_OP_DESTROY, w[2]); /* frees its 4 */
+		LOOK(VIS_OP_SET_SHAPE, w[3], 1, 4);
+		harness_sync(&c, NULL);
+		w[2] = harness_create(&c, 0, 20, 0, 5, 5, 0);
+#undef LOOK
+	}
 
 	harness_context("tree depth");
 	uint32_t a = harness_create(&m, 0, 0, 0, 50, 50, VIS_CREATE_MAP);
