@@ -290,6 +290,23 @@ static int parse_window(struct parser *p, const struct field *fields, size_t nfi
 }
 
 /*
+ * The next field of s[*i … len), separated by spaces and tabs, into *f, moving *i past it.
+ * Returns false at the end of the line.
+ */
+static bool next_field(const char *s, size_t len, size_t *i, struct field *f)
+{
+	while (*i < len && (s[*i] == ' ' || s[*i] == '\t'))
+		++*i;
+	if (*i == len)
+		return false;
+	size_t start = *i;
+	while (*i < len && s[*i] != ' ' && s[*i] != '\t')
+		++*i;
+	*f = (struct field){ s + start, *i - start };
+	return true;
+}
+
+/*
  * Reads the rectangles "X,Y,W,H" of a shape or opaque record from s (the line after the keyword)
  * into a new array. Returns 0, or -1 with the reason.
  */
@@ -299,15 +316,10 @@ static int parse_rects(struct parser *p, const char *record, const char *s, size
 	static const char *const names[4] = { "X", "Y", "W", "H" };
 	struct vis_rect *rects = NULL;
 	size_t n = 0, cap = 0, i = 0;
+	struct field rf;
 
-	for (;;) {
-		while (i < len && (s[i] == ' ' || s[i] == '\t'))
-			i++;
-		if (i == len)
-			break;
-		size_t start = i;
-		while (i < len && s[i] != ' ' && s[i] != '\t')
-			i++;
+	while (next_field(s, len, &i, &rf)) {
+		size_t start = (size_t)(rf.s - s);
 		if (n == cap) {
 			cap = cap ? 2 * cap : 8;
 			struct vis_rect *more = cap > UINT32_MAX ? NULL
@@ -335,7 +347,7 @@ static int parse_rects(struct parser *p, const char *record, const char *s, size
 		if (k != 3 || j != i) {
 			free(rects);
 			return fail(p, "%s: rectangle %zu '%s' is not X,Y,W,H", record, n + 1,
-				    quote((struct field){ s + start, i - start }, q, sizeof(q)));
+				    quote(rf, q, sizeof(q)));
 		}
 		int64_t v[4];
 		snprintf(what, sizeof(what), "%s rectangle %zu", record, n + 1);
@@ -427,20 +439,13 @@ static int parse_look(struct parser *p, int which, const struct field *fields, s
 /* Splits one line (comment already removed) into fields and parses the record, if any. */
 static int parse_line(struct parser *p, const char *s, size_t len)
 {
-	struct field fields[MAX_FIELDS + 1];
+	struct field fields[MAX_FIELDS + 1], f;
 	size_t nfields = 0;
 	size_t i = 0;
 
-	for (;;) {
-		while (i < len && (s[i] == ' ' || s[i] == '\t'))
-			i++;
-		if (i == len)
-			break;
-		size_t start = i;
-		while (i < len && s[i] != ' ' && s[i] != '\t')
-			i++;
+	while (next_field(s, len, &i, &f)) {
 		if (nfields <= MAX_FIELDS)
-			fields[nfields] = (struct field){ s + start, i - start };
+			fields[nfields] = f;
 		nfields++;
 	}
 	if (nfields == 0)
