@@ -70,14 +70,18 @@ int cmd_states(struct live *l, int argc, char **argv)
 /* The LOOK column of tree: shaped, translucent, input-only joined by commas, or "-". */
 static void look_name(uint32_t flags, char *buf, size_t len)
 {
-	snprintf(buf, len, "%s%s%s%s%s", flags & VIS_WINDOW_SHAPED ? "shaped" : "",
-		 (flags & VIS_WINDOW_SHAPED) && (flags & (VIS_WINDOW_TRANSLUCENT | VIS_WINDOW_INPUT_ONLY))
-			 ? ","
-			 : "",
-		 flags & VIS_WINDOW_TRANSLUCENT ? "translucent" : "",
-		 (flags & VIS_WINDOW_TRANSLUCENT) && (flags & VIS_WINDOW_INPUT_ONLY) ? "," : "",
-		 flags & VIS_WINDOW_INPUT_ONLY ? "input-only" : "");
-	if (!buf[0])
+	static const struct {
+		uint32_t flag;
+		const char *name;
+	} names[] = { { VIS_WINDOW_SHAPED, "shaped" },
+		      { VIS_WINDOW_TRANSLUCENT, "translucent" },
+		      { VIS_WINDOW_INPUT_ONLY, "input-only" } };
+	size_t at = 0;
+	buf[0] = '\0';
+	for (size_t k = 0; k < sizeof(names) / sizeof(names[0]); k++)
+		if ((flags & names[k].flag) && at < len)
+			at += (size_t)snprintf(buf + at, len - at, "%s%s", at ? "," : "", names[k].name);
+	if (!at)
 		snprintf(buf, len, "-");
 }
 
