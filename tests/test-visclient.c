@@ -352,6 +352,42 @@ static void client_eproto(struct vis_client *c)
 	assert(vis_client_error(c) == EPROTO);
 }
 
+/*
+ * Look replies for get-look of window 5: a good one (two shape rectangles, opaque mode 2 with one),
+ * then, per bad_look, one whose values no daemon sends.
+ */
+static int bad_look; /* 0: the good reply; 1 shaped 2; 2 mode 3; 3 rectangles with shaped 0;
+			 4 another window */
+
+static void serve_look(struct fake *f)
+{
+	static const uint32_t shape[] = { 0, 0, 10, 5, (uint32_t)-2, 5, 3, 4 };
+	static const uint32_t opaque[] = { 1, 1, 8, 3 };
+	uint32_t shaped = bad_look == 1 ? 2 : bad_look == 3 ? 0 : 1;
+	uint32_t mode = bad_look == 2 ? 3 : VIS_OPAQUE_MODE_RECTS;
+	fake_hello(f);
+	fake_read(f, VIS_OP_GET_LOOK);
+	fake_send(f, VIS_OP_LOOK,
+		  (union vis_arg[]){ U(2), U(bad_look == 4 ? 6 : 5), U(shaped), U(mode),
+				     { .a = { NULL, shape, 2 } }, { .a = { NULL, opaque, 1 } } });
+	fake_linger(f);
+}
+
+static void client_look(struct vis_client *c)
+{
+	struct vis_look_info l;
+	int rc = vis_client_get_look(c, 5, &l);
+	if (bad_look) {
+		assert(rc == -1 && vis_client_error(c) == EPROTO);
+		return;
+	}
+	assert(rc == 0 && l.window == 5 && l.shaped == 1 && l.n_shape == 2 &&
+	       l.mode == VIS_OPAQUE_MODE_RECTS && l.n_opaque == 1);
+	assert(l.shape[1].x == -2 && l.shape[1].height == 4 && l.opaque[0].width == 8);
+	free(l.shape);
+	free(l.opaque);
+}
+
 /* A daemon that hangs up at once. */
 static void serve_hangup(struct fake *f)
 {
@@ -545,6 +581,8 @@ int main(int argc, char **argv)
 		run(dir, serve_bad_hello, client_eproto, VIS_ROLE_CLIENT);
 	}
 	run(dir, serve_hangup, client_hangup, VIS_ROLE_CLIENT);
+	for (bad_look = 0; bad_look <= 4; bad_look++)
+		run(dir, serve_look, client_look, VIS_ROLE_CLIENT);
 
 	struct broken cases[20];
 	size_t n = make_broken(cases);

@@ -224,8 +224,9 @@ uint32_t vis_client_sync_async(struct vis_client *c, vis_done_cb cb, void *data)
 struct answer {
 	int done, failed;
 	uint32_t window, state;
-	void *items;
+	void *items; /* malloc'd: freed when the request fails */
 	size_t n;
+	struct vis_look_info *look; /* get-look's: the caller's, filled by on_look() */
 };
 
 /* Keeps a copy of a callback's array; a copy that cannot be made fails the call. */
@@ -289,7 +290,7 @@ static void on_rects(void *data, const struct vis_error *err, const struct vis_r
 static void on_look(void *data, const struct vis_error *err, const struct vis_look_info *l)
 {
 	struct answer *a = data;
-	struct vis_look_info *out = a->items;
+	struct vis_look_info *out = a->look;
 	a->done = 1;
 	a->failed = err != NULL;
 	if (err)
@@ -433,7 +434,7 @@ const char *vis_request_name(uint32_t opcode)
 
 int vis_client_get_look(struct vis_client *c, uint32_t window, struct vis_look_info *look)
 {
-	struct answer a = { .items = look };
+	struct answer a = { .look = look };
 	memset(look, 0, sizeof(*look));
 	if (vis_client_refuse_in_batch(c))
 		return -1;
