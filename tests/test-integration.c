@@ -259,6 +259,9 @@ static void test_look_errors(struct vis_client *a, uint32_t p, uint32_t q)
 		      look.mode == VIS_OPAQUE_MODE_ALL && !look.shape && !look.opaque,
 	      "get-look after unshaping");
 	expect_error(a, vis_client_get_look_async(a, 999999, NULL, NULL), VIS_ERROR_WINDOW, __LINE__);
+	CHECK(vis_client_get_look(a, 999999, &look) < 0 && vis_client_error(a) == 0 && !look.shape &&
+		      !look.opaque,
+	      "a synchronous get-look of no window");
 	CHECK(vis_client_sync(a) == 0 || vis_client_error(a) == 0, "unshaping failed");
 }
 
