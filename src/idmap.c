@@ -57,6 +57,13 @@ static int grow(struct vis_idmap *map, size_t cap)
 
 int vis_idmap_put(struct vis_idmap *map, uint32_t key, void *value)
 {
+	/* A key already there takes the new value in place: replacing never grows, never fails. */
+	for (size_t i = map->cap ? slot_of(map, key) : 0; map->cap && map->keys[i];
+	     i = (i + 1) & (map->cap - 1))
+		if (map->keys[i] == key) {
+			map->values[i] = value;
+			return 0;
+		}
 	if ((map->count + 1) * 4 > map->cap * 3 && grow(map, map->cap ? map->cap * 2 : 16) < 0)
 		return -1;
 	size_t i = slot_of(map, key);

@@ -22,7 +22,10 @@ void vis_idmap_finish(struct vis_idmap *map);
 /* The value stored for key, or NULL. Expected O(1). */
 void *vis_idmap_get(const struct vis_idmap *map, uint32_t key);
 
-/* Stores value (not NULL) for key (not 0), replacing any. 0, or -1 with ENOMEM. Amortized O(1). */
+/*
+ * Stores value (not NULL) for key (not 0), replacing any. 0, or -1 with ENOMEM (never when key
+ * is there already). Amortized O(1).
+ */
 int vis_idmap_put(struct vis_idmap *map, uint32_t key, void *value);
 
 /* Removes key if present. Expected O(1). */

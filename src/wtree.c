@@ -14,6 +14,7 @@ void vis_wtree_init(struct vis_wtree *tree, int32_t width, int32_t height)
 	tree->root.box = (struct vis_box){ 0, 0, width, height };
 	tree->root.clip = tree->root.inner = tree->root.box;
 	vis_idmap_init(&tree->ids);
+	vis_idmap_init(&tree->externals);
 	tree->next_id = 1;
 }
 
@@ -22,6 +23,7 @@ void vis_wtree_finish(struct vis_wtree *tree)
 	while (tree->root.top)
 		vis_wtree_destroy(tree, tree->root.top, NULL, NULL);
 	vis_idmap_finish(&tree->ids);
+	vis_idmap_finish(&tree->externals);
 	free(tree->order);
 	vis_wtree_work_destroy(tree->work);
 }
@@ -29,6 +31,67 @@ void vis_wtree_finish(struct vis_wtree *tree)
 struct vis_window *vis_wtree_find(const struct vis_wtree *tree, uint32_t id)
 {
 	return vis_idmap_get(&tree->ids, id);
+}
+
+/* The externals key of a pair: a 64-bit mix of both, folded to 32 bits, never 0 (empty). */
+static uint32_t external_key(uint32_t ext_namespace, uint64_t external)
+{
+	uint64_t h = (external ^ (uint64_t)ext_namespace << 32 ^ ext_namespace) * 0x9e3779b97f4a7c15ull;
+	h ^= h >> 29;
+	h *= 0xbf58476d1ce4e5b9ull;
+	uint32_t k = (uint32_t)(h >> 32) ^ (uint32_t)h;
+	return k ? k : 1;
+}
+
+struct vis_window *vis_wtree_find_external(const struct vis_wtree *tree, uint32_t ext_namespace,
+					   uint64_t external)
+{
+	if (!ext_namespace)
+		return NULL;
+	struct vis_window *w = vis_idmap_get(&tree->externals, external_key(ext_namespace, external));
+	while (w && (w->ext_namespace != ext_namespace || w->external != external))
+		w = w->ext_next;
+	return w;
+}
+
+int vis_wtree_set_external(struct vis_wtree *tree, struct vis_window *window,
+			   uint32_t ext_namespace, uint64_t external)
+{
+	if (!ext_namespace || window->ext_namespace) {
+		errno = EINVAL;
+		return -1;
+	}
+	if (vis_wtree_find_external(tree, ext_namespace, external)) {
+		errno = EEXIST;
+		return -1;
+	}
+	uint32_t key = external_key(ext_namespace, external);
+	struct vis_window *first = vis_idmap_get(&tree->externals, key);
+	if (vis_idmap_put(&tree->externals, key, window) < 0)
+		return -1;
+	window->ext_next = first;
+	window->ext_namespace = ext_namespace;
+	window->external = external;
+	return 0;
+}
+
+/* Takes a destroyed window's external ID out of the index. */
+static void forget_external(struct vis_wtree *tree, struct vis_window *w)
+{
+	uint32_t key = external_key(w->ext_namespace, w->external);
+	struct vis_window *first = vis_idmap_get(&tree->externals, key);
+	if (first == w) {
+		if (w->ext_next) /* replaces the value in place: cannot fail */
+			vis_idmap_put(&tree->externals, key, w->ext_next);
+		else
+			vis_idmap_remove(&tree->externals, key);
+		return;
+	}
+	for (struct vis_window *v = first; v; v = v->ext_next)
+		if (v->ext_next == w) {
+			v->ext_next = w->ext_next;
+			return;
+		}
 }
 
 /* Takes a window out of its parent's child list. */
@@ -114,6 +177,8 @@ void vis_wtree_destroy(struct vis_wtree *tree, struct vis_window *window,
 		if (w->pos < tree->n_order && tree->order[w->pos] == w)
 			tree->order[w->pos] = NULL;
 		vis_idmap_remove(&tree->ids, w->id);
+		if (w->ext_namespace)
+			forget_external(tree, w);
 		tree->count--;
 		free(w->look.shape);
 		free(w->look.opaque_rects);

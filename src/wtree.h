@@ -29,6 +29,11 @@ struct vis_window {
 	int32_t x, y;
 	int32_t width, height;
 	struct vis_look look; /* border, shape, opaque region, input-only: see the setters below */
+	/* What the window mirrors (an X window of a bridge, …): an opaque tag in a namespace (enum
+	 * vis_external_namespace), 0 and 0 for none; set once, by vis_wtree_set_external(). */
+	uint32_t ext_namespace;
+	uint64_t external;
+	struct vis_window *ext_next; /* the next window of its chain in the tree's externals */
 	bool mapped, retained;
 	uint32_t depth;
 	/* Set by vis_wtree_compute(): enum vis_visibility numbering, 3 (none) when not viewable. */
@@ -48,9 +53,18 @@ struct vis_window {
 
 struct vis_wtree_work;
 
+/*
+ * The external IDs of a tree's windows are indexed by a hash of (namespace, tag), never 0, in an
+ * ID map whose value is the first window of a chain (ext_next) of the windows with that hash. The
+ * pairs are unique among the windows that exist (vis_wtree_set_external() refuses a taken one),
+ * and a window is in its chain exactly while it exists with a namespace other than 0. Chains stay
+ * short for any tags but ones chosen to collide, which only the one who sets them (the daemon's
+ * manager) could choose, at the cost of its own requests.
+ */
 struct vis_wtree {
 	struct vis_window root; /* the screen; id 0 */
 	struct vis_idmap ids;
+	struct vis_idmap externals; /* hash of (namespace, tag) → chain, see above */
 	uint32_t next_id;
 	size_t count;
 	/* Viewable windows in pre-order (bottom to top) after vis_wtree_compute(); windows destroyed
@@ -111,6 +125,19 @@ int vis_wtree_set_shape(struct vis_window *window, bool shaped, const struct vis
  */
 int vis_wtree_set_opaque(struct vis_window *window, enum vis_opaque mode,
 			 const struct vis_rect *rects, uint32_t n);
+
+/*
+ * Gives a window the external ID (ext_namespace ≠ 0, external), which it keeps for its life; the
+ * pair leaves the index when the window is destroyed. Returns 0, or -1 with EEXIST when another
+ * window carries the pair, EINVAL when ext_namespace is 0 or the window has an external ID
+ * already, ENOMEM (nothing changes then). Expected O(1).
+ */
+int vis_wtree_set_external(struct vis_wtree *tree, struct vis_window *window,
+			   uint32_t ext_namespace, uint64_t external);
+
+/* The window carrying the external ID, or NULL (always for namespace 0). Expected O(1). */
+struct vis_window *vis_wtree_find_external(const struct vis_wtree *tree, uint32_t ext_namespace,
+					   uint64_t external);
 
 /* Makes a window input-only: no pixels, no state; only right after creating it. O(1). */
 void vis_wtree_set_input_only(struct vis_window *window);

@@ -2,6 +2,7 @@
 /* The checks are the test: keep them in release builds too. */
 #undef NDEBUG
 #include <assert.h>
+#include <errno.h>
 #include <pixman.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -883,6 +884,68 @@ static void scripted_looks(void)
 }
 
 /*
+ * External IDs: set once, unique per (namespace, tag), found until the window is destroyed, with
+ * its subtree or alone. Enough windows that some pairs share a hash, so the chains are walked,
+ * spliced and emptied.
+ */
+static void externals(void)
+{
+	enum { N = 150000 };
+	static struct vis_window *w[2 * N];
+	vis_wtree_init(&tree, 100, 100);
+	struct vis_window *top = vis_wtree_create(&tree, &tree.root, 0, 0, 10, 10, 1);
+	assert(vis_wtree_find_external(&tree, 1, 7) == NULL);
+	assert(vis_wtree_set_external(&tree, top, 0, 7) < 0 && errno == EINVAL);
+	assert(vis_wtree_set_external(&tree, top, 1, 0x1e00003) == 0);
+	assert(vis_wtree_set_external(&tree, top, 1, 8) < 0 && errno == EINVAL); /* set once */
+	assert(vis_wtree_find_external(&tree, 1, 0x1e00003) == top);
+	assert(vis_wtree_find_external(&tree, 2, 0x1e00003) == NULL);
+	assert(vis_wtree_find_external(&tree, 0, 0) == NULL);
+	/* The same tags in two namespaces, under top; the X tags of the top one taken already. */
+	for (int i = 0; i < 2 * N; i++) {
+		w[i] = vis_wtree_create(&tree, i % 3 ? top : &tree.root, 0, 0, 1, 1, 1);
+		uint64_t tag = (uint64_t)(i / 2) * 0x100001ull + ((uint64_t)(i / 2) << 40);
+		assert(vis_wtree_set_external(&tree, w[i], 1 + (uint32_t)(i % 2), tag) == 0);
+		if (i % 1000 == 0) {
+			struct vis_window *other = vis_wtree_create(&tree, &tree.root, 0, 0, 1, 1, 1);
+			assert(vis_wtree_set_external(&tree, other, 1 + (uint32_t)(i % 2), tag) < 0 &&
+			       errno == EEXIST && other->ext_namespace == 0);
+			vis_wtree_destroy(&tree, other, NULL, NULL);
+		}
+	}
+	assert(tree.externals.count < 2 * N + 1); /* some hashes are shared: chains exist */
+	for (int i = 0; i < 2 * N; i++) {
+		uint64_t tag = (uint64_t)(i / 2) * 0x100001ull + ((uint64_t)(i / 2) << 40);
+		assert(vis_wtree_find_external(&tree, 1 + (uint32_t)(i % 2), tag) == w[i]);
+	}
+	/* Every other one alone, then top with its subtree: what is left is found, the rest not. */
+	for (int i = 0; i < 2 * N; i += 2)
+		if (i % 3 == 0) {
+			vis_wtree_destroy(&tree, w[i], NULL, NULL);
+			w[i] = NULL;
+		}
+	for (int i = 0; i < 2 * N; i++) {
+		uint64_t tag = (uint64_t)(i / 2) * 0x100001ull + ((uint64_t)(i / 2) << 40);
+		assert(vis_wtree_find_external(&tree, 1 + (uint32_t)(i % 2), tag) == w[i]);
+	}
+	vis_wtree_destroy(&tree, top, NULL, NULL);
+	assert(vis_wtree_find_external(&tree, 1, 0x1e00003) == NULL);
+	size_t left = 0;
+	for (int i = 0; i < 2 * N; i++) {
+		uint64_t tag = (uint64_t)(i / 2) * 0x100001ull + ((uint64_t)(i / 2) << 40);
+		struct vis_window *f = vis_wtree_find_external(&tree, 1 + (uint32_t)(i % 2), tag);
+		assert(f == (i % 3 == 0 && i % 2 ? w[i] : NULL));
+		left += f != NULL;
+	}
+	/* A freed pair may be taken again. */
+	struct vis_window *again = vis_wtree_create(&tree, &tree.root, 0, 0, 1, 1, 1);
+	assert(vis_wtree_set_external(&tree, again, 1, 0x1e00003) == 0);
+	assert(vis_wtree_find_external(&tree, 1, 0x1e00003) == again);
+	assert(left > 0);
+	vis_wtree_finish(&tree);
+}
+
+/*
  * test-wtree [--scale K] [--first S]: K times as many random trees of each family (default 1),
  * seeds from S on (default 1), for longer runs by hand; a failure prints the seed to rerun from.
  */
@@ -900,6 +963,7 @@ int main(int argc, char **argv)
 	}
 	scripted();
 	scripted_looks();
+	externals();
 	int scenes = random_trees(first, 10000 * scale, 10);
 	family = EXTREME;
 	int extremes = random_trees(first, 20000 * scale, 10);
