@@ -7,7 +7,7 @@
 #include "server.h"
 #include "vis/protocol.h"
 
-/* Records per list reply: well under the message maximum for the largest record (32 bytes). */
+/* Records per list reply: well under the message maximum for the largest record (48 bytes). */
 #define CHUNK_RECORDS 16384u
 
 /* Looks up a window argument the connection may see; sends WINDOW and returns NULL otherwise. */
@@ -74,6 +74,34 @@ static bool border_ok(struct client *c, uint32_t seq, uint32_t op, const struct 
 				    "border %u: the border box of a %ux%u window would be wider or "
 				    "taller than 2147483647",
 				    border, width, height);
+		return false;
+	}
+	return true;
+}
+
+/*
+ * Checks create's external ID: none (namespace 0, tag 0), or one only the manager may set (what a
+ * window mirrors is the bridge's to say) and no window carries already.
+ */
+static bool external_ok(struct client *c, uint32_t seq, uint32_t ns, uint64_t tag)
+{
+	uint32_t op = VIS_OP_CREATE;
+	if (!ns && tag) {
+		server_client_error(c, seq, op, VIS_ERROR_VALUE,
+				    "external ID %#llx without a namespace (namespace 0 takes 0)",
+				    (unsigned long long)tag);
+		return false;
+	}
+	if (ns && c->role != VIS_ROLE_MANAGER) {
+		server_client_error(c, seq, op, VIS_ERROR_ACCESS,
+				    "only the manager sets external IDs (namespace %u)", ns);
+		return false;
+	}
+	struct vis_window *other = vis_wtree_find_external(&c->server->tree, ns, tag);
+	if (other) {
+		server_client_error(c, seq, op, VIS_ERROR_MATCH,
+				    "external ID %u:%#llx is window %u's", ns,
+				    (unsigned long long)tag, other->id);
 		return false;
 	}
 	return true;
@@ -150,7 +178,7 @@ static void do_create(struct client *c, uint32_t seq, const union vis_arg *a)
 				    "an input-only window has no border (border %u)", a[6].u);
 		return;
 	}
-	if (!border_ok(c, seq, op, NULL, a[3].u, a[4].u, a[6].u))
+	if (!border_ok(c, seq, op, NULL, a[3].u, a[4].u, a[6].u) || !external_ok(c, seq, a[7].u, a[8].q))
 		return;
 	const struct server_options *opt = &c->server->opt;
 	if (c->n_windows >= opt->max_windows) {
@@ -171,6 +199,12 @@ static void do_create(struct client *c, uint32_t seq, const union vis_arg *a)
 		return;
 	struct vis_window *w = vis_wtree_create(&c->server->tree, parent, a[1].i, a[2].i,
 						(int32_t)a[3].u, (int32_t)a[4].u, c->id);
+	/* The pair was checked to be free: setting it fails only when memory runs out. */
+	if (w && a[7].u && vis_wtree_set_external(&c->server->tree, w, a[7].u, a[8].q) < 0) {
+		vis_wtree_destroy(&c->server->tree, w, NULL, NULL);
+		w = NULL;
+		errno = ENOMEM;
+	}
 	if (!w || (retain && server_quota_retain(c, w) < 0)) {
 		if (w) /* nobody has heard of it yet */
 			vis_wtree_destroy(&c->server->tree, w, NULL, NULL);
@@ -522,21 +556,24 @@ static void do_get_tree(struct client *c, uint32_t seq)
 					 (w->retained ? VIS_WINDOW_RETAINED : 0) |
 					 (!parent && w->parent->id ? VIS_WINDOW_PARENT_HIDDEN : 0) |
 					 server_look_flags(w);
-			uint32_t rec[9] = { w->id,
-					    parent,
-					    (uint32_t)w->x,
-					    (uint32_t)w->y,
-					    (uint32_t)w->width,
-					    (uint32_t)w->height,
-					    (uint32_t)w->look.border,
-					    flags,
-					    w->state };
-			if (!push_words(c, seq, VIS_OP_GET_TREE, &v, &n, &cap, rec, 9))
+			uint32_t rec[12] = { w->id,
+					     parent,
+					     (uint32_t)w->x,
+					     (uint32_t)w->y,
+					     (uint32_t)w->width,
+					     (uint32_t)w->height,
+					     (uint32_t)w->look.border,
+					     flags,
+					     w->state,
+					     w->ext_namespace,
+					     (uint32_t)w->external,
+					     (uint32_t)(w->external >> 32) };
+			if (!push_words(c, seq, VIS_OP_GET_TREE, &v, &n, &cap, rec, 12))
 				goto out;
 		}
 	}
 	union vis_arg r[3] = { { .u = seq } };
-	send_list(c, VIS_OP_TREE, r, 2, v, n / 9, 9);
+	send_list(c, VIS_OP_TREE, r, 2, v, n / 12, 12);
 out:
 	free(v);
 }
@@ -597,6 +634,27 @@ static void do_get_look(struct client *c, uint32_t seq, uint32_t id)
 	}
 	free(shape);
 	free(opaque);
+}
+
+/* The window carrying an external ID, if the connection may see it: as for any window argument,
+ * one it may not see does not exist for it. */
+static void do_lookup(struct client *c, uint32_t seq, const union vis_arg *a)
+{
+	uint32_t op = VIS_OP_LOOKUP, ns = a[0].u;
+	uint64_t tag = a[1].q;
+	if (!ns) {
+		server_client_error(c, seq, op, VIS_ERROR_VALUE,
+				    "namespace 0 names no external ID");
+		return;
+	}
+	struct vis_window *w = vis_wtree_find_external(&c->server->tree, ns, tag);
+	if (!w || !server_may_see(c, w)) {
+		server_client_error(c, seq, op, VIS_ERROR_WINDOW, "no window carries external ID %u:%#llx",
+				    ns, (unsigned long long)tag);
+		return;
+	}
+	union vis_arg r[2] = { { .u = seq }, { .u = w->id } };
+	server_client_send(c, VIS_OP_FOUND, r);
 }
 
 static void do_get_repaint(struct client *c, uint32_t seq, const union vis_arg *a)
@@ -664,7 +722,7 @@ void server_client_dispatch(struct client *c, uint32_t seq, const struct vis_msg
 	/* Queries and sync answer for the current states: recompute first if needed. */
 	server_flush(c->server);
 	/* What a query walks, for the turn's work: every window, whatever it may see. */
-	if (op != VIS_OP_SYNC && op != VIS_OP_GET_STATE)
+	if (op != VIS_OP_SYNC && op != VIS_OP_GET_STATE && op != VIS_OP_LOOKUP)
 		c->server->work += c->server->tree.count + 1;
 	switch (op) {
 	case VIS_OP_GET_STATE: {
@@ -689,6 +747,9 @@ void server_client_dispatch(struct client *c, uint32_t seq, const struct vis_msg
 		return;
 	case VIS_OP_GET_LOOK:
 		do_get_look(c, seq, a[0].u);
+		return;
+	case VIS_OP_LOOKUP:
+		do_lookup(c, seq, a);
 		return;
 	case VIS_OP_SYNC: {
 		union vis_arg r[1] = { { .u = seq } };

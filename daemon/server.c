@@ -505,6 +505,9 @@ void server_stack_words(const struct client *viewer, const struct vis_window *w,
 		   (!words[2] && w->parent && w->parent->id ? VIS_WINDOW_PARENT_HIDDEN : 0) |
 		   server_look_flags(w);
 	words[9] = (uint32_t)w->look.border;
+	words[10] = w->ext_namespace;
+	words[11] = (uint32_t)w->external;
+	words[12] = (uint32_t)(w->external >> 32);
 }
 
 uint32_t server_look_flags(const struct vis_window *w)

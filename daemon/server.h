@@ -76,8 +76,9 @@ struct held {
 };
 
 /* The words of a stack notice after its serial: change window parent x y width height sibling
- * flags border. */
-#define SERVER_STACK_WORDS 10
+ * flags border namespace, then the 64-bit external ID as two words, low first (as the wire's
+ * little-endian q field). */
+#define SERVER_STACK_WORDS 13
 
 /* A stack notice held for a lagging connection: its words after the serial. */
 struct held_stack {
@@ -208,7 +209,8 @@ void server_schedule_flush(struct server *server);
 uint32_t server_seen_id(const struct client *viewer, const struct vis_window *w);
 /*
  * A stack notice's words after the serial, as viewer may see them (NULL: as a connection that
- * sees every window): change, window, parent, geometry, sibling, flags. For a client, parent is 0
+ * sees every window): change, window, parent, geometry, sibling, flags, border, external ID (the
+ * window's own: whoever may see it may know what it mirrors). For a client, parent is 0
  * when it may not see the parent (x, y stay relative to it), and sibling is the nearest window
  * below w among its siblings that the client may see, or 0: O(siblings passed over).
  */

@@ -50,7 +50,7 @@ uint32_t vis_msg_record_words(char record)
 	case 'R':
 		return 4;
 	case 'T':
-		return 9;
+		return 12;
 	default:
 		return 0;
 	}

@@ -15,7 +15,7 @@
 #include "messages.h"
 
 #define VIS_MSG_HEADER 8u
-#define VIS_MSG_MAX_ARGS 12
+#define VIS_MSG_MAX_ARGS 14 /* the stack notice has 13 */
 
 struct vis_msg_type {
 	uint16_t opcode;
@@ -68,7 +68,7 @@ const struct vis_msg_type *vis_msg_type_find(uint32_t opcode);
 /* The table, in opcode order, for the documentation check. O(1). */
 const struct vis_msg_type *vis_msg_types(size_t *count);
 
-/* The 32-bit words of one record of an array field: 1 (W), 2 (S), 4 (R) or 8 (T). O(1). */
+/* The 32-bit words of one record of an array field: 1 (W), 2 (S), 4 (R) or 12 (T). O(1). */
 uint32_t vis_msg_record_words(char record);
 
 /*

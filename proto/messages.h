@@ -9,7 +9,8 @@
  *   aW aS aR aT  array: uint32 count, then count records of 32-bit words:
  *      W window (1 word: window), S state (2: window state),
  *      R rectangle (4: x y w h, x y signed),
- *      T tree node (9: window parent x y w h border flags state)
+ *      T tree node (12: window parent x y w h border flags state namespace external_lo
+ *        external_hi: the 64-bit external ID as two words, low first)
  * Replies start with the sequence number of the request they answer; notices with their own
  * 64-bit sequence number, gapless per connection.
  */
@@ -20,9 +21,11 @@
 #define VIS_MESSAGES(M)                                                                           \
 	M(HELLO, 1, REQUEST, "hello", "u:magic u:version u:role",                                 \
 	  "The handshake; must come first. Asks for a role (0 client, 1 observer, 2 manager).")    \
-	M(CREATE, 2, REQUEST, "create", "u:parent i:x i:y u:width u:height u:flags u:border",    \
+	M(CREATE, 2, REQUEST, "create",                                                           \
+	  "u:parent i:x i:y u:width u:height u:flags u:border u:namespace q:external",            \
 	  "Creates a window (parent 0: the screen), unmapped unless flags has MAP; x, y place its " \
-	  "border box, width x height is its inside. Replies created.")                           \
+	  "border box, width x height is its inside; namespace 0 or the external ID it mirrors "   \
+	  "(managers only). Replies created.")                                                     \
 	M(DESTROY, 3, REQUEST, "destroy", "u:window", "Destroys a window and its descendants.")    \
 	M(MAP, 4, REQUEST, "map", "u:window", "Maps a window.")                                   \
 	M(UNMAP, 5, REQUEST, "unmap", "u:window", "Unmaps a window.")                             \
@@ -64,6 +67,8 @@
 	  "coordinates).")                                                                        \
 	M(GET_LOOK, 25, REQUEST, "get-look", "u:window",                                          \
 	  "Asks for a window's bounding shape and opaque region.")                                \
+	M(LOOKUP, 26, REQUEST, "lookup", "u:namespace q:external",                                \
+	  "Finds the window carrying an external ID. Replies found.")                             \
 	M(HELLO_REPLY, 64, REPLY, "hello-reply",                                                  \
 	  "u:seq u:version u:client u:role u:screen_width u:screen_height u:max_request",         \
 	  "Accepts the handshake; says the role granted and the largest request accepted.")       \
@@ -81,6 +86,7 @@
 	M(LOOK, 72, REPLY, "look", "u:seq u:window u:shaped u:mode aR:shape aR:opaque",           \
 	  "A window's look: shaped 1 with its shape's rectangles (0: its border box); opaque "    \
 	  "mode 0 all, 1 none, 2 the opaque rectangles; window coordinates.")                     \
+	M(FOUND, 73, REPLY, "found", "u:seq u:window", "The window carrying the external ID.")    \
 	M(ERROR, 96, REPLY, "error", "u:seq u:opcode u:code s:message",                           \
 	  "A request failed: its sequence number and opcode, the code, a reason.")                \
 	M(VISIBILITY, 128, NOTICE, "visibility",                                                  \
@@ -92,8 +98,9 @@
 	  "coalesced: how many notices were merged into this one.")                               \
 	M(STACK, 130, NOTICE, "stack",                                                            \
 	  "q:serial u:change u:window u:parent i:x i:y u:width u:height u:sibling u:flags "       \
-	  "u:border",                                                                             \
-	  "The stack changed: what, which window, its new geometry, the sibling below it.")      \
+	  "u:border u:namespace q:external",                                                      \
+	  "The stack changed: what, which window, its new geometry, the sibling below it, its "   \
+	  "external ID.")                                                                         \
 	M(OVERFLOW, 131, NOTICE, "overflow", "q:serial u:dropped u:resync",                        \
 	  "The connection fell too far behind: dropped notices were lost; the next resync "       \
 	  "notices restate everything its subscriptions cover.")

@@ -335,8 +335,8 @@ void harness_send_copies(struct harness_conn *c, const void *req, size_t size, u
 
 void harness_create_many(struct harness_conn *c, uint32_t n, int32_t x, int32_t y)
 {
-	uint8_t create[VIS_MSG_HEADER + 28];
-	harness_put(create, VIS_OP_CREATE, 0, (uint32_t)x, (uint32_t)y, 5, 5, 0, 0);
+	uint8_t create[VIS_MSG_HEADER + 40];
+	harness_put(create, VIS_OP_CREATE, 0, (uint32_t)x, (uint32_t)y, 5, 5, 0, 0, 0, 0, 0);
 	harness_send_copies(c, create, sizeof create, n);
 	for (uint32_t i = 0; i < n; i++) {
 		struct vis_msg m;
@@ -515,7 +515,7 @@ uint32_t harness_create(struct harness_conn *c, uint32_t parent, int32_t x, int3
 			uint32_t h, uint32_t flags)
 {
 	struct vis_msg m;
-	uint32_t seq = harness_req(c, VIS_OP_CREATE, parent, (uint32_t)x, (uint32_t)y, w, h, flags, 0);
+	uint32_t seq = harness_req(c, VIS_OP_CREATE, parent, (uint32_t)x, (uint32_t)y, w, h, flags, 0, 0, 0, 0);
 	harness_expect(c, seq, VIS_OP_CREATED, &m);
 	return m.args[1].u;
 }
@@ -552,7 +552,7 @@ struct harness_node *harness_get_tree(struct harness_conn *c, size_t *n)
 	struct harness_node *v = malloc((*n + 1) * sizeof *v);
 	CHECK(v, "out of memory");
 	for (size_t i = 0; i < *n; i++) {
-		const uint32_t *r = w + 9 * i;
+		const uint32_t *r = w + 12 * i;
 		v[i] = (struct harness_node){ r[0], r[1], (int32_t)r[2], (int32_t)r[3], r[4],
 					      r[5], r[6], r[7], r[8] };
 	}

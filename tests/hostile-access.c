@@ -44,10 +44,10 @@ static void send_bad_ids(struct harness_conn *c, uint32_t own, uint32_t sibling,
 			      t->opcode == VIS_OP_UNSUBSCRIBE)))
 				continue;
 			uint32_t words[VIS_MSG_MAX_ARGS];
-			hostile_request_words(t, own, sibling, words);
+			size_t nw = hostile_request_words(t, own, sibling, words);
 			words[k] = bad;
 			CHECK(n_sent < sizeof sent / sizeof *sent, "too many requests");
-			sent[n_sent].seq = harness_request(c, t->opcode, words, n);
+			sent[n_sent].seq = harness_request(c, t->opcode, words, nw);
 			sent[n_sent++].op = t->opcode;
 		}
 	}
@@ -157,7 +157,7 @@ void hostile_access_isolation(void)
 		bool named = false;
 		if (ty->dir != VIS_DIR_REQUEST)
 			continue;
-		hostile_request_words(ty, hostile_win[0], hostile_win[1], words);
+		size_t nw = hostile_request_words(ty, hostile_win[0], hostile_win[1], words);
 		for (size_t k = 0; k < nf; k++)
 			if (!strcmp(f[k].name, "parent")) {
 				words[k] = hostile_win[2];
@@ -167,7 +167,7 @@ void hostile_access_isolation(void)
 			}
 		if (!named)
 			continue;
-		seq = harness_request(&o, ty->opcode, words, nf);
+		seq = harness_request(&o, ty->opcode, words, nw);
 		if ((ty->opcode >= VIS_OP_CREATE && ty->opcode <= VIS_OP_REPARENT) ||
 		    (ty->opcode >= VIS_OP_CONFIGURE && ty->opcode <= VIS_OP_SET_OPAQUE))
 			harness_expect_error(&o, seq, ty->opcode, VIS_ERROR_ACCESS,
@@ -175,7 +175,7 @@ void hostile_access_isolation(void)
 		else
 			expect_no_error(&o, harness_req(&o, VIS_OP_SYNC));
 	}
-	seq = harness_req(&o, VIS_OP_CREATE, 0, 300, 200, 5, 5, 0, 0);
+	seq = harness_req(&o, VIS_OP_CREATE, 0, 300, 200, 5, 5, 0, 0, 0, 0, 0);
 	harness_expect_error(&o, seq, VIS_OP_CREATE, VIS_ERROR_ACCESS, "observers change nothing",
 			     false);
 	s = harness_get_states(&o, &n);

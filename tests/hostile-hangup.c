@@ -47,13 +47,13 @@ static bool logged(const char *text)
 /* hello and n retained creates, as one run of bytes (malloc'd; *len bytes). */
 static uint8_t *hello_and_creates(uint32_t n, size_t *len)
 {
-	uint8_t *b = malloc(VIS_MSG_HEADER + 12 + (size_t)n * 36 + 64);
+	uint8_t *b = malloc(VIS_MSG_HEADER + 12 + (size_t)n * 48 + 64);
 	CHECK(b, "out of memory");
 	size_t at = harness_put(b, VIS_OP_HELLO, VIS_PROTOCOL_MAGIC, VIS_PROTOCOL_VERSION,
 				VIS_ROLE_CLIENT);
 	for (uint32_t i = 0; i < n; i++)
 		at += harness_put(b + at, VIS_OP_CREATE, 0, 300 + (int32_t)(i % 50), 200, 5, 5,
-				  VIS_CREATE_RETAIN, 0);
+				  VIS_CREATE_RETAIN, 0, 0, 0, 0);
 	*len = at;
 	return b;
 }
@@ -136,22 +136,22 @@ static void test_hangup_leftovers(void)
 			       VIS_ROLE_CLIENT);
 	n += harness_put(b + n, VIS_OP_BATCH_BEGIN);
 	for (int i = 0; i < 10; i++)
-		n += harness_put(b + n, VIS_OP_CREATE, 0, 300, 200, 5, 5, VIS_CREATE_RETAIN, 0);
+		n += harness_put(b + n, VIS_OP_CREATE, 0, 300, 200, 5, 5, VIS_CREATE_RETAIN, 0, 0, 0, 0);
 	for (int i = 0; i < 50; i++)
 		n += harness_put(b + n, VIS_OP_GET_TREE);
 	n += harness_put(b + n, VIS_OP_BATCH_COMMIT);
-	n += harness_put(b + n, VIS_OP_CREATE, 0, 300, 200, 5, 5, VIS_CREATE_RETAIN, 0);
+	n += harness_put(b + n, VIS_OP_CREATE, 0, 300, 200, 5, 5, VIS_CREATE_RETAIN, 0, 0, 0, 0);
 	n += harness_put(b + n, VIS_OP_BATCH_BEGIN);
-	n += harness_put(b + n, VIS_OP_CREATE, 0, 300, 200, 5, 5, VIS_CREATE_RETAIN, 0);
-	size_t cut = n + harness_put(b + n, VIS_OP_CREATE, 0, 300, 200, 5, 5, VIS_CREATE_RETAIN, 0);
+	n += harness_put(b + n, VIS_OP_CREATE, 0, 300, 200, 5, 5, VIS_CREATE_RETAIN, 0, 0, 0, 0);
+	size_t cut = n + harness_put(b + n, VIS_OP_CREATE, 0, 300, 200, 5, 5, VIS_CREATE_RETAIN, 0, 0, 0, 0);
 	n = cut - 7; /* the last create, cut short */
 	struct harness_conn c;
 	harness_open(&c, hostile_visd.sock);
 	CHECK(harness_send(&c, b, n) == 0, "send: %s", strerror(errno));
 	harness_close(&c);
 	expect_orphans(11, "the committed batch and the create after it");
-	CHECK(logged("hung up in the middle of a request: 29 bytes dropped") &&
-		      logged("hung up inside a batch: 40 bytes of held requests dropped"),
+	CHECK(logged("hung up in the middle of a request: 41 bytes dropped") &&
+		      logged("hung up inside a batch: 52 bytes of held requests dropped"),
 	      "the dropped requests were not logged");
 }
 

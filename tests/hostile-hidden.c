@@ -397,7 +397,7 @@ static void b_names_hidden(const struct truth *tr)
 		seq = harness_req(b, VIS_OP_GET_REGION, h);
 		break;
 	case 2:
-		seq = harness_req(b, VIS_OP_CREATE, h, 0, 0, 5, 5, 0, 0);
+		seq = harness_req(b, VIS_OP_CREATE, h, 0, 0, 5, 5, 0, 0, 0, 0, 0);
 		break;
 	case 3:
 		seq = harness_req(b, VIS_OP_SUBSCRIBE, h, VIS_NOTICE_ALL, 0);
@@ -468,7 +468,7 @@ static int operate(const struct truth *tr, struct expect *e)
 		/* At the top level, or under a window it may change (for the manager: anyone's). */
 		uint32_t parent = kind == 0 || !w || depth(tr, w) >= 16 ? 0 : w;
 		uint32_t flags = vis_rng_below(&rng, 3) ? VIS_CREATE_MAP : 0;
-		harness_req(c, VIS_OP_CREATE, parent, (uint32_t)x, (uint32_t)y, wd, ht, flags, 0);
+		harness_req(c, VIS_OP_CREATE, parent, (uint32_t)x, (uint32_t)y, wd, ht, flags, 0, 0, 0, 0);
 		if (p == B) {
 			/* Its ID is known once the reply is in: filled in after the round trip. */
 			e->change[0] = VIS_STACK_CREATE;
@@ -559,8 +559,8 @@ static void overflow_b(void)
 	size_t n = b_windows(mine);
 	if (!n) {
 		/* b has no window: two to move, their notices not checked here. */
-		harness_req(&peer[B], VIS_OP_CREATE, 0, 10, 10, 50, 50, VIS_CREATE_MAP, 0);
-		harness_req(&peer[B], VIS_OP_CREATE, 0, 30, 30, 50, 50, VIS_CREATE_MAP, 0);
+		harness_req(&peer[B], VIS_OP_CREATE, 0, 10, 10, 50, 50, VIS_CREATE_MAP, 0, 0, 0, 0);
+		harness_req(&peer[B], VIS_OP_CREATE, 0, 30, 30, 50, 50, VIS_CREATE_MAP, 0, 0, 0, 0);
 		roundtrip(B);
 		n_got = 0;
 		n = b_windows(mine);
@@ -569,11 +569,11 @@ static void overflow_b(void)
 	 * So that the resync has a parent to hide and a sibling to pass over: the manager's frame
 	 * with b's first and last windows in it, one of its own between them.
 	 */
-	harness_req(m, VIS_OP_CREATE, 0, 0, 0, 300, 200, VIS_CREATE_MAP, 0);
+	harness_req(m, VIS_OP_CREATE, 0, 0, 0, 300, 200, VIS_CREATE_MAP, 0, 0, 0, 0);
 	roundtrip(MANAGER);
 	uint32_t frame = last_created[MANAGER];
 	harness_req(m, VIS_OP_REPARENT, mine[0], frame, 5, 5);
-	harness_req(m, VIS_OP_CREATE, frame, 0, 0, 10, 10, VIS_CREATE_MAP, 0);
+	harness_req(m, VIS_OP_CREATE, frame, 0, 0, 10, 10, VIS_CREATE_MAP, 0, 0, 0, 0);
 	if (n > 1)
 		harness_req(m, VIS_OP_REPARENT, mine[n - 1], frame, 20, 20);
 	roundtrip(MANAGER);

@@ -21,9 +21,9 @@ void hostile_check_unaffected(void);
 
 /*
  * A well-formed request's words with harmless values: the window fields name own (sibling:
- * sibling), parents the screen, positions right of the innocent's windows. Every request of the
- * table has only 32-bit fields; a new field type or name fails here so that the cases stay
- * complete. Returns the number of words.
+ * sibling), parents the screen, positions right of the innocent's windows, no external ID.
+ * Requests have 32-bit fields and, after them, 64-bit ones (two words each); a new field type or
+ * name fails here so that the cases stay complete. Returns the number of words.
  */
 size_t hostile_request_words(const struct vis_msg_type *t, uint32_t own, uint32_t sibling,
 			     uint32_t *words);

@@ -236,7 +236,7 @@ static void wait_windows(struct harness_conn *m, size_t n)
 /* Expects a retained window's creation on c to be refused for reason, and c to go on. */
 static void refused_retain(struct harness_conn *c, const char *reason)
 {
-	uint32_t seq = harness_req(c, VIS_OP_CREATE, 0, 500, 0, 5, 5, VIS_CREATE_RETAIN, 0);
+	uint32_t seq = harness_req(c, VIS_OP_CREATE, 0, 500, 0, 5, 5, VIS_CREATE_RETAIN, 0, 0, 0, 0);
 	limits_expect_limit(c, seq, VIS_OP_CREATE, reason);
 }
 

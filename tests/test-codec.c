@@ -11,7 +11,25 @@
 #include "vis/protocol.h"
 #include "wire.h"
 
-static const uint32_t words[18] = { 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18 };
+/* Two records of the longest kind (T, 12 words). */
+static const uint32_t words[24] = { 1,	2,  3,	4,  5,	6,  7,	8,  9,	10, 11, 12,
+				    13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24 };
+
+/* How many fields a signature has. */
+static int field_count(const char *sig)
+{
+	int n = 0;
+	for (const char *p = sig; *p;) {
+		while (*p == ' ')
+			p++;
+		if (!*p)
+			break;
+		n++;
+		while (*p && *p != ' ')
+			p++;
+	}
+	return n;
+}
 
 /* Fills args for a type with distinct values; arrays get two records. */
 static void fill(const struct vis_msg_type *t, union vis_arg *args)
@@ -62,6 +80,7 @@ int main(void)
 	for (size_t i = 0; i < count; i++) {
 		const struct vis_msg_type *t = &types[i];
 		assert(vis_msg_type_find(t->opcode) == t);
+		assert(field_count(t->signature) <= VIS_MSG_MAX_ARGS);
 		int req = t->dir == VIS_DIR_REQUEST;
 		union vis_arg args[VIS_MSG_MAX_ARGS];
 		fill(t, args);
@@ -85,7 +104,7 @@ int main(void)
 		for (int k = 0; k < VIS_MSG_MAX_ARGS; k++)
 			if (args[k].a.words == words && back[k].a.raw) {
 				/* Re-encode decoded arrays from their words. */
-				static uint32_t tmp[VIS_MSG_MAX_ARGS][18];
+				static uint32_t tmp[VIS_MSG_MAX_ARGS][24];
 				char rec = 0;
 				const char *p = t->signature;
 				for (int f = 0; f <= k; f++) {
@@ -126,6 +145,53 @@ int main(void)
 		vis_buf_finish(&b);
 		checked++;
 	}
+
+	/*
+	 * Protocol 3's fields where the table puts them: create's namespace and 64-bit external ID
+	 * after its border, little-endian; lookup; the tree record's 12 words; the stack notice's
+	 * external ID at its end.
+	 */
+	struct vis_buf e;
+	vis_buf_init(&e);
+	union vis_arg c[VIS_MSG_MAX_ARGS] = { { .u = 0 }, { .i = -1 }, { .i = 2 }, { .u = 3 },
+					      { .u = 4 }, { .u = 1 }, { .u = 5 },
+					      { .u = VIS_EXTERNAL_X11 }, { .q = 0x1122334455667788ull } };
+	assert(vis_msg_encode(&e, VIS_OP_CREATE, c) == 0 && e.len == VIS_MSG_HEADER + 40);
+	assert(vis_wire_get_u32(e.data + VIS_MSG_HEADER + 28) == VIS_EXTERNAL_X11);
+	assert(vis_wire_get_u32(e.data + VIS_MSG_HEADER + 32) == 0x55667788u &&
+	       vis_wire_get_u32(e.data + VIS_MSG_HEADER + 36) == 0x11223344u);
+	struct vis_msg dm;
+	assert(decode(e.data, e.len, 1, &dm) == VIS_DECODE_OK && dm.args[7].u == VIS_EXTERNAL_X11 &&
+	       dm.args[8].q == 0x1122334455667788ull);
+	e.len = 0;
+	union vis_arg l[VIS_MSG_MAX_ARGS] = { { .u = VIS_EXTERNAL_X11 }, { .q = 0x1e00003 } };
+	assert(vis_msg_encode(&e, VIS_OP_LOOKUP, l) == 0 && e.len == VIS_MSG_HEADER + 12);
+	assert(decode(e.data, e.len, 1, &dm) == VIS_DECODE_OK && dm.type->opcode == 26 &&
+	       dm.args[0].u == 1 && dm.args[1].q == 0x1e00003);
+	e.len = 0;
+	union vis_arg f[VIS_MSG_MAX_ARGS] = { { .u = 9 }, { .u = 42 } };
+	assert(vis_msg_encode(&e, VIS_OP_FOUND, f) == 0 && e.len == VIS_MSG_HEADER + 8);
+	assert(decode(e.data, e.len, 0, &dm) == VIS_DECODE_OK && dm.type->opcode == 73 &&
+	       dm.args[1].u == 42);
+	assert(vis_msg_record_words('T') == 12);
+	e.len = 0;
+	union vis_arg tr[VIS_MSG_MAX_ARGS] = { { .u = 1 }, { .u = 0 } };
+	tr[2].a.words = words;
+	tr[2].a.n = 2;
+	assert(vis_msg_encode(&e, VIS_OP_TREE, tr) == 0 && e.len == VIS_MSG_HEADER + 12 + 2 * 48);
+	char why[200];
+	/* Not through decode(), whose copy is gone with the array's words. */
+	assert(vis_msg_decode(e.data, e.len, VIS_PROTOCOL_MAX_MESSAGE, 0, &dm, why, sizeof why) ==
+		       VIS_DECODE_OK &&
+	       dm.args[2].a.n == 2 && vis_arg_word(&dm.args[2], 'T', 1, 11) == 24);
+	e.len = 0;
+	union vis_arg st[VIS_MSG_MAX_ARGS] = { { .q = 7 } };
+	st[11].u = VIS_EXTERNAL_WAYLAND;
+	st[12].q = UINT64_MAX - 1;
+	assert(vis_msg_encode(&e, VIS_OP_STACK, st) == 0 && e.len == VIS_MSG_HEADER + 8 + 44 + 8);
+	assert(decode(e.data, e.len, 0, &dm) == VIS_DECODE_OK && dm.args[11].u == 2 &&
+	       dm.args[12].q == UINT64_MAX - 1);
+	vis_buf_finish(&e);
 
 	/* Sizes: 0, 1, header - 1, not a multiple of 4, the maximum + 1, UINT32_MAX. */
 	uint8_t h[VIS_MSG_HEADER] = { 0 };

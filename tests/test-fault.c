@@ -145,7 +145,7 @@ static size_t random_request(struct hostile_mind *h, uint8_t *out)
 		uint32_t flags = (vis_rng_below(r, 5) ? VIS_CREATE_MAP : 0) |
 				 (h->retaining && coin ? VIS_CREATE_RETAIN : 0);
 		return harness_put(out, VIS_OP_CREATE, h->retaining || coin ? 0 : pick(h), x, y, w,
-				   ht, flags, 0);
+				   ht, flags, 0, 0, 0, 0);
 	}
 	if (k < 60)
 		return harness_put(out, simple[vis_rng_below(r, 7)], pick(h));

@@ -56,7 +56,7 @@ size_t hostile_request_words(const struct vis_msg_type *t, uint32_t own, uint32_
 			     uint32_t *words)
 {
 	struct harness_field f[VIS_MSG_MAX_ARGS];
-	size_t n = harness_fields(t, f);
+	size_t n = harness_fields(t, f), at = 0;
 	for (size_t k = 0; k < n; k++) {
 		static const struct {
 			const char *name;
@@ -75,10 +75,19 @@ size_t hostile_request_words(const struct vis_msg_type *t, uint32_t own, uint32_
 			      { "rects", 0 }, /* an empty array: its count */
 			      { "mode", 0 },
 			      { "mask", VIS_NOTICE_ALL },
-			      { "rect_limit", 0 } };
-		/* Every request's fields are words, but arrays, sent empty: a count of 0. */
-		CHECK(f[k].type == 'u' || f[k].type == 'i' || f[k].type == 'R',
+			      { "rect_limit", 0 },
+			      { "namespace", VIS_EXTERNAL_NONE } };
+		/* Every request's fields are words, but arrays, sent empty: a count of 0, and 64-bit
+		 * ones (an external ID, 0), two words after every other field, so that word k is
+		 * still field k for the others. */
+		if (f[k].type == 'q') {
+			words[at++] = 0;
+			words[at++] = 0;
+			continue;
+		}
+		CHECK(at == k && (f[k].type == 'u' || f[k].type == 'i' || f[k].type == 'R'),
 		      "%s: field %s of type %c", t->name, f[k].name, f[k].type);
+		at++;
 		bool known = true;
 		if (!strcmp(f[k].name, "window"))
 			words[k] = own;
@@ -93,7 +102,7 @@ size_t hostile_request_words(const struct vis_msg_type *t, uint32_t own, uint32_
 			}
 		CHECK(known, "%s: no value for field %s", t->name, f[k].name);
 	}
-	return n;
+	return at;
 }
 
 void hostile_check_unaffected(void)
@@ -255,7 +264,7 @@ static void test_truncated_extended(void)
 	struct harness_conn c;
 	harness_open_as(&c, hostile_visd.sock, VIS_ROLE_CLIENT);
 	harness_req(&c, VIS_OP_BATCH_BEGIN);
-	harness_req(&c, VIS_OP_CREATE, 0, 300, 200, 10, 10, VIS_CREATE_RETAIN, 0);
+	harness_req(&c, VIS_OP_CREATE, 0, 300, 200, 10, 10, VIS_CREATE_RETAIN, 0, 0, 0, 0);
 	uint8_t b[16];
 	harness_put(b, VIS_OP_MOVE, hostile_win[0], 0);
 	uint32_t seq = harness_request_raw(&c, b, 16);
@@ -269,9 +278,9 @@ static void test_truncated_extended(void)
 static void test_opcodes(void)
 {
 	harness_context("unknown opcodes");
-	/* The daemon's own: 64 hello-reply, 72 look, 96 error, 128 visibility, 130 stack. */
+	/* The daemon's own: 64 hello-reply, 72 look, 73 found, 96 error, 128 visibility, 130 stack. */
 	static const uint32_t ops[] = {
-		0, 26, 63, 64, 72, 96, 97, 127, 128, 130, 131, 1000, 0xffff
+		0, 27, 63, 64, 72, 73, 96, 97, 127, 128, 130, 131, 1000, 0xffff
 	};
 	for (size_t i = 0; i < sizeof ops / sizeof *ops; i++) {
 		uint8_t b[24] = { 0 };
@@ -339,12 +348,12 @@ static void test_lying_lengths(void)
 	/* Bytes sent after a fatal error are never read: the retained window after it is not made.
 	 */
 	harness_open_as(&c, hostile_visd.sock, VIS_ROLE_CLIENT);
-	uint8_t flood[3 * 32];
-	n = harness_put(flood, VIS_OP_CREATE, 0, 310, 200, 10, 10, VIS_CREATE_RETAIN, 0);
+	uint8_t flood[2 * 48 + VIS_MSG_HEADER];
+	n = harness_put(flood, VIS_OP_CREATE, 0, 310, 200, 10, 10, VIS_CREATE_RETAIN, 0, 0, 0, 0);
 	size_t at = n;
 	n += harness_put(flood + n, VIS_OP_MAP);
 	vis_wire_put_u32(flood + at, 4);
-	n += harness_put(flood + n, VIS_OP_CREATE, 0, 320, 200, 10, 10, VIS_CREATE_RETAIN, 0);
+	n += harness_put(flood + n, VIS_OP_CREATE, 0, 320, 200, 10, 10, VIS_CREATE_RETAIN, 0, 0, 0, 0);
 	CHECK(harness_send(&c, flood, n) == 0, "send: %s", strerror(errno));
 	harness_expect_error(&c, c.seq + 2, VIS_OP_MAP, VIS_ERROR_MALFORMED,
 			     "declared size 4 is less than the 8-byte header", true);
@@ -389,7 +398,8 @@ static void test_handshake(void)
 		{ 0x56495344, VIS_PROTOCOL_VERSION, 0, "not a visd client" }, /* byte-swapped */
 		{ VIS_PROTOCOL_MAGIC, 0, 0, "protocol version 0 is not supported" },
 		{ VIS_PROTOCOL_MAGIC, 1, 0, "protocol version 1 is not supported" },
-		{ VIS_PROTOCOL_MAGIC, 3, 0, "protocol version 3 is not supported" },
+		{ VIS_PROTOCOL_MAGIC, 2, 0, "protocol version 2 is not supported" },
+		{ VIS_PROTOCOL_MAGIC, 4, 0, "protocol version 4 is not supported" },
 		{ VIS_PROTOCOL_MAGIC, UINT32_MAX, 0, "version 4294967295 is not supported" },
 		{ VIS_PROTOCOL_MAGIC, VIS_PROTOCOL_VERSION, 3, "unknown role 3" },
 		{ VIS_PROTOCOL_MAGIC, VIS_PROTOCOL_VERSION, UINT32_MAX, "unknown role 4294967295" },
@@ -458,11 +468,11 @@ static void test_mid_message(void)
 	size_t n = harness_put(script, VIS_OP_HELLO, VIS_PROTOCOL_MAGIC, VIS_PROTOCOL_VERSION,
 			       VIS_ROLE_CLIENT);
 	n += harness_put(script + n, VIS_OP_SUBSCRIBE, VIS_WINDOW_ALL, VIS_NOTICE_ALL, 0);
-	n += harness_put(script + n, VIS_OP_CREATE, 0, 300, 200, 50, 50, VIS_CREATE_MAP, 0);
-	n += harness_put(script + n, VIS_OP_CREATE, 0, 310, 210, 50, 50, VIS_CREATE_MAP, 0);
+	n += harness_put(script + n, VIS_OP_CREATE, 0, 300, 200, 50, 50, VIS_CREATE_MAP, 0, 0, 0, 0);
+	n += harness_put(script + n, VIS_OP_CREATE, 0, 310, 210, 50, 50, VIS_CREATE_MAP, 0, 0, 0, 0);
 	n += harness_put(script + n, VIS_OP_GET_TREE);
 	n += harness_put(script + n, VIS_OP_BATCH_BEGIN);
-	n += harness_put(script + n, VIS_OP_CREATE, 0, 320, 220, 50, 50, VIS_CREATE_MAP, 0);
+	n += harness_put(script + n, VIS_OP_CREATE, 0, 320, 220, 50, 50, VIS_CREATE_MAP, 0, 0, 0, 0);
 	n += harness_put(script + n, VIS_OP_GET_STATES);
 	n += harness_put(script + n, VIS_OP_MAP, 0);
 	vis_wire_put_u32(script + n - 12, 65536);
@@ -476,8 +486,8 @@ static void test_mid_message(void)
 	/* A byte at a time, the innocent served between them. */
 	struct harness_conn c;
 	harness_open_as(&c, hostile_visd.sock, VIS_ROLE_CLIENT);
-	uint8_t b[36];
-	n = harness_put(b, VIS_OP_CREATE, 0, 300, 200, 5, 5, 0, 0);
+	uint8_t b[48];
+	n = harness_put(b, VIS_OP_CREATE, 0, 300, 200, 5, 5, 0, 0, 0, 0, 0);
 	for (size_t i = 0; i < n; i++) {
 		CHECK(harness_send(&c, b + i, 1) == 0, "send: %s", strerror(errno));
 		harness_sync(&hostile_innocent, NULL);

@@ -576,7 +576,7 @@ static void test_fatal(void)
 	static const uint8_t unknown[] = { 8, 0, 0, 0, 99, 0, 0, 0 };
 	static const uint8_t tiny[] = { 4, 0, 0, 0, 1, 0, 0, 0 };
 	static const uint8_t magic[] = { 20, 0, 0, 0, 1, 0, 0, 0, 1, 2, 3, 4, 2, 0, 0, 0, 0, 0, 0, 0 };
-	static const uint8_t truncated[] = { 20, 0, 0, 0, 1, 0, 0, 0, 'V', 'I', 'S', 'D', 2, 0,
+	static const uint8_t truncated[] = { 20, 0, 0, 0, 1, 0, 0, 0, 'V', 'I', 'S', 'D', VIS_PROTOCOL_VERSION, 0,
 					     0,  0, 0, 0, 0, 0, 8, 0, 0, 0,   4,   0,   0,   0 };
 	expect_fatal(early, sizeof early, 1, VIS_ERROR_HANDSHAKE, __LINE__);
 	expect_fatal(unknown, sizeof unknown, 1, VIS_ERROR_OPCODE, __LINE__);
@@ -772,6 +772,160 @@ static void test_disconnect(void)
 	wait_windows(obs, 0);
 	CHECK(count_fds(daemon_pid) == fds, "the daemon holds %d descriptors, %d before",
 	      count_fds(daemon_pid), fds);
+	vis_client_destroy(obs);
+	free(log.v);
+}
+
+/* The last stack notice of change about window w in l, or NULL. */
+static const struct vis_notice *last_stack(const struct log *l, uint32_t w, uint32_t change)
+{
+	for (size_t i = l->n; i-- > 0;)
+		if (l->v[i].n.kind == VIS_NOTICE_KIND_STACK && l->v[i].n.window == w &&
+		    l->v[i].n.stack.change == change)
+			return &l->v[i].n;
+	return NULL;
+}
+
+/* The tree record of window w as c sees it (CHECKs that there is one). */
+static struct vis_window_info tree_record(struct vis_client *c, uint32_t w)
+{
+	struct vis_window_info *t, found = { 0 };
+	size_t n;
+	CHECK(vis_client_get_tree(c, &t, &n) == 0, "get-tree");
+	for (size_t i = 0; i < n; i++)
+		if (t[i].window == w)
+			found = t[i];
+	free(t);
+	CHECK(found.window == w, "window %u is not in the tree", w);
+	return found;
+}
+
+/*
+ * External IDs: only the manager sets them, unique among the windows that exist, found by lookup
+ * as far as the connection may see, carried by tree records and stack notices, freed by destroy
+ * (with an ancestor too) and by the manager's hang-up.
+ */
+static void test_external(void)
+{
+	current = "external IDs";
+	struct log log = { 0 };
+	struct vis_client *obs = connect_to(sock, VIS_ROLE_OBSERVER, &log);
+	wait_windows(obs, 0);
+	vis_client_subscribe(obs, VIS_WINDOW_ALL, VIS_NOTICE_STACK, 0);
+	vis_client_roundtrip(obs);
+	struct vis_client *mgr = connect_to(sock, VIS_ROLE_MANAGER, NULL);
+	struct vis_client *cl = connect_to(sock, VIS_ROLE_CLIENT, NULL);
+	const uint64_t big = 0xfedcba9800000001ull; /* both halves of the tag count */
+	uint32_t frame = 0, xw = 0, wl = 0, plain = 0, w = 0;
+	CHECK(vis_client_create_external(mgr, 0, 10, 10, 50, 40, 2, VIS_CREATE_MAP,
+					 VIS_EXTERNAL_X11, 0x1e00003, &frame) == 0,
+	      "the manager creates a window with an X ID");
+	CHECK(vis_client_create_external(mgr, frame, 0, 0, 20, 20, 0, VIS_CREATE_MAP,
+					 VIS_EXTERNAL_X11, big, &xw) == 0,
+	      "the manager creates a child with an X ID");
+	/* The same tag in another namespace is another ID. */
+	CHECK(vis_client_create_external(mgr, 0, 0, 0, 5, 5, 0, 0, VIS_EXTERNAL_WAYLAND, 0x1e00003,
+					 &wl) == 0,
+	      "the same tag in another namespace");
+	plain = create(cl, 0, 100, 0, 5, 5, VIS_CREATE_MAP);
+
+	/* Refusals: a client or an observer may not set one; a pair in use; a tag without a
+	 * namespace (also for the manager); nothing was created by any of them. */
+	expect_error(cl,
+		     vis_client_create_external_async(cl, 0, 0, 0, 5, 5, 0, 0, VIS_EXTERNAL_X11,
+						      0x99, NULL, NULL),
+		     VIS_ERROR_ACCESS, __LINE__);
+	expect_error(obs,
+		     vis_client_create_external_async(obs, 0, 0, 0, 5, 5, 0, 0, VIS_EXTERNAL_X11,
+						      0x99, NULL, NULL),
+		     VIS_ERROR_ACCESS, __LINE__);
+	expect_error(mgr,
+		     vis_client_create_external_async(mgr, 0, 0, 0, 5, 5, 0, 0, VIS_EXTERNAL_X11,
+						      0x1e00003, NULL, NULL),
+		     VIS_ERROR_MATCH, __LINE__);
+	expect_error(mgr,
+		     vis_client_create_external_async(mgr, 0, 0, 0, 5, 5, 0, 0, VIS_EXTERNAL_NONE, 5,
+						      NULL, NULL),
+		     VIS_ERROR_VALUE, __LINE__);
+	expect_error(cl,
+		     vis_client_create_external_async(cl, 0, 0, 0, 5, 5, 0, 0, VIS_EXTERNAL_NONE, 5,
+						      NULL, NULL),
+		     VIS_ERROR_VALUE, __LINE__);
+	vis_client_sync(mgr); /* fails for the errors above; later syncs count only later ones */
+	wait_windows(obs, 4);
+
+	/* Lookups: observers and the manager see every window; a client sees only its own. */
+	CHECK(vis_client_lookup(obs, VIS_EXTERNAL_X11, 0x1e00003, &w) == 0 && w == frame,
+	      "lookup of the frame's X ID: %u", w);
+	CHECK(vis_client_lookup(mgr, VIS_EXTERNAL_X11, big, &w) == 0 && w == xw,
+	      "lookup of a 64-bit tag: %u", w);
+	CHECK(vis_client_lookup(obs, VIS_EXTERNAL_WAYLAND, 0x1e00003, &w) == 0 && w == wl,
+	      "lookup in another namespace: %u", w);
+	expect_error(cl, vis_client_lookup_async(cl, VIS_EXTERNAL_X11, 0x1e00003, NULL, NULL),
+		     VIS_ERROR_WINDOW, __LINE__);
+	expect_error(obs, vis_client_lookup_async(obs, VIS_EXTERNAL_X11, 0x42, NULL, NULL),
+		     VIS_ERROR_WINDOW, __LINE__);
+	expect_error(obs, vis_client_lookup_async(obs, VIS_EXTERNAL_X11, big & 0xffffffffu, NULL,
+						  NULL),
+		     VIS_ERROR_WINDOW, __LINE__);
+	expect_error(obs, vis_client_lookup_async(obs, VIS_EXTERNAL_NONE, 0, NULL, NULL),
+		     VIS_ERROR_VALUE, __LINE__);
+	CHECK(vis_client_lookup(obs, VIS_EXTERNAL_NONE, 0, &w) < 0 && vis_client_error(obs) == 0,
+	      "a synchronous lookup of no ID fails, the connection kept");
+
+	/* Tree records and stack notices carry the pair; windows without one say 0, 0. */
+	struct vis_window_info r = tree_record(obs, xw);
+	CHECK(r.ext_namespace == VIS_EXTERNAL_X11 && r.external == big && r.parent == frame,
+	      "tree record of the child: %u:%#llx", r.ext_namespace, (unsigned long long)r.external);
+	r = tree_record(obs, wl);
+	CHECK(r.ext_namespace == VIS_EXTERNAL_WAYLAND && r.external == 0x1e00003, "tree record");
+	r = tree_record(obs, plain);
+	CHECK(r.ext_namespace == VIS_EXTERNAL_NONE && r.external == 0, "a plain window's record");
+	vis_client_move(mgr, xw, 3, 4);
+	vis_client_unmap(mgr, frame);
+	CHECK(vis_client_sync(mgr) == 0, "move and unmap");
+	vis_client_roundtrip(obs);
+	uint32_t changes[] = { VIS_STACK_CREATE, VIS_STACK_MAP, VIS_STACK_CONFIGURE };
+	for (size_t i = 0; i < sizeof changes / sizeof *changes; i++) {
+		const struct vis_notice *n = last_stack(&log, xw, changes[i]);
+		CHECK(n && n->stack.ext_namespace == VIS_EXTERNAL_X11 && n->stack.external == big,
+		      "stack notice %u of the child without its X ID", changes[i]);
+	}
+	const struct vis_notice *n = last_stack(&log, frame, VIS_STACK_UNMAP);
+	CHECK(n && n->stack.ext_namespace == VIS_EXTERNAL_X11 && n->stack.external == 0x1e00003,
+	      "unmap notice of the frame without its X ID");
+	n = last_stack(&log, plain, VIS_STACK_CREATE);
+	CHECK(n && n->stack.ext_namespace == 0 && n->stack.external == 0,
+	      "a plain window's create notice");
+
+	/* Destroying the frame destroys the child: both pairs are free, the notices still say them. */
+	vis_client_destroy_window(mgr, frame);
+	CHECK(vis_client_sync(mgr) == 0, "destroy");
+	vis_client_roundtrip(obs);
+	n = last_stack(&log, xw, VIS_STACK_DESTROY);
+	CHECK(n && n->stack.external == big, "the child's destroy notice without its X ID");
+	expect_error(obs, vis_client_lookup_async(obs, VIS_EXTERNAL_X11, 0x1e00003, NULL, NULL),
+		     VIS_ERROR_WINDOW, __LINE__);
+	expect_error(mgr, vis_client_lookup_async(mgr, VIS_EXTERNAL_X11, big, NULL, NULL),
+		     VIS_ERROR_WINDOW, __LINE__);
+	CHECK(vis_client_create_external(mgr, 0, 0, 0, 5, 5, 0, 0, VIS_EXTERNAL_X11, big, &w) == 0 &&
+		      w != xw,
+	      "a destroyed window's pair taken again");
+
+	/* The manager hangs up: its windows go, and their pairs with them. */
+	vis_client_destroy(mgr);
+	wait_windows(obs, 1);
+	expect_error(obs, vis_client_lookup_async(obs, VIS_EXTERNAL_WAYLAND, 0x1e00003, NULL, NULL),
+		     VIS_ERROR_WINDOW, __LINE__);
+	mgr = connect_to(sock, VIS_ROLE_MANAGER, NULL);
+	CHECK(vis_client_create_external(mgr, 0, 0, 0, 5, 5, 0, 0, VIS_EXTERNAL_WAYLAND, 0x1e00003,
+					 &w) == 0 &&
+		      vis_client_create_external(mgr, 0, 0, 0, 5, 5, 0, 0, VIS_EXTERNAL_X11, big,
+						 &w) == 0,
+	      "the pairs of a gone manager's windows taken again");
+	vis_client_destroy(mgr);
+	vis_client_destroy(cl);
+	wait_windows(obs, 0);
 	vis_client_destroy(obs);
 	free(log.v);
 }
@@ -1005,6 +1159,7 @@ int main(int argc, char **argv)
 		test_newcomer();
 		test_children();
 		test_disconnect();
+		test_external();
 		for (uint64_t seed = 1; seed <= 12; seed++)
 			test_random(seed, 700);
 	}

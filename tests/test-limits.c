@@ -79,7 +79,7 @@ static void test_configured_limits(void)
 	uint32_t w[4];
 	for (int i = 0; i < 4; i++)
 		w[i] = harness_create(&c, 0, 10 * i, 0, 5, 5, VIS_CREATE_MAP);
-	uint32_t seq = harness_req(&c, VIS_OP_CREATE, 0, 0, 0, 5, 5, 0, 0);
+	uint32_t seq = harness_req(&c, VIS_OP_CREATE, 0, 0, 0, 5, 5, 0, 0, 0, 0, 0);
 	limits_expect_limit(&c, seq, VIS_OP_CREATE, "--max-windows");
 	harness_req(&c, VIS_OP_DESTROY, w[3]);
 	w[3] = harness_create(&c, 0, 0, 0, 5, 5, 0); /* room again */
@@ -122,7 +122,7 @@ static void test_configured_limits(void)
 	uint32_t a = harness_create(&m, 0, 0, 0, 50, 50, VIS_CREATE_MAP);
 	uint32_t b = harness_create(&m, a, 1, 1, 10, 10, VIS_CREATE_MAP);
 	uint32_t x = harness_create(&m, 0, 60, 0, 50, 50, VIS_CREATE_MAP);
-	seq = harness_req(&m, VIS_OP_CREATE, b, 0, 0, 2, 2, 0, 0);
+	seq = harness_req(&m, VIS_OP_CREATE, b, 0, 0, 2, 2, 0, 0, 0, 0, 0);
 	limits_expect_limit(&m, seq, VIS_OP_CREATE, "--max-depth");
 	seq = harness_req(&m, VIS_OP_REPARENT, a, x, 0, 0);
 	limits_expect_limit(&m, seq, VIS_OP_REPARENT, "--max-depth");

@@ -135,7 +135,8 @@ static void serve_good(struct fake *f)
 	fake_error(f, 4, VIS_OP_MAP, VIS_ERROR_WINDOW, "no such window 9");
 	fake_send(f, VIS_OP_STACK, (union vis_arg[]){ { .q = f->serial++ }, U(VIS_STACK_RESTACK),
 						       U(5), U(0), { .i = -4 }, U(6), U(7), U(8),
-						       U(6), U(3), U(2) });
+						       U(6), U(3), U(2), U(VIS_EXTERNAL_X11),
+						       { .q = 0x1e00003 } });
 	fake_synced(f, 5);
 
 	fake_read(f, VIS_OP_GET_REGION); /* 6 */
@@ -144,7 +145,8 @@ static void serve_good(struct fake *f)
 		  (union vis_arg[]){ U(6), U(5), U(0), { .a = { NULL, rects + 4, 1 } } });
 
 	fake_read(f, VIS_OP_GET_TREE); /* 7 */
-	static const uint32_t node[] = { 5, 0, (uint32_t)-1, 2, 30, 40, 0, 3, 1 };
+	/* Its external ID's tag, 0x100000002, as two words, low first. */
+	static const uint32_t node[] = { 5, 0, (uint32_t)-1, 2, 30, 40, 0, 3, 1, 77, 2, 1 };
 	fake_send(f, VIS_OP_TREE, (union vis_arg[]){ U(7), U(0), { .a = { NULL, node, 1 } } });
 
 	fake_read(f, VIS_OP_GET_REPAINT); /* 8 */
@@ -156,6 +158,9 @@ static void serve_good(struct fake *f)
 
 	fake_read(f, VIS_OP_SYNC); /* 10 */
 	fake_synced(f, 10);
+
+	fake_read(f, VIS_OP_LOOKUP); /* 11 */
+	fake_send(f, VIS_OP_FOUND, (union vis_arg[]){ U(11), U(5) });
 	/* Then the daemon goes away: a clean EOF. */
 }
 
@@ -212,6 +217,8 @@ static void client_good(struct vis_client *c)
 	assert(notices[2].stack.change == VIS_STACK_RESTACK && notices[2].stack.x == -4);
 	assert(notices[2].stack.sibling == 6 && notices[2].stack.flags == 3);
 	assert(notices[2].stack.border == 2);
+	assert(notices[2].stack.ext_namespace == VIS_EXTERNAL_X11 &&
+	       notices[2].stack.external == 0x1e00003);
 
 	struct vis_rect32 *r;
 	assert(vis_client_get_region(c, 5, &r, &n) == 0 && n == 2);
@@ -222,6 +229,7 @@ static void client_good(struct vis_client *c)
 	assert(vis_client_get_tree(c, &t, &n) == 0 && n == 1);
 	assert(t[0].window == 5 && t[0].x == -1 && t[0].height == 40 && t[0].flags == 3);
 	assert(t[0].border == 0 && t[0].state == 1);
+	assert(t[0].ext_namespace == 77 && t[0].external == 0x100000002ull);
 	free(t);
 
 	uint32_t *ids;
@@ -232,6 +240,7 @@ static void client_good(struct vis_client *c)
 	uint32_t state;
 	assert(vis_client_get_state(c, 5, &state) == 0 && state == 1);
 	assert(vis_client_sync(c) == 0);
+	assert(vis_client_lookup(c, VIS_EXTERNAL_X11, 0x1e00003, &window) == 0 && window == 5);
 
 	/* The daemon hung up: sticky, and everything after fails at once. */
 	while (vis_client_dispatch(c) >= 0)
@@ -244,7 +253,7 @@ static void client_good(struct vis_client *c)
 /* A broken message: raw bytes sent in answer to the client's sync (request 2). */
 struct broken {
 	const char *name;
-	uint8_t bytes[64];
+	uint8_t bytes[96];
 	size_t len;
 	int close_after; /* hang up at once rather than wait for the client */
 	int expect;      /* the sticky errno */
@@ -534,6 +543,15 @@ static size_t make_broken(struct broken *b)
 	vis_wire_put_u64(b[n].bytes + o, 1);
 	vis_wire_put_u32(b[n].bytes + o + 16, VIS_VISIBILITY_INITIAL + 1);
 	b[n++].len = 32;
+	/* An external ID without a namespace, in a stack notice. */
+	b[n] = (struct broken){ .name = "external without namespace", .expect = EPROTO };
+	o = header(b[n].bytes, 68, VIS_OP_STACK);
+	vis_wire_put_u64(b[n].bytes + o, 1);
+	vis_wire_put_u32(b[n].bytes + o + 12, 5);
+	vis_wire_put_u32(b[n].bytes + o + 28, 1);
+	vis_wire_put_u32(b[n].bytes + o + 32, 1);
+	vis_wire_put_u64(b[n].bytes + o + 52, 0x1e00003);
+	b[n++].len = 68;
 	/* A chunked reply with more = 2. */
 	b[n] = (struct broken){ .name = "more not 0 or 1", .expect = EPROTO };
 	o = header(b[n].bytes, 20, VIS_OP_STATES);

@@ -23,7 +23,7 @@ static uint32_t reply_opcode(enum vis_reply_kind kind)
 		[VIS_REPLY_STATE] = VIS_OP_STATE,       [VIS_REPLY_STATES] = VIS_OP_STATES,
 		[VIS_REPLY_TREE] = VIS_OP_TREE,         [VIS_REPLY_REGION] = VIS_OP_REGION,
 		[VIS_REPLY_REPAINT] = VIS_OP_REPAINT,   [VIS_REPLY_SYNCED] = VIS_OP_SYNCED,
-		[VIS_REPLY_LOOK] = VIS_OP_LOOK,
+		[VIS_REPLY_LOOK] = VIS_OP_LOOK,         [VIS_REPLY_FOUND] = VIS_OP_FOUND,
 	};
 	return ops[kind];
 }
@@ -73,6 +73,7 @@ static void call_failed(const struct vis_pending *p, const struct vis_error *e)
 {
 	switch (p->kind) {
 	case VIS_REPLY_CREATED:
+	case VIS_REPLY_FOUND:
 		if (p->cb.create)
 			p->cb.create(p->data, e, 0);
 		break;
@@ -224,8 +225,13 @@ static int gather(struct vis_client *c, struct vis_pending *p, const union vis_a
 			w->border = vis_arg_word(a, rec, i, 6);
 			w->flags = vis_arg_word(a, rec, i, 7);
 			w->state = vis_arg_word(a, rec, i, 8);
+			w->ext_namespace = vis_arg_word(a, rec, i, 9);
+			w->external = (uint64_t)vis_arg_word(a, rec, i, 10) |
+				      (uint64_t)vis_arg_word(a, rec, i, 11) << 32;
 			if (w->state > VIS_VISIBILITY_NONE)
 				goto bad_state;
+			if (!w->ext_namespace && w->external)
+				goto bad_external;
 		} else if (rec == 'R') {
 			struct vis_rect32 *r = (struct vis_rect32 *)p->items + at;
 			r->x = (int32_t)vis_arg_word(a, rec, i, 0);
@@ -242,6 +248,10 @@ static int gather(struct vis_client *c, struct vis_pending *p, const union vis_a
 bad_state:
 	vis_client_fail(c, EPROTO, "%s reply with an unknown visibility state", vis_request_name(p->opcode));
 	return -1;
+bad_external:
+	vis_client_fail(c, EPROTO, "%s reply with an external ID in namespace 0",
+			vis_request_name(p->opcode));
+	return -1;
 }
 
 /* Runs the callback of a completely answered request, then frees what it gathered. */
@@ -249,6 +259,7 @@ static void call_done(struct vis_pending *p, uint32_t window, uint32_t state)
 {
 	switch (p->kind) {
 	case VIS_REPLY_CREATED:
+	case VIS_REPLY_FOUND:
 		if (p->cb.create)
 			p->cb.create(p->data, NULL, window);
 		break;
@@ -379,9 +390,10 @@ static void handle_reply(struct vis_client *c, const struct vis_msg *m)
 		handle_look(c, m, p);
 		return;
 	case VIS_REPLY_CREATED:
+	case VIS_REPLY_FOUND:
 		window = m->args[1].u;
 		if (window == VIS_WINDOW_ROOT) {
-			vis_client_fail(c, EPROTO, "created reply with window 0");
+			vis_client_fail(c, EPROTO, "%s reply with window 0", name);
 			return;
 		}
 		break;
@@ -488,7 +500,10 @@ static void handle_notice(struct vis_client *c, const struct vis_msg *m)
 		n.stack.sibling = m->args[8].u;
 		n.stack.flags = m->args[9].u;
 		n.stack.border = m->args[10].u;
-		bad = n.stack.change > VIS_STACK_LOOK;
+		n.stack.ext_namespace = m->args[11].u;
+		n.stack.external = m->args[12].q;
+		bad = n.stack.change > VIS_STACK_LOOK ||
+		      (!n.stack.ext_namespace && n.stack.external);
 		break;
 	}
 	if (bad)

@@ -24,6 +24,7 @@ enum vis_reply_kind {
 	VIS_REPLY_REPAINT,
 	VIS_REPLY_SYNCED,
 	VIS_REPLY_LOOK,
+	VIS_REPLY_FOUND, /* lookup's: a window, to the create callback's type */
 };
 
 /*
@@ -36,7 +37,7 @@ struct vis_pending {
 	enum vis_reply_kind kind;
 	uint32_t window; /* get-state and get-region: the window asked about, for checking */
 	union {
-		vis_create_cb create;
+		vis_create_cb create; /* and found */
 		vis_state_cb state;
 		vis_states_cb states;
 		vis_tree_cb tree;

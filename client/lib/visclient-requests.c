@@ -98,14 +98,32 @@ uint32_t vis_client_unsubscribe(struct vis_client *c, uint32_t window)
 	return send_window(c, VIS_OP_UNSUBSCRIBE, window);
 }
 
+uint32_t vis_client_create_external_async(struct vis_client *c, uint32_t parent, int32_t x,
+					  int32_t y, uint32_t width, uint32_t height, uint32_t border,
+					  uint32_t flags, uint32_t ext_namespace, uint64_t external,
+					  vis_create_cb cb, void *data)
+{
+	union vis_arg a[9] = { { .u = parent },	       { .i = x },	{ .i = y },
+			       { .u = width },	       { .u = height }, { .u = flags },
+			       { .u = border },	       { .u = ext_namespace }, { .q = external } };
+	struct vis_pending p = { .kind = VIS_REPLY_CREATED, .cb.create = cb, .data = data };
+	return vis_client_send(c, VIS_OP_CREATE, a, &p);
+}
+
 uint32_t vis_client_create_window_async(struct vis_client *c, uint32_t parent, int32_t x,
 					int32_t y, uint32_t width, uint32_t height, uint32_t border,
 					uint32_t flags, vis_create_cb cb, void *data)
 {
-	union vis_arg a[7] = { { .u = parent }, { .i = x },	   { .i = y },	  { .u = width },
-			       { .u = height }, { .u = flags }, { .u = border } };
-	struct vis_pending p = { .kind = VIS_REPLY_CREATED, .cb.create = cb, .data = data };
-	return vis_client_send(c, VIS_OP_CREATE, a, &p);
+	return vis_client_create_external_async(c, parent, x, y, width, height, border, flags,
+						VIS_EXTERNAL_NONE, 0, cb, data);
+}
+
+uint32_t vis_client_lookup_async(struct vis_client *c, uint32_t ext_namespace, uint64_t external,
+				 vis_create_cb cb, void *data)
+{
+	union vis_arg a[2] = { { .u = ext_namespace }, { .q = external } };
+	struct vis_pending p = { .kind = VIS_REPLY_FOUND, .cb.create = cb, .data = data };
+	return vis_client_send(c, VIS_OP_LOOKUP, a, &p);
 }
 
 uint32_t vis_client_create_async(struct vis_client *c, uint32_t parent, int32_t x, int32_t y,
@@ -246,7 +264,7 @@ static void keep(struct answer *a, const struct vis_error *err, const void *item
 	a->n = n;
 }
 
-/* Called with a created reply. */
+/* Called with a created or found reply. */
 static void on_created(void *data, const struct vis_error *err, uint32_t window)
 {
 	struct answer *a = data;
@@ -330,16 +348,36 @@ static int await(struct vis_client *c, uint32_t seq, struct answer *a)
 	return 0;
 }
 
-int vis_client_create_window(struct vis_client *c, uint32_t parent, int32_t x, int32_t y,
-			     uint32_t width, uint32_t height, uint32_t border, uint32_t flags,
-			     uint32_t *window)
+int vis_client_create_external(struct vis_client *c, uint32_t parent, int32_t x, int32_t y,
+			       uint32_t width, uint32_t height, uint32_t border, uint32_t flags,
+			       uint32_t ext_namespace, uint64_t external, uint32_t *window)
 {
 	struct answer a = { 0 };
 	if (vis_client_refuse_in_batch(c))
 		return -1;
-	if (await(c, vis_client_create_window_async(c, parent, x, y, width, height, border, flags,
-						    on_created, &a),
+	if (await(c, vis_client_create_external_async(c, parent, x, y, width, height, border, flags,
+						      ext_namespace, external, on_created, &a),
 		  &a) < 0)
+		return -1;
+	*window = a.window;
+	return 0;
+}
+
+int vis_client_create_window(struct vis_client *c, uint32_t parent, int32_t x, int32_t y,
+			     uint32_t width, uint32_t height, uint32_t border, uint32_t flags,
+			     uint32_t *window)
+{
+	return vis_client_create_external(c, parent, x, y, width, height, border, flags,
+					  VIS_EXTERNAL_NONE, 0, window);
+}
+
+int vis_client_lookup(struct vis_client *c, uint32_t ext_namespace, uint64_t external,
+		      uint32_t *window)
+{
+	struct answer a = { 0 };
+	if (vis_client_refuse_in_batch(c))
+		return -1;
+	if (await(c, vis_client_lookup_async(c, ext_namespace, external, on_created, &a), &a) < 0)
 		return -1;
 	*window = a.window;
 	return 0;

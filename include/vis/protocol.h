@@ -7,7 +7,7 @@
 #define VIS_PROTOCOL_H
 
 #define VIS_PROTOCOL_MAGIC 0x44534956u /* "VISD" in little-endian bytes */
-#define VIS_PROTOCOL_VERSION 2u /* 2: borders, shapes, opaque regions, input-only windows */
+#define VIS_PROTOCOL_VERSION 3u /* 3: external IDs (2: borders, shapes, opaque regions, input-only) */
 
 /* Every message, either way, is at most this many bytes, header included. */
 #define VIS_PROTOCOL_MAX_MESSAGE (16u << 20)
@@ -50,6 +50,13 @@ enum vis_opaque_mode {
 	VIS_OPAQUE_MODE_ALL = 0,   /* every pixel of its shape (the default) */
 	VIS_OPAQUE_MODE_NONE = 1,  /* none: a translucent window */
 	VIS_OPAQUE_MODE_RECTS = 2, /* those inside the rectangles given (window coordinates) */
+};
+
+/* Namespaces of external IDs: what a window mirrors. 0: none. Others are free for private use. */
+enum vis_external_namespace {
+	VIS_EXTERNAL_NONE = 0,
+	VIS_EXTERNAL_X11 = 1,     /* the tag is an X window ID (XID) */
+	VIS_EXTERNAL_WAYLAND = 2, /* reserved for a Wayland bridge */
 };
 
 /* Which notices a subscription asks for. */
@@ -110,7 +117,8 @@ enum vis_error_code {
 	VIS_ERROR_WINDOW = 4,    /* no such window, or not one the connection may see */
 	VIS_ERROR_ACCESS = 5,    /* the connection may see the window but not change it */
 	VIS_ERROR_VALUE = 6,     /* an argument out of range */
-	VIS_ERROR_MATCH = 7,     /* arguments that do not fit together (not siblings, a cycle) */
+	VIS_ERROR_MATCH = 7,     /* arguments that do not fit together (not siblings, a cycle, an
+				  * external ID in use) */
 	VIS_ERROR_LIMIT = 8,     /* a configured limit was reached */
 	VIS_ERROR_STATE = 9,     /* not now: a nested batch, a commit without a batch, a taken role */
 };

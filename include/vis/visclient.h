@@ -76,6 +76,10 @@ struct vis_window_info {
 	uint32_t border;         /* its border width: the border box is the inside grown by it */
 	uint32_t flags; /* enum vis_window_flags (shaped, translucent, input-only among them) */
 	uint32_t state; /* enum vis_visibility; VIS_VISIBILITY_NONE when not viewable */
+	/* What it mirrors: an enum vis_external_namespace and the tag (an XID for
+	 * VIS_EXTERNAL_X11); VIS_EXTERNAL_NONE and 0 for a window that mirrors nothing. */
+	uint32_t ext_namespace;
+	uint64_t external;
 };
 
 struct vis_window_state {
@@ -117,6 +121,8 @@ struct vis_notice {
 			uint32_t sibling;
 			uint32_t flags;   /* enum vis_window_flags */
 			uint32_t border;
+			uint32_t ext_namespace; /* as in vis_window_info */
+			uint64_t external;
 		} stack;
 		struct {
 			uint32_t dropped; /* notices lost */
@@ -304,6 +310,27 @@ VIS_EXPORT uint32_t vis_client_create_window_async(struct vis_client *c, uint32_
 VIS_EXPORT uint32_t vis_client_create_async(struct vis_client *c, uint32_t parent, int32_t x,
 					    int32_t y, uint32_t width, uint32_t height,
 					    uint32_t flags, vis_create_cb cb, void *data);
+/*
+ * As vis_client_create_window_async(), the window carrying the external ID (ext_namespace, an enum
+ * vis_external_namespace other than VIS_EXTERNAL_NONE, and external, e.g. an XID): what it
+ * mirrors, kept for its life and found by vis_client_lookup(). Only the manager may set one
+ * (access error otherwise); a pair another window carries gets a match error, external ≠ 0 with
+ * VIS_EXTERNAL_NONE a value error. The other create functions send none (0, 0).
+ */
+VIS_EXPORT uint32_t vis_client_create_external_async(struct vis_client *c, uint32_t parent,
+						     int32_t x, int32_t y, uint32_t width,
+						     uint32_t height, uint32_t border,
+						     uint32_t flags, uint32_t ext_namespace,
+						     uint64_t external, vis_create_cb cb,
+						     void *data);
+/*
+ * Finds the window carrying the external ID (ext_namespace, external): cb gets its ID. A window
+ * error when no window the connection may see carries it (a client sees only its own, so an
+ * application looks up its X window with the observer role), a value error for
+ * VIS_EXTERNAL_NONE.
+ */
+VIS_EXPORT uint32_t vis_client_lookup_async(struct vis_client *c, uint32_t ext_namespace,
+					    uint64_t external, vis_create_cb cb, void *data);
 VIS_EXPORT uint32_t vis_client_get_state_async(struct vis_client *c, uint32_t window,
 					       vis_state_cb cb, void *data);
 VIS_EXPORT uint32_t vis_client_get_states_async(struct vis_client *c, vis_states_cb cb,
@@ -331,6 +358,13 @@ VIS_EXPORT int vis_client_create_window(struct vis_client *c, uint32_t parent, i
 					uint32_t flags, uint32_t *window);
 VIS_EXPORT int vis_client_create(struct vis_client *c, uint32_t parent, int32_t x, int32_t y,
 				 uint32_t width, uint32_t height, uint32_t flags,
+				 uint32_t *window);
+VIS_EXPORT int vis_client_create_external(struct vis_client *c, uint32_t parent, int32_t x,
+					  int32_t y, uint32_t width, uint32_t height,
+					  uint32_t border, uint32_t flags, uint32_t ext_namespace,
+					  uint64_t external, uint32_t *window);
+/* Fills *window with the window carrying the external ID. */
+VIS_EXPORT int vis_client_lookup(struct vis_client *c, uint32_t ext_namespace, uint64_t external,
 				 uint32_t *window);
 VIS_EXPORT int vis_client_get_state(struct vis_client *c, uint32_t window, uint32_t *state);
 VIS_EXPORT int vis_client_get_states(struct vis_client *c, struct vis_window_state **states,
