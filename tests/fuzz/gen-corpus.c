@@ -203,7 +203,8 @@ static void put_error(struct vis_buf *b, uint32_t seq, uint32_t opcode, uint32_t
 /* Appends the answers to every request of fuzz-client.h, and notices among them. */
 static void put_session(struct vis_buf *b, uint64_t *serial)
 {
-	static const uint32_t states[] = { 5, 0, 6, 2 }, node[] = { 5, 0, 1, 2, 30, 40, 3, 1 };
+	static const uint32_t states[] = { 5, 0, 6, 2 }, node[] = { 5, 0, 1, 2, 30, 40, 0, 3, 1,
+										    1, 0x1e00003, 0 };
 	static const uint32_t rects[] = { 0, 0, 10, 5, (uint32_t)-3, 5, 20, 1 }, ids[] = { 5, 6 };
 	put(b, VIS_OP_VISIBILITY, (union vis_arg[]){ { .q = (*serial)++ }, U(5), U(0), U(3), U(0) });
 	put(b, VIS_OP_CREATED, (union vis_arg[]){ U(FUZZ_SEQ_CREATE), U(5) });
@@ -217,10 +218,12 @@ static void put_session(struct vis_buf *b, uint64_t *serial)
 	put(b, VIS_OP_REGION,
 	    (union vis_arg[]){ U(FUZZ_SEQ_GET_REGION), U(FUZZ_WINDOW), U(1), A(rects, 1) });
 	put(b, VIS_OP_STACK, (union vis_arg[]){ { .q = (*serial)++ }, U(VIS_STACK_RESTACK), U(5),
-						 U(0), { .i = -4 }, U(6), U(7), U(8), U(6), U(3) });
+						 U(0), { .i = -4 }, U(6), U(7), U(8), U(6), U(3), U(0),
+						 U(VIS_EXTERNAL_X11), { .q = 0x1e00003 } });
 	put(b, VIS_OP_OVERFLOW, (union vis_arg[]){ { .q = (*serial)++ }, U(40), U(1) });
 	put(b, VIS_OP_STACK, (union vis_arg[]){ { .q = (*serial)++ }, U(VIS_STACK_RESYNC), U(5),
-						 U(0), { .i = -4 }, U(6), U(7), U(8), U(6), U(3) });
+						 U(0), { .i = -4 }, U(6), U(7), U(8), U(6), U(3), U(2),
+						 U(0), { .q = 0 } });
 	put(b, VIS_OP_REGION,
 	    (union vis_arg[]){ U(FUZZ_SEQ_GET_REGION), U(FUZZ_WINDOW), U(0), A(rects + 4, 1) });
 	put(b, VIS_OP_REPAINT, (union vis_arg[]){ U(FUZZ_SEQ_GET_REPAINT), U(0), A(ids, 2) });
@@ -289,11 +292,13 @@ static void client_seeds(void)
 	vis_buf_finish(&b);
 
 	/* Broken daemons: each a message the library must refuse with EPROTO. */
-	static const uint32_t bad_state[] = { 5, 3 }, bad_node[] = { 5, 0, 0, 0, 1, 1, 0, 4 };
+	static const uint32_t bad_state[] = { 5, 3 },
+			      bad_node[] = { 5, 0, 0, 0, 1, 1, 0, 0, 4, 0, 0, 0 },
+			      bad_external[] = { 5, 0, 0, 0, 1, 1, 0, 0, 3, 0, 7, 0 };
 	static const struct {
 		const char *name;
 		uint32_t op;
-		union vis_arg a[10];
+		union vis_arg a[VIS_MSG_MAX_ARGS];
 	} broken[] = {
 		{ "wrong-seq", VIS_OP_CREATED, { U(99), U(5) } },
 		{ "wrong-reply", VIS_OP_SYNCED, { U(FUZZ_SEQ_CREATE) } },
@@ -306,6 +311,9 @@ static void client_seeds(void)
 		{ "notice-state", VIS_OP_VISIBILITY, { { .q = 1 }, U(5), U(4), U(3), U(0) } },
 		{ "exposure-flags", VIS_OP_EXPOSURE, { { .q = 1 }, U(5), U(2), U(0), A(NULL, 0) } },
 		{ "stack-change", VIS_OP_STACK, { { .q = 1 }, U(VIS_STACK_RESYNC + 1), U(5) } },
+		{ "stack-external", VIS_OP_STACK,
+		  { { .q = 1 }, U(VIS_STACK_CREATE), U(5), U(0), U(0), U(0), U(1), U(1), U(0), U(0),
+		    U(0), U(0), { .q = 7 } } },
 	};
 	for (size_t i = 0; i < sizeof(broken) / sizeof(broken[0]); i++) {
 		vis_buf_init(&b);
@@ -322,6 +330,7 @@ static void client_seeds(void)
 	} late[] = {
 		{ "states-state", VIS_OP_STATES, { U(FUZZ_SEQ_GET_STATES), U(0), A(bad_state, 1) } },
 		{ "tree-state", VIS_OP_TREE, { U(FUZZ_SEQ_GET_TREE), U(0), A(bad_node, 1) } },
+		{ "tree-external", VIS_OP_TREE, { U(FUZZ_SEQ_GET_TREE), U(0), A(bad_external, 1) } },
 		{ "region-window", VIS_OP_REGION, { U(FUZZ_SEQ_GET_REGION), U(6), U(0), A(NULL, 0) } },
 		{ "more-2", VIS_OP_REPAINT, { U(FUZZ_SEQ_GET_REPAINT), U(2), A(NULL, 0) } },
 	};
