@@ -100,7 +100,8 @@ static void on_tree(void *data, const struct vis_error *err, const struct vis_wi
 {
 	answer_array(data, err, windows, n, sizeof(*windows));
 	for (size_t i = 0; i < n; i++)
-		assert(windows[i].state <= VIS_VISIBILITY_NONE);
+		assert(windows[i].state <= VIS_VISIBILITY_NONE &&
+		       (windows[i].ext_namespace || !windows[i].external));
 }
 
 static void on_rects(void *data, const struct vis_error *err, const struct vis_rect32 *rects,
@@ -139,7 +140,7 @@ static void on_notice(void *data, const struct vis_notice *n)
 	switch (n->kind) {
 	case VIS_NOTICE_KIND_VISIBILITY:
 		assert(n->visibility.state <= VIS_VISIBILITY_NONE);
-		assert(n->visibility.previous <= VIS_VISIBILITY_NONE);
+		assert(n->visibility.previous <= VIS_VISIBILITY_INITIAL);
 		break;
 	case VIS_NOTICE_KIND_EXPOSURE:
 		assert(n->exposure.flags <= VIS_EXPOSURE_COLLAPSED);
@@ -147,7 +148,8 @@ static void on_notice(void *data, const struct vis_notice *n)
 		touch(n->exposure.rects, n->exposure.n_rects, sizeof(*n->exposure.rects));
 		break;
 	case VIS_NOTICE_KIND_STACK:
-		assert(n->stack.change <= VIS_STACK_RESYNC);
+		assert(n->stack.change <= VIS_STACK_LOOK);
+		assert(n->stack.ext_namespace || !n->stack.external);
 		break;
 	case VIS_NOTICE_KIND_OVERFLOW:
 		assert(!n->window);

@@ -310,7 +310,7 @@ static void client_seeds(void)
 		{ "serial-gap", VIS_OP_VISIBILITY, { { .q = 2 }, U(5), U(0), U(3), U(0) } },
 		{ "notice-state", VIS_OP_VISIBILITY, { { .q = 1 }, U(5), U(4), U(3), U(0) } },
 		{ "exposure-flags", VIS_OP_EXPOSURE, { { .q = 1 }, U(5), U(2), U(0), A(NULL, 0) } },
-		{ "stack-change", VIS_OP_STACK, { { .q = 1 }, U(VIS_STACK_RESYNC + 1), U(5) } },
+		{ "stack-change", VIS_OP_STACK, { { .q = 1 }, U(VIS_STACK_LOOK + 1), U(5) } },
 		{ "stack-external", VIS_OP_STACK,
 		  { { .q = 1 }, U(VIS_STACK_CREATE), U(5), U(0), U(0), U(0), U(1), U(1), U(0), U(0),
 		    U(0), U(0), { .q = 7 } } },
