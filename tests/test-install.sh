@@ -41,10 +41,10 @@ staged bin/visctl >/dev/null && pass
 staged include/vis/visclient.h >/dev/null && pass
 staged include/vis/protocol.h >/dev/null && pass
 staged libvisclient.a >/dev/null && pass
-lib=$(staged libvisclient.so.1)
+lib=$(staged libvisclient.so.2)
 pass
 soname=$(readelf -d "$lib" 2>/dev/null | sed -n 's/.*(SONAME).*\[\(.*\)\]/\1/p')
-[ "$soname" = libvisclient.so.1 ] || fail "libvisclient's soname is '$soname'"
+[ "$soname" = libvisclient.so.2 ] || fail "libvisclient's soname is '$soname'"
 pass
 pc=$(staged pkgconfig/visclient.pc)
 pass
@@ -75,7 +75,7 @@ rc=$?
 [[ "$out" =~ ^window\ [0-9]+\ is\ unobscured$ ]] || fail "the example printed '$out'"
 pass
 # It found the library it was built against, not another one on the system.
-LD_LIBRARY_PATH=$(dirname "$lib") ldd "$tmp/example" | grep -qF "$(dirname "$lib")/libvisclient.so.1" ||
+LD_LIBRARY_PATH=$(dirname "$lib") ldd "$tmp/example" | grep -qF "$(dirname "$lib")/libvisclient.so.2" ||
 	fail "the example did not load the staged libvisclient"
 pass
 echo "install: $checks passed, 0 failed"
