@@ -197,6 +197,25 @@ live_usage "watch --count without N" "--count needs a number" watch --count
 live_usage "watch bad ID" "ID 'x' is not a number from 1 to 4294967295" watch --json x
 live_usage "watch ID 0" "ID '0' is not a number from 1 to 4294967295" watch 0
 live_usage "watch unknown option" "unknown option '--all'" watch --all
+# External IDs: --x11 takes an XID (hex or decimal, 1 to 0xffffffff), --external NS:TAG.
+live_usage "create --x11 without XID" "--x11 needs an XID" create 0 0 1 1 --x11
+live_usage "create --x11 bad XID" "XID 'zz' is not an X window ID from 0x1 to 0xffffffff" create 0 0 1 1 --x11 zz
+live_usage "create --x11 XID 0" "XID '0x0' is not an X window ID" create 0 0 1 1 --x11 0x0
+live_usage "create --x11 past 32 bits" "XID '0x100000000' is not an X window ID" create 0 0 1 1 --x11=0x100000000
+live_usage "create --external without colon" "external ID '7' is not NS:TAG" create 0 0 1 1 --external 7
+live_usage "create --external NS 0" "external ID '0:5' is not NS:TAG" create 0 0 1 1 --external 0:5
+live_usage "create --external TAG past 64 bits" "external ID '2:0x10000000000000000' is not NS:TAG" create 0 0 1 1 --external 2:0x10000000000000000
+live_usage "create two external IDs" "one external ID at most" create 0 0 1 1 --x11 5 --external 2:5
+live_usage "lookup nothing" "lookup: expected --x11 XID or NS TAG, got 0 arguments" lookup
+live_usage "lookup NS alone" "expected --x11 XID or NS TAG, got 1 arguments" lookup 1
+live_usage "lookup NS 0" "NS '0' is not a number from 1 to 4294967295" lookup 0 5
+live_usage "lookup bad TAG" "TAG '0xg' is not a 64-bit number" lookup 1 0xg
+live_usage "lookup --x11 and more" "unexpected argument '5' after --x11" lookup --x11 0x1e00003 5
+live_usage "lookup --x11 without XID" "--x11 needs an XID" lookup --x11
+live_usage "lookup unknown option" "unknown option '--all'" lookup --all
+live_usage "states --x11 argument" "states: unexpected argument 'x'" states --x11 x
+live_usage "watch --x11 bad XID" "XID '12ab' is not an X window ID" watch --x11 12ab
+live_usage "watch --x11 XID 0" "XID '0' is not an X window ID" watch 0 --x11
 live_usage "script without FILE" "script: expected FILE|-, got 0 arguments" script
 expect_fail "script missing file" 1 "visctl: $T/nope: cannot read" -s "$N" script "$T/nope"
 f=$(scene bad1.script '# comment\n\nfrob 1\n')

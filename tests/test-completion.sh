@@ -77,6 +77,8 @@ expect "--engines list" "auto,gmv auto,gmv-heap" visctl bench --engines auto,g
 expect "gen kinds" "cascade" visctl gen c
 expect "stack mode" "above" visctl stack 7 a
 expect "no completion for IDs" "" visctl map ""
+expect "no completion for XIDs" "" visctl create 0 0 1 1 --x11 ""
+expect "lookup's --x11 takes its XID" "" visctl lookup --x11 ""
 
 mkdir "$T/scenes" && touch "$T/scenes/desk.scene" "$T/other"
 expect "SCENE is a file" "$T/scenes/desk.scene" visctl compute --time "$T/scenes/d"

@@ -69,10 +69,10 @@ EOF2
 v script "$dir/looks.script" >"$dir/ids" 2>"$dir/err" || fail "looks script: $(cat "$dir/err")"
 read -r w1 w2 w3 w4 < <(cut -d' ' -f1 "$dir/ids" | tr '\n' ' ')
 v --role observer tree >"$dir/tree"
-grep -qx "$w1 0 100 100 200 100 mapped [a-z-]* retained 0 translucent" "$dir/tree" &&
-	grep -qx "$w2 0 150 120 50 50 mapped [a-z-]* retained 3 -" "$dir/tree" &&
-	grep -qx "$w3 0 0 0 400 400 mapped none retained 0 input-only" "$dir/tree" &&
-	grep -qx "$w4 0 300 100 100 100 mapped [a-z-]* retained 2 shaped" "$dir/tree" ||
+grep -qx "$w1 0 100 100 200 100 mapped [a-z-]* retained 0 translucent -" "$dir/tree" &&
+	grep -qx "$w2 0 150 120 50 50 mapped [a-z-]* retained 3 - -" "$dir/tree" &&
+	grep -qx "$w3 0 0 0 400 400 mapped none retained 0 input-only -" "$dir/tree" &&
+	grep -qx "$w4 0 300 100 100 100 mapped [a-z-]* retained 2 shaped -" "$dir/tree" ||
 	fail "looks script: the tree says $(cat "$dir/tree")"
 printf 'window 1 100 100 200 100\nopaque 10,10,180,80\nwindow 2 150 120 50 50\nborder 3\n' \
 	>"$dir/looks.scene"
@@ -394,22 +394,79 @@ text = [l.split() for l in open(sys.argv[1])]
 objs = [json.loads(l) for l in open(sys.argv[2])]
 assert len(text) == len(objs) > 26, (len(text), len(objs))
 for t, o in zip(text, objs):
-    assert len(t) == 11, t
+    assert len(t) == 12, t
     assert [int(x) for x in t[:6]] == [o[k] for k in ("window", "parent", "x", "y", "width", "height")], (t, o)
     assert (t[6] == "mapped") == o["mapped"] and t[7] == o["state"], (t, o)
     assert (t[8] == "retained") == o["retained"] and o["retained"], (t, o)
     assert int(t[9]) == o["border"], (t, o)
     look = [k for k in ("shaped", "translucent", "input-only") if o[k.replace("-", "_")]]
     assert t[10] == (",".join(look) or "-"), (t, o)
+    ns, tag = o["namespace"], o["external"]
+    assert t[11] == ("-" if ns == 0 else "x11:%#x" % tag if ns == 1 else "%d:%#x" % (ns, tag)), (t, o)
 PY
 for q in "states" "region $(head -n 1 "$dir/tree" | cut -d' ' -f1)" "repaint 0 0 1920 1080"; do
 	# shellcheck disable=SC2086
 	v --role observer $q --json | python3 -c 'import json, sys; [json.loads(l) for l in sys.stdin]' ||
 		fail "$q --json is not JSON lines"
 done
-"$visctl" tree --help | grep -q "ID PARENT X Y W H MAPPED STATE RETAINED BORDER LOOK" ||
+"$visctl" tree --help | grep -q "ID PARENT X Y W H MAPPED STATE RETAINED BORDER LOOK EXTERNAL" ||
 	fail "tree --help: no columns"
 "$visctl" region --help | grep -q "window's own" || fail "region --help: no coordinates"
+# External IDs: a manager's windows mirror X windows (and a private namespace's); a plain client
+# may not give one; states --x11, lookup, tree and watch --x11 name them by XID. The observer
+# role is what --x11 and lookup take without --role.
+cat >"$dir/x11.script" <<'EOF2'
+create 2000 1000 400 300 --map --retain --x11 0x1e00003
+create 10 10 100 100 --map --retain --x11 0x1e00010 --parent @1
+create 2300 1200 200 200 --map --retain --x11 0x400001
+create 2000 1500 50 50 --map --retain --external 7:0xabc
+EOF2
+v --role manager script "$dir/x11.script" >"$dir/ids" 2>"$dir/err" || fail "x11 script: $(cat "$dir/err")"
+read -r x1 x2 x3 x4 < <(tr '\n' ' ' <"$dir/ids")
+v create 0 0 5 5 --x11 0x77 >/dev/null 2>"$dir/err"
+[ $? -eq 1 ] && grep -q "access: only the manager sets external IDs" "$dir/err" ||
+	fail "create --x11 as a client: $(cat "$dir/err")"
+v --role manager create 0 0 5 5 --x11 0x1e00003 >/dev/null 2>"$dir/err"
+[ $? -eq 1 ] && grep -q "match: external ID 1:0x1e00003 is window $x1's" "$dir/err" ||
+	fail "create with an X ID in use: $(cat "$dir/err")"
+# XIDs in lowercase hex, ascending; only the X windows.
+printf '0x400001 unobscured\n0x1e00003 partially-obscured\n0x1e00010 unobscured\n' >"$dir/want"
+v states --x11 >"$dir/got" 2>"$dir/err" && cmp -s "$dir/want" "$dir/got" ||
+	fail "states --x11: $(cat "$dir/got" "$dir/err")"
+v states --x11 --json | head -n 1 | grep -qx "{\"x11\":\"0x400001\",\"window\":$x3,\"state\":\"unobscured\"}" ||
+	fail "states --x11 --json: $(v states --x11 --json)"
+[ "$(v lookup --x11 0x1e00010)" = "$x2" ] && [ "$(v lookup --x11 31457296)" = "$x2" ] &&
+	[ "$(v lookup 7 0xabc)" = "$x4" ] && [ "$(v lookup 7 2748)" = "$x4" ] ||
+	fail "lookup: $(v lookup --x11 0x1e00010 2>&1) $(v lookup 7 0xabc 2>&1)"
+v --role client lookup --x11 0x1e00003 >"$dir/out" 2>"$dir/err"
+[ $? -eq 1 ] && [ ! -s "$dir/out" ] && grep -q "window: no window carries external ID 1:0x1e00003" "$dir/err" ||
+	fail "lookup as a client: $(cat "$dir/err")"
+v --role observer tree >"$dir/tree"
+grep -qx "$x2 $x1 10 10 100 100 mapped unobscured retained 0 - x11:0x1e00010" "$dir/tree" &&
+	grep -qx "$x4 0 2000 1500 50 50 mapped [a-z-]* retained 0 - 7:0xabc" "$dir/tree" ||
+	fail "tree's EXTERNAL column: $(cat "$dir/tree")"
+# watch --x11 XID: the notices of that window, named by XID; watching all, every X window is.
+"$visctl" -s "$sock" watch --x11 0x1e00010 --count 2 >"$dir/watch.one" 2>"$dir/err" &
+wpid=$!
+"$visctl" -s "$sock" watch --x11 >"$dir/watch.all" 2>&1 &
+wapid=$!
+await_line "$dir/watch.one" "visibility 0x1e00010 unobscured initial" ||
+	fail "watch --x11 XID: $(cat "$dir/watch.one" "$dir/err")"
+for _ in $(seq 100); do [ -s "$dir/watch.all" ] && break; sleep 0.02; done
+v --role manager move "$x2" 20 20
+wait "$wpid" || fail "watch --x11 XID: exit $?"
+grep -qE "^[0-9]+ stack configure 0x1e00010 0x1e00003 20,20,100,100 0$" "$dir/watch.one" ||
+	fail "watch --x11 XID: $(cat "$dir/watch.one")"
+await_line "$dir/watch.all" "stack configure 0x1e00010 0x1e00003 20,20,100,100" ||
+	fail "watch --x11: $(cat "$dir/watch.all")"
+grep -qE "^[0-9]+ visibility 0x400001 unobscured initial$" "$dir/watch.all" &&
+	grep -qE "^[0-9]+ visibility $x4 [a-z-]+ initial$" "$dir/watch.all" ||
+	fail "watch --x11 initial notices: $(cat "$dir/watch.all")"
+kill "$wapid" 2>/dev/null
+wait "$wapid" 2>/dev/null
+v --role manager script <(printf 'destroy %s\n' "$x1" "$x3" "$x4") || fail "destroying the X windows"
+v lookup --x11 0x1e00010 >/dev/null 2>&1 && fail "lookup of a destroyed child's XID found it"
+
 # A script that fails half-way says which retained windows it leaves behind.
 printf 'create 0 0 10 10 --retain\ncreate 5 5 10 10 --map\ncreate 0 0 5 5 --retain --parent @1\nmap 999999\n' \
 	>"$dir/half.script"

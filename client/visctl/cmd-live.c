@@ -36,6 +36,8 @@ static int query_failed(struct live *l, int argc, char **argv)
 int cmd_create(struct live *l, int argc, char **argv)
 {
 	uint32_t parent = VIS_WINDOW_ROOT, flags = 0, w, h, border = 0;
+	uint32_t ext_ns = VIS_EXTERNAL_NONE;
+	uint64_t external = 0;
 	int32_t x, y;
 	char *pos[4];
 	int n = 0, ret;
@@ -59,6 +61,22 @@ int cmd_create(struct live *l, int argc, char **argv)
 			if (live_parse_u32(b, &border) < 0 || border > INT32_MAX)
 				return live_usage(l, argv[0],
 						  "border '%s' is not a number from 0 to 2147483647", b);
+		} else if (strncmp(a, "--x11=", 6) == 0 || strcmp(a, "--x11") == 0 ||
+			   strncmp(a, "--external=", 11) == 0 || strcmp(a, "--external") == 0) {
+			/* What the window mirrors: an X window, or any namespace's tag. */
+			bool x11 = a[2] == 'x';
+			const char *eq = strchr(a, '='), *v = eq ? eq + 1 : NULL;
+			if (!v && i + 1 == argc)
+				return live_usage(l, argv[0], "%s needs %s", a, x11 ? "an XID" : "NS:TAG");
+			if (!v)
+				v = argv[++i];
+			if (ext_ns != VIS_EXTERNAL_NONE)
+				return live_usage(l, argv[0], "one external ID at most (--x11 or --external)");
+			if (x11 ? live_xid_arg(l, argv[0], v, &external, &ret) < 0
+				: live_external_arg(l, argv[0], v, &ext_ns, &external, &ret) < 0)
+				return ret;
+			if (x11)
+				ext_ns = VIS_EXTERNAL_X11;
 		} else if (strncmp(a, "--parent=", 9) == 0) {
 			value = a + 9;
 		} else if (strcmp(a, "--parent") == 0) {
@@ -87,7 +105,8 @@ int cmd_create(struct live *l, int argc, char **argv)
 	uint32_t window;
 	if (!live_connect(l))
 		return VISCTL_EXIT_FAILURE;
-	if (vis_client_create_window(l->client, parent, x, y, w, h, border, flags, &window) < 0)
+	if (vis_client_create_external(l->client, parent, x, y, w, h, border, flags, ext_ns,
+				       external, &window) < 0)
 		return query_failed(l, argc, argv);
 	l->created = window;
 	printf("%u\n", window);

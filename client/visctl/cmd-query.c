@@ -1,10 +1,12 @@
 /*
- * The live queries: states, tree, region, repaint. Each prints its records one a line, as text
+ * The live queries: states, tree, region, repaint, look, lookup. Each prints its records one a line, as text
  * or, with --json, as one JSON object a line (every string is one of ours: nothing to escape).
  */
+#include <inttypes.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "live.h"
 #include "visctl.h"
@@ -45,14 +47,68 @@ static int by_window(const void *a, const void *b)
 	return (x->window > y->window) - (x->window < y->window);
 }
 
+/* Orders tree records by external tag, for qsort. */
+static int by_external(const void *a, const void *b)
+{
+	const struct vis_window_info *x = a, *y = b;
+	return (x->external > y->external) - (x->external < y->external);
+}
+
+/*
+ * states --x11: the X windows (external namespace X11) among the viewable windows with a state,
+ * by XID, read from the tree, whose records carry the external IDs that states records lack.
+ */
+static int states_x11(struct live *l, int argc, char **argv, bool json)
+{
+	struct vis_window_info *w;
+	size_t n, k = 0;
+	if (vis_client_get_tree(l->client, &w, &n) < 0)
+		return query_failed(l, argc, argv);
+	for (size_t i = 0; i < n; i++)
+		if (w[i].ext_namespace == VIS_EXTERNAL_X11 && (w[i].flags & VIS_WINDOW_VIEWABLE) &&
+		    w[i].state != VIS_VISIBILITY_NONE)
+			w[k++] = w[i];
+	if (k)
+		qsort(w, k, sizeof(*w), by_external);
+	for (size_t i = 0; i < k; i++)
+		if (json)
+			printf("{\"x11\":\"0x%" PRIx64 "\",\"window\":%u,\"state\":\"%s\"}\n",
+			       w[i].external, w[i].window, vis_visibility_name(w[i].state));
+		else
+			printf("0x%" PRIx64 " %s\n", w[i].external, vis_visibility_name(w[i].state));
+	free(w);
+	if (!k && live_sees_nothing(l))
+		live_warn_sees_nothing(l, argv[0]);
+	return VISCTL_EXIT_OK;
+}
+
+/* Takes the option --x11 out of argv; whether it was there. */
+static bool take_x11(int *argc, char **argv)
+{
+	bool found = false;
+	int k = 1;
+	for (int i = 1; i < *argc; i++)
+		if (strcmp(argv[i], "--x11") == 0)
+			found = true;
+		else
+			argv[k++] = argv[i];
+	*argc = k;
+	return found;
+}
+
 int cmd_states(struct live *l, int argc, char **argv)
 {
 	struct vis_window_state *states;
 	size_t n;
 	bool json = false;
 	int ret;
+	bool x11 = take_x11(&argc, argv);
+	if (x11)
+		live_x11_role(l);
 	if (begin(l, &argc, argv, 0, "", &json, &ret) < 0)
 		return ret;
+	if (x11)
+		return states_x11(l, argc, argv, json);
 	if (vis_client_get_states(l->client, &states, &n) < 0)
 		return query_failed(l, argc, argv);
 	/* The daemon sends them in order already; sorting again costs little and promises it. */
@@ -99,24 +155,27 @@ int cmd_tree(struct live *l, int argc, char **argv)
 		uint32_t f = w[i].flags;
 		const char *state =
 			vis_visibility_name(f & VIS_WINDOW_VIEWABLE ? w[i].state : VIS_VISIBILITY_NONE);
-		char look[40];
+		char look[40], external[40];
 		look_name(f, look, sizeof(look));
+		live_external_name(w[i].ext_namespace, w[i].external, external, sizeof(external));
 		if (json)
 			printf("{\"window\":%u,\"parent\":%u,\"x\":%d,\"y\":%d,\"width\":%u,"
 			       "\"height\":%u,\"mapped\":%s,\"viewable\":%s,\"retained\":%s,"
 			       "\"parent_hidden\":%s,\"state\":\"%s\",\"border\":%u,\"shaped\":%s,"
-			       "\"translucent\":%s,\"input_only\":%s}\n",
+			       "\"translucent\":%s,\"input_only\":%s,\"namespace\":%u,"
+			       "\"external\":%" PRIu64 "}\n",
 			       w[i].window, w[i].parent, w[i].x, w[i].y, w[i].width, w[i].height,
 			       json_bool(f & VIS_WINDOW_MAPPED), json_bool(f & VIS_WINDOW_VIEWABLE),
 			       json_bool(f & VIS_WINDOW_RETAINED),
 			       json_bool(f & VIS_WINDOW_PARENT_HIDDEN), state, w[i].border,
 			       json_bool(f & VIS_WINDOW_SHAPED), json_bool(f & VIS_WINDOW_TRANSLUCENT),
-			       json_bool(f & VIS_WINDOW_INPUT_ONLY));
+			       json_bool(f & VIS_WINDOW_INPUT_ONLY), w[i].ext_namespace,
+			       w[i].external);
 		else
-			printf("%u %u %d %d %u %u %s %s %s %u %s\n", w[i].window, w[i].parent, w[i].x,
-			       w[i].y, w[i].width, w[i].height,
+			printf("%u %u %d %d %u %u %s %s %s %u %s %s\n", w[i].window, w[i].parent,
+			       w[i].x, w[i].y, w[i].width, w[i].height,
 			       f & VIS_WINDOW_MAPPED ? "mapped" : "unmapped", state,
-			       f & VIS_WINDOW_RETAINED ? "retained" : "-", w[i].border, look);
+			       f & VIS_WINDOW_RETAINED ? "retained" : "-", w[i].border, look, external);
 	}
 	free(w);
 	if (!n && live_sees_nothing(l))
@@ -207,5 +266,54 @@ int cmd_repaint(struct live *l, int argc, char **argv)
 	free(w);
 	if (!n && live_sees_nothing(l))
 		live_warn_sees_nothing(l, argv[0]);
+	return VISCTL_EXIT_OK;
+}
+
+int cmd_lookup(struct live *l, int argc, char **argv)
+{
+	uint32_t ns = VIS_EXTERNAL_NONE, window;
+	uint64_t tag = 0;
+	char *pos[2];
+	int n = 0, ret;
+	for (int i = 1; i < argc; i++) {
+		const char *a = argv[i];
+		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0)
+			return live_help(argv[0]);
+		if (strncmp(a, "--x11=", 6) == 0 || strcmp(a, "--x11") == 0) {
+			const char *v = a[5] == '=' ? a + 6 : i + 1 < argc ? argv[++i] : NULL;
+			if (!v)
+				return live_usage(l, argv[0], "--x11 needs an XID");
+			if (live_xid_arg(l, argv[0], v, &tag, &ret) < 0)
+				return ret;
+			ns = VIS_EXTERNAL_X11;
+		} else if (live_is_option(a)) {
+			return live_usage(l, argv[0], "unknown option '%s'", a);
+		} else if (n == 2) {
+			return live_usage(l, argv[0], "unexpected argument '%s'", a);
+		} else {
+			pos[n++] = argv[i];
+		}
+	}
+	if (ns == VIS_EXTERNAL_NONE) {
+		if (n != 2)
+			return live_usage(l, argv[0], "expected --x11 XID or NS TAG, got %d arguments",
+					  n);
+		if (live_parse_u32(pos[0], &ns) < 0 || ns == 0)
+			return live_usage(l, argv[0], "NS '%s' is not a number from 1 to 4294967295",
+					  pos[0]);
+		if (live_parse_u64(pos[1], &tag) < 0)
+			return live_usage(l, argv[0],
+					  "TAG '%s' is not a 64-bit number (hex 0x... or decimal)",
+					  pos[1]);
+	} else if (n) {
+		return live_usage(l, argv[0], "unexpected argument '%s' after --x11", pos[0]);
+	}
+	/* External IDs are set by the manager only: a plain client never has one to find. */
+	live_x11_role(l);
+	if (!live_connect(l))
+		return VISCTL_EXIT_FAILURE;
+	if (vis_client_lookup(l->client, ns, tag, &window) < 0)
+		return query_failed(l, argc, argv);
+	printf("%u\n", window);
 	return VISCTL_EXIT_OK;
 }

@@ -1,5 +1,6 @@
 /* The connection and the error reports visctl's live subcommands share. */
 #include <errno.h>
+#include <inttypes.h>
 #include <poll.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -194,6 +195,77 @@ int live_parse_u32(const char *s, uint32_t *out)
 	}
 	*out = (uint32_t)v;
 	return 0;
+}
+
+int live_parse_u64(const char *s, uint64_t *out)
+{
+	bool hex = s[0] == '0' && (s[1] == 'x' || s[1] == 'X');
+	uint64_t v = 0, base = hex ? 16 : 10;
+	if (hex)
+		s += 2;
+	if (!*s)
+		return -1;
+	for (; *s; s++) {
+		int d = *s >= '0' && *s <= '9'			? *s - '0'
+			: hex && *s >= 'a' && *s <= 'f' ? *s - 'a' + 10
+			: hex && *s >= 'A' && *s <= 'F' ? *s - 'A' + 10
+							: -1;
+		if (d < 0 || v > (UINT64_MAX - (uint64_t)d) / base)
+			return -1;
+		v = v * base + (uint64_t)d;
+	}
+	*out = v;
+	return 0;
+}
+
+int live_xid_arg(struct live *l, const char *name, const char *s, uint64_t *xid, int *ret)
+{
+	if (live_parse_u64(s, xid) < 0 || *xid == 0 || *xid > UINT32_MAX) {
+		*ret = live_usage(l, name,
+				  "XID '%s' is not an X window ID from 0x1 to 0xffffffff (hex 0x... or "
+				  "decimal)",
+				  s);
+		return -1;
+	}
+	return 0;
+}
+
+int live_external_arg(struct live *l, const char *name, const char *s, uint32_t *ns,
+		      uint64_t *tag, int *ret)
+{
+	const char *colon = strchr(s, ':');
+	char nsbuf[16];
+	size_t len = colon ? (size_t)(colon - s) : 0;
+	if (colon && len < sizeof(nsbuf)) {
+		memcpy(nsbuf, s, len);
+		nsbuf[len] = '\0';
+	}
+	if (!colon || len >= sizeof(nsbuf) || live_parse_u32(nsbuf, ns) < 0 || *ns == 0 ||
+	    live_parse_u64(colon + 1, tag) < 0) {
+		*ret = live_usage(l, name,
+				  "external ID '%s' is not NS:TAG (NS from 1 to 4294967295, TAG a "
+				  "64-bit number, hex 0x... or decimal)",
+				  s);
+		return -1;
+	}
+	return 0;
+}
+
+const char *live_external_name(uint32_t ns, uint64_t tag, char *buf, size_t len)
+{
+	if (ns == VIS_EXTERNAL_NONE)
+		snprintf(buf, len, "-");
+	else if (ns == VIS_EXTERNAL_X11)
+		snprintf(buf, len, "x11:0x%" PRIx64, tag);
+	else
+		snprintf(buf, len, "%u:0x%" PRIx64, ns, tag);
+	return buf;
+}
+
+void live_x11_role(struct live *l)
+{
+	if (!l->role_given && !l->client)
+		l->role = VIS_ROLE_OBSERVER;
 }
 
 int live_parse_i32(const char *s, int32_t *out)

@@ -13,6 +13,7 @@
 struct live {
 	const char *socket; /* -s SOCKET, or NULL for the default */
 	uint32_t role;      /* enum vis_role, from --role */
+	bool role_given;    /* --role was given: commands keep to it rather than pick their own */
 	struct vis_client *client; /* NULL until a command connects */
 	const char *where; /* what messages start with: "visctl", or "FILE:LINE" in a script */
 	bool in_script;
@@ -65,6 +66,27 @@ int live_coord_arg(struct live *l, const char *name, const char *what, const cha
 		   int32_t *v, int *ret);
 int live_size_arg(struct live *l, const char *name, const char *what, const char *s,
 		  uint32_t *v, int *ret);
+
+/*
+ * External IDs on the command line: an X window ID (XID: 1 … 0xffffffff, hexadecimal with 0x or
+ * decimal), or the general NS:TAG (NS a namespace from 1 to 4294967295 in decimal, TAG a 64-bit
+ * number as an XID is written). Return 0, or -1 with *ret the usage status after saying why.
+ */
+int live_xid_arg(struct live *l, const char *name, const char *s, uint64_t *xid, int *ret);
+int live_external_arg(struct live *l, const char *name, const char *s, uint32_t *ns,
+		      uint64_t *tag, int *ret);
+
+/* An external ID as visctl prints it: "x11:0xXID", "NS:0xTAG", or "-" for none. */
+const char *live_external_name(uint32_t ns, uint64_t tag, char *buf, size_t len);
+
+/*
+ * With --x11 and no --role, the role a command takes: observer, which sees every X window (they
+ * are the bridge's, the manager's: a plain client sees none of them).
+ */
+void live_x11_role(struct live *l);
+
+/* Parses an unsigned 64-bit number: decimal, or hexadecimal after 0x. Returns 0, or -1. */
+int live_parse_u64(const char *s, uint64_t *out);
 
 /* Parses plain decimal numbers ('-' allowed for signed ones). Return 0, or -1. */
 int live_parse_u32(const char *s, uint32_t *out);

@@ -4,7 +4,7 @@
 # Installed as `visctl` into bash-completion's completionsdir; or source it from ~/.bashrc.
 
 _visctl_commands="compute gen bench plot-service create destroy map unmap move resize raise
-	lower stack border shape opaque load states tree region repaint look snapshot watch script
+	lower stack border shape opaque load states tree region repaint look lookup snapshot watch script
 	sync
 	stress help"
 _visctl_engines="auto gmv gmv-heap region brute"
@@ -17,12 +17,14 @@ _visctl_options() {
 	compute) echo "--engine --visible --json --time --svg --help" ;;
 	bench) echo "--kinds --engines --sizes --max-n --reps --seed --limit --svg --csv --quick --help" ;;
 	plot-service) echo "--note --help" ;;
-	create) echo "--parent --map --retain --border --input-only --help" ;;
+	create) echo "--parent --map --retain --border --input-only --x11 --external --help" ;;
 	shape) echo "--box --help" ;;
 	load) echo "--retain --any-screen --json --help" ;;
-	states | tree | region | repaint | look) echo "--json --help" ;;
+	states) echo "--json --x11 --help" ;;
+	tree | region | repaint | look) echo "--json --help" ;;
+	lookup) echo "--x11 --help" ;;
 	snapshot) echo "--svg --help" ;;
-	watch) echo "--json --count --help" ;;
+	watch) echo "--json --count --x11 --help" ;;
 	stress) echo "-c -n --count --duration -R --pipeline --mix --batch-size --exposure --seed
 		--record --pid --json --csv -q --quiet --help" ;;
 	*) echo "--help" ;;
@@ -34,7 +36,7 @@ _visctl_takes_value() {
 	case $1:$2 in
 	:-s | :--socket | :--role) return 0 ;;
 	compute:--engine | compute:--svg | plot-service:--note | create:--parent) return 0 ;;
-	create:--border) return 0 ;;
+	create:--border | create:--x11 | create:--external | lookup:--x11) return 0 ;;
 	snapshot:--svg | watch:--count) return 0 ;;
 	bench:--kinds | bench:--engines | bench:--sizes | bench:--max-n | bench:--reps) return 0 ;;
 	bench:--seed | bench:--limit | bench:--svg | bench:--csv) return 0 ;;

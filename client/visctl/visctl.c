@@ -23,13 +23,18 @@ static const struct visctl_command commands[] = {
 	{ "bench", cmd_bench, NULL, "[OPTIONS]  (see `visctl bench --help`)", NULL },
 	{ "plot-service", cmd_plot_service, NULL, "[--note TEXT] CSV SVG", NULL },
 	{ "create", NULL, cmd_create,
-	  "X Y W H [--parent ID] [--map] [--retain] [--border B] [--input-only]",
+	  "X Y W H [--parent ID] [--map] [--retain] [--border B] [--input-only] "
+	  "[--x11 XID | --external NS:TAG]",
 	  "  Creates a window and prints its ID. X Y place its border box's corner (relative\n"
 	  "  to the parent's inside), W H is its inside; --border B gives it a border of B\n"
 	  "  pixels (X's border_width: the border box is the inside grown by B on every\n"
 	  "  side); --input-only makes it X's InputOnly: no pixels, no state, hiding nothing.\n"
 	  "  --parent ID puts it under a window (default: the screen), --map maps it at\n"
-	  "  once, --retain lets it outlive this connection.\n" },
+	  "  once, --retain lets it outlive this connection.\n"
+	  "  --x11 XID says the window mirrors that X window (XID hex 0x... or decimal);\n"
+	  "  --external NS:TAG, that it mirrors TAG of namespace NS (1 X11, 2 Wayland,\n"
+	  "  others private). Only the manager sets them (--role manager), and no two\n"
+	  "  windows carry the same one.\n" },
 	{ "destroy", NULL, cmd_destroy, "ID", NULL },
 	{ "map", NULL, cmd_map, "ID", NULL },
 	{ "unmap", NULL, cmd_unmap, "ID", NULL },
@@ -53,22 +58,28 @@ static const struct visctl_command commands[] = {
 	  "  coordinates, as _NET_WM_OPAQUE_REGION), e.g. the inside of a client-side\n"
 	  "  shadow. Windows below show through the rest.\n" },
 	{ "load", NULL, cmd_load, "[--retain] [--any-screen] [--json] SCENE", NULL },
-	{ "states", NULL, cmd_states, "[--json]",
+	{ "states", NULL, cmd_states, "[--json] [--x11]",
 	  "  Prints 'ID STATE' for every viewable window the connection may see, ascending ID;\n"
 	  "  STATE is unobscured, partially-obscured or fully-obscured. A client sees only\n"
 	  "  the windows its connection made (--role observer or manager: every window).\n"
-	  "  --json: one object a line, {\"window\":ID,\"state\":STATE}.\n" },
+	  "  --json: one object a line, {\"window\":ID,\"state\":STATE}.\n"
+	  "  --x11: only the windows that mirror X windows, as 'XID STATE' (XID in lowercase\n"
+	  "  hex, 0x1e00003), ascending XID; with --json {\"x11\":\"XID\",\"window\":ID,\n"
+	  "  \"state\":STATE}. Without --role it takes the observer role: X windows are\n"
+	  "  the bridge's (the manager's), so a plain client sees none.\n" },
 	{ "tree", NULL, cmd_tree, "[--json]",
 	  "  Prints every window the connection may see, bottom to top, each before its\n"
-	  "  children, as 'ID PARENT X Y W H MAPPED STATE RETAINED BORDER LOOK': PARENT 0\n"
-	  "  for the screen (or a parent this connection may not see); X Y its border box's\n"
-	  "  corner relative to the parent's inside, W H its inside; MAPPED mapped or\n"
-	  "  unmapped; STATE as in states, or none when not viewable (or input-only);\n"
+	  "  children, as 'ID PARENT X Y W H MAPPED STATE RETAINED BORDER LOOK EXTERNAL':\n"
+	  "  PARENT 0 for the screen (or a parent this connection may not see); X Y its\n"
+	  "  border box's corner relative to the parent's inside, W H its inside; MAPPED\n"
+	  "  mapped or unmapped; STATE as in states, or none when not viewable (or\n"
+	  "  input-only);\n"
 	  "  RETAINED retained (outlives its connection) or -; BORDER its border width;\n"
-	  "  LOOK shaped, translucent, input-only (joined by commas) or -.\n"
+	  "  LOOK shaped, translucent, input-only (joined by commas) or -; EXTERNAL what it\n"
+	  "  mirrors: x11:0xXID for an X window, NS:0xTAG in another namespace, or -.\n"
 	  "  --json: one object a line with window, parent, x, y, width, height, mapped,\n"
 	  "  viewable, retained, parent_hidden (true, false), state, border, shaped,\n"
-	  "  translucent and input_only.\n" },
+	  "  translucent, input_only, namespace and external (numbers; 0 and 0: none).\n" },
 	{ "region", NULL, cmd_region, "[--json] ID",
 	  "  Prints the window's visible pixels as 'X Y W H' rectangles in the window's own\n"
 	  "  coordinates (0 0 is its top-left corner, not the screen's), y-x banded: its\n"
@@ -85,8 +96,13 @@ static const struct visctl_command commands[] = {
 	  "  X,Y,W,H ...'; then 'opaque all', 'opaque none' or 'opaque X,Y,W,H ...'.\n"
 	  "  --json: one object, {\"window\":ID,\"shaped\":BOOL,\"shape\":[[X,Y,W,H],...],\n"
 	  "  \"opaque\":\"all\"|\"none\"|\"rects\",\"opaque_rects\":[...]}.\n" },
+	{ "lookup", NULL, cmd_lookup, "--x11 XID | NS TAG",
+	  "  Prints the ID of the window that mirrors X window XID (hex 0x... or decimal),\n"
+	  "  or that carries TAG in namespace NS (1 X11, 2 Wayland, others private). Without\n"
+	  "  --role it takes the observer role: only the manager gives windows external IDs,\n"
+	  "  so a plain client has none to find.\n" },
 	{ "snapshot", NULL, cmd_snapshot, "--svg FILE", NULL },
-	{ "watch", NULL, cmd_watch, "[--json] [--count N] [ID...]", NULL },
+	{ "watch", NULL, cmd_watch, "[--json] [--count N] [ID...] | --x11 [XID...]", NULL },
 	{ "script", NULL, cmd_script, "FILE|-", NULL },
 	{ "sync", NULL, cmd_sync, "", NULL },
 	{ "stress", NULL, cmd_stress, "[OPTIONS]  (see `visctl stress --help`)", NULL },
@@ -146,9 +162,10 @@ static int parse_role(const char *name, uint32_t *role)
 
 /* Runs a live subcommand on its own connection, and reports a failure to write its output. */
 static int run_live(const struct visctl_command *cmd, const char *socket, uint32_t role,
-		    int argc, char **argv)
+		    bool role_given, int argc, char **argv)
 {
-	struct live l = { .socket = socket, .role = role, .where = "visctl" };
+	struct live l = { .socket = socket, .role = role, .role_given = role_given,
+			  .where = "visctl" };
 	int ret = cmd->live(&l, argc, argv);
 	vis_client_destroy(l.client);
 	if (fflush(stdout) != 0 || ferror(stdout)) {
@@ -163,6 +180,7 @@ int main(int argc, char **argv)
 {
 	const char *socket = NULL;
 	uint32_t role = VIS_ROLE_CLIENT;
+	bool role_given = false;
 	int i = 1;
 
 	for (; i < argc && argv[i][0] == '-'; i++) {
@@ -196,6 +214,8 @@ int main(int argc, char **argv)
 			socket = value;
 		else if (parse_role(value, &role) < 0)
 			return bad_usage("unknown role '%s' (client, observer, manager)", value);
+		else
+			role_given = true;
 	}
 	if (i == argc) {
 		usage(stderr);
@@ -214,7 +234,7 @@ int main(int argc, char **argv)
 	}
 	if (cmd->run)
 		return cmd->run(argc - i, argv + i);
-	return run_live(cmd, socket, role, argc - i, argv + i);
+	return run_live(cmd, socket, role, role_given, argc - i, argv + i);
 }
 
 int visctl_read_all(const char *path, char **data, size_t *len)

@@ -59,6 +59,7 @@ int cmd_states(struct live *l, int argc, char **argv);
 int cmd_tree(struct live *l, int argc, char **argv);
 int cmd_region(struct live *l, int argc, char **argv);
 int cmd_repaint(struct live *l, int argc, char **argv);
+int cmd_lookup(struct live *l, int argc, char **argv);
 
 /* `visctl load` (cmd-load.c): a scene file created as windows in one batch. */
 int cmd_load(struct live *l, int argc, char **argv);
