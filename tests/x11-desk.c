@@ -75,6 +75,26 @@ void desk_check_connection(struct desk *d)
 		desk_die(d, 1, "the X server closed the connection");
 }
 
+/* Waits up to 5 s for a window manager to own WM_Sn of the screen; the desktop needs one. */
+static void wait_wm(struct desk *d, int screen_no)
+{
+	char name[32];
+	snprintf(name, sizeof name, "WM_S%d", screen_no);
+	xcb_atom_t wm_s = record_intern(d, name);
+	for (int waited = 0;; waited += 50) {
+		xcb_get_selection_owner_reply_t *o = xcb_get_selection_owner_reply(
+			d->c, xcb_get_selection_owner(d->c, wm_s), NULL);
+		bool owned = o != NULL && o->owner != XCB_NONE;
+		free(o);
+		if (owned)
+			return;
+		desk_check_connection(d);
+		if (waited >= 5000)
+			desk_die(d, 1, "no window manager owns %s", name);
+		record_wait(d, 50, NULL, NULL);
+	}
+}
+
 static bool parse_ulong(const char *s, unsigned long *out)
 {
 	char *end;
@@ -162,12 +182,14 @@ bad:
 	d.atoms[ATOM_NET_RESTACK_WINDOW] = record_intern(&d, "_NET_RESTACK_WINDOW");
 
 	uint32_t sync = record_start(&d);
+	wait_wm(&d, screen_no);
 	build_desktop(&d, (int)clients);
-	unsigned long checked = 0, diffs = 0;
+	unsigned long checked = 0, diffs = 0, done = 0;
 	char what[160] = "the desktop built";
 	for (unsigned long step = 0;; step++) {
 		if (step > 0) {
 			ops_step(&d, what, sizeof what);
+			done = step;
 			if (verbose)
 				fprintf(stderr, "x11-desk: step %lu: %s\n", step, what);
 		}
@@ -187,7 +209,7 @@ bad:
 	}
 	printf("x11-desk: %lu steps, %lu windows checked in all, %lu differences, X sent %lu "
 	       "VisibilityNotify (%lu synthetic)\n",
-	       steps, checked, diffs, d.rec.visibility_events, d.rec.synthetic_events);
+	       done, checked, diffs, d.rec.visibility_events, d.rec.synthetic_events);
 	if (verbose) {
 		fprintf(stderr, "x11-desk: operations:");
 		for (int k = 0; ops_kind_names[k] != NULL; k++)
