@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
 #include <xcb/shape.h>
 
 #include "x11-desk.h"
@@ -81,7 +82,8 @@ struct x_view *check_x_views(struct desk *d, size_t *n)
 	walk(d, &vs, d->root);
 	xcb_ungrab_server(d->c);
 	xcb_flush(d->c);
-	qsort(vs.v, vs.n, sizeof *vs.v, by_xid);
+	if (vs.n > 1)
+		qsort(vs.v, vs.n, sizeof *vs.v, by_xid);
 	*n = vs.n;
 	return vs.v;
 }
@@ -173,9 +175,12 @@ static struct x_view *read_cmd(struct desk *d, const char *cmd, size_t *n)
 	int status = pclose(f);
 	if (status != 0) {
 		free(vs.v);
-		desk_die(d, 1, "%s failed (status %d)", cmd, status);
+		if (WIFEXITED(status))
+			desk_die(d, 1, "%s failed (exit status %d)", cmd, WEXITSTATUS(status));
+		desk_die(d, 1, "%s failed (wait status %d)", cmd, status);
 	}
-	qsort(vs.v, vs.n, sizeof *vs.v, by_xid);
+	if (vs.n > 1)
+		qsort(vs.v, vs.n, sizeof *vs.v, by_xid);
 	*n = vs.n;
 	return vs.v;
 }
