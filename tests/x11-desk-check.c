@@ -30,6 +30,7 @@ struct views {
 	size_t n, cap;
 };
 
+/* Appends a window to a growing list; dies when memory runs out. */
 static void push(struct desk *d, struct views *vs, xcb_window_t xid, int state)
 {
 	if (vs->n == vs->cap) {
@@ -69,6 +70,7 @@ static void walk(struct desk *d, struct views *vs, xcb_window_t xid)
 	free(t);
 }
 
+/* The order of visctl's lines: by XID. */
 static int by_xid(const void *a, const void *b)
 {
 	const struct x_view *p = a, *q = b;

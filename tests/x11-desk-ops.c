@@ -98,6 +98,7 @@ static void withdraw(struct desk *d, xcb_window_t xid)
 		       (const char *)&ev);
 }
 
+/* What a top-level is, for the step's description: ours, or the client's name. */
 static const char *label(const struct desk *d, const struct top *t)
 {
 	if (t->ours)
@@ -108,6 +109,7 @@ static const char *label(const struct desk *d, const struct top *t)
 	return "?";
 }
 
+/* A ConfigureWindow: the WM gets it as a ConfigureRequest for a managed window. */
 static void configure(struct desk *d, xcb_window_t xid, uint16_t mask, const uint32_t *values)
 {
 	xcb_configure_window(d->c, xid, mask, values);

@@ -27,6 +27,7 @@
 #define QUIET_MAX_MS 2000
 #define SYNC_TIMEOUT_MS 5000
 
+/* The monotonic clock in milliseconds, for the waits' deadlines. */
 static long now_ms(void)
 {
 	struct timespec ts;
@@ -42,6 +43,7 @@ struct rec_window *record_find(struct recorder *r, xcb_window_t xid)
 	return NULL;
 }
 
+/* Enters a window the recorder did not know, with no state yet. */
 static struct rec_window *add(struct desk *d, xcb_window_t xid)
 {
 	struct recorder *r = &d->rec;
@@ -57,6 +59,7 @@ static struct rec_window *add(struct desk *d, xcb_window_t xid)
 	return &r->w[r->n++];
 }
 
+/* Forgets a destroyed window (its XID may come back for another). */
 static void drop(struct recorder *r, xcb_window_t xid)
 {
 	struct rec_window *w = record_find(r, xid);
@@ -110,6 +113,7 @@ static void adopt(struct desk *d, xcb_window_t xid)
 	free(t);
 }
 
+/* Adopts xid's subtree under a server grab, so that nothing is created or mapped meanwhile. */
 static void adopt_grabbed(struct desk *d, xcb_window_t xid)
 {
 	xcb_grab_server(d->c);
@@ -278,6 +282,7 @@ void record_quiet(struct desk *d)
 		refresh_late(d);
 }
 
+/* Whether the bridge has answered the handshake for *arg. */
 static bool synced(struct desk *d, void *arg)
 {
 	return d->rec.synced >= *(uint32_t *)arg;
