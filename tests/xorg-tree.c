@@ -13,6 +13,7 @@
 
 #include "rng.h"
 #include "vis/visclient.h"
+#include "xorg-shape.h"
 #include "xorg-tree.h"
 
 #define MAX_NODES 40
@@ -71,31 +72,8 @@ static int make_tree(struct vis_rng *rng, struct node *t, int32_t W, int32_t H)
 		struct node *v = &t[i];
 		if (v->input_only || vis_rng_below(rng, 3) != 0)
 			continue;
-		int16_t b = (int16_t)v->border;
-		uint16_t bw = (uint16_t)(v->w + 2 * v->border), bh = (uint16_t)(v->h + 2 * v->border);
 		v->shaped = true;
-		switch (vis_rng_below(rng, 4)) {
-		case 0:
-			v->n_shape = 0;
-			break;
-		case 1:
-			v->n_shape = 2;
-			v->shape[0] = (xcb_rectangle_t){ (int16_t)-b, (int16_t)-b, bw, (uint16_t)(bh / 2 ? bh / 2 : 1) };
-			v->shape[1] = (xcb_rectangle_t){ (int16_t)-b, (int16_t)(-b + bh / 2),
-							 (uint16_t)(bw / 2 ? bw / 2 : 1),
-							 (uint16_t)(bh - bh / 2) };
-			break;
-		case 2:
-			v->n_shape = 1;
-			v->shape[0] = (xcb_rectangle_t){ (int16_t)-b, (int16_t)-b, (uint16_t)((bw + 1) / 2),
-							 (uint16_t)((bh + 1) / 2) };
-			break;
-		default:
-			v->n_shape = 2;
-			v->shape[0] = (xcb_rectangle_t){ (int16_t)-b, (int16_t)-b, bw, bh };
-			v->shape[1] = (xcb_rectangle_t){ (int16_t)(v->w / 2), (int16_t)(v->h / 2), bw, bh };
-			v->past_box = true;
-		}
+		v->n_shape = xorg_random_shape(rng, v->w, v->h, v->border, v->shape, &v->past_box);
 	}
 	return n;
 }

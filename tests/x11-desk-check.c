@@ -1,0 +1,237 @@
+/*
+ * The comparison: X's viewable InputOutput windows, read from the server's tree at the quiet
+ * point, each with the recorder's last VisibilityNotify state, against the states a command
+ * (visctl … states --x11) prints as "0x%x STATE" lines. A difference is printed with the
+ * window's path from the root, so that it can be understood without rerunning.
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <xcb/shape.h>
+
+#include "x11-desk.h"
+
+#define NO_RECORD (-2) /* a window the recorder does not know: its bug */
+
+static const char *const state_names[] = { "unobscured", "partially-obscured", "fully-obscured" };
+
+const char *check_state_name(int state)
+{
+	if (state == NO_RECORD)
+		return "(unknown to the recorder)";
+	if (state < 0 || state > 2)
+		return "(no VisibilityNotify)";
+	return state_names[state];
+}
+
+struct views {
+	struct x_view *v;
+	size_t n, cap;
+};
+
+/* Appends a window to a growing list; dies when memory runs out. */
+static void push(struct desk *d, struct views *vs, xcb_window_t xid, int state)
+{
+	if (vs->n == vs->cap) {
+		size_t cap = vs->cap ? vs->cap * 2 : 64;
+		struct x_view *v = realloc(vs->v, cap * sizeof *v);
+		if (v == NULL) {
+			free(vs->v);
+			desk_die(d, 1, "out of memory");
+		}
+		vs->v = v;
+		vs->cap = cap;
+	}
+	vs->v[vs->n++] = (struct x_view){ xid, state };
+}
+
+/* Adds the viewable InputOutput windows among xid's subtree (xid itself included). */
+static void walk(struct desk *d, struct views *vs, xcb_window_t xid)
+{
+	xcb_get_window_attributes_reply_t *a =
+		xcb_get_window_attributes_reply(d->c, xcb_get_window_attributes(d->c, xid), NULL);
+	if (a == NULL)
+		return;
+	bool viewable = a->map_state == XCB_MAP_STATE_VIEWABLE;
+	if (viewable && xid != d->root && a->_class == XCB_WINDOW_CLASS_INPUT_OUTPUT) {
+		struct rec_window *w = record_find(&d->rec, xid);
+		push(d, vs, xid, w ? w->state : NO_RECORD);
+	}
+	free(a);
+	if (!viewable && xid != d->root)
+		return; /* nothing below is viewable */
+	xcb_query_tree_reply_t *t = xcb_query_tree_reply(d->c, xcb_query_tree(d->c, xid), NULL);
+	if (t == NULL)
+		return;
+	xcb_window_t *kids = xcb_query_tree_children(t);
+	for (int i = 0; i < xcb_query_tree_children_length(t); i++)
+		walk(d, vs, kids[i]);
+	free(t);
+}
+
+/* The order of visctl's lines: by XID. */
+static int by_xid(const void *a, const void *b)
+{
+	const struct x_view *p = a, *q = b;
+	return (p->xid > q->xid) - (p->xid < q->xid);
+}
+
+struct x_view *check_x_views(struct desk *d, size_t *n)
+{
+	struct views vs = { 0 };
+	xcb_grab_server(d->c);
+	walk(d, &vs, d->root);
+	xcb_ungrab_server(d->c);
+	xcb_flush(d->c);
+	if (vs.n > 1)
+		qsort(vs.v, vs.n, sizeof *vs.v, by_xid);
+	*n = vs.n;
+	return vs.v;
+}
+
+void check_print(struct desk *d, unsigned long step)
+{
+	size_t n;
+	struct x_view *v = check_x_views(d, &n);
+	for (size_t i = 0; i < n; i++)
+		printf("step %lu: 0x%x %s\n", step, v[i].xid, check_state_name(v[i].state));
+	fflush(stdout);
+	free(v);
+}
+
+/* Prints one window of a path: its geometry, border, map state, class, override-redirect, shape. */
+static void print_window(FILE *f, struct desk *d, xcb_window_t xid, int depth)
+{
+	xcb_get_geometry_cookie_t gc = xcb_get_geometry(d->c, xid);
+	xcb_get_window_attributes_cookie_t ac = xcb_get_window_attributes(d->c, xid);
+	xcb_get_geometry_reply_t *g = xcb_get_geometry_reply(d->c, gc, NULL);
+	xcb_get_window_attributes_reply_t *a = xcb_get_window_attributes_reply(d->c, ac, NULL);
+	xcb_shape_query_extents_reply_t *s = NULL;
+	if (d->shape)
+		s = xcb_shape_query_extents_reply(d->c, xcb_shape_query_extents(d->c, xid), NULL);
+	static const char *const map_states[] = { "unmapped", "unviewable", "viewable" };
+	fprintf(f, "  %*s0x%x", 2 * depth, "", xid);
+	if (g != NULL)
+		fprintf(f, " %ux%u%+d%+d border %u", g->width, g->height, g->x, g->y, g->border_width);
+	if (a != NULL)
+		fprintf(f, " %s %s%s", a->map_state <= 2 ? map_states[a->map_state] : "?",
+		       a->_class == XCB_WINDOW_CLASS_INPUT_ONLY ? "InputOnly" : "InputOutput",
+		       a->override_redirect ? " override-redirect" : "");
+	if (s != NULL && s->bounding_shaped)
+		fprintf(f, " shaped");
+	if (g == NULL || a == NULL)
+		fprintf(f, " (gone)");
+	fprintf(f, "\n");
+	free(g);
+	free(a);
+	free(s);
+}
+
+void check_print_path(FILE *f, struct desk *d, xcb_window_t xid)
+{
+	xcb_window_t chain[64];
+	int n = 0;
+	for (xcb_window_t w = xid; w != XCB_NONE && n < 64;) {
+		chain[n++] = w;
+		if (w == d->root)
+			break;
+		xcb_query_tree_reply_t *t = xcb_query_tree_reply(d->c, xcb_query_tree(d->c, w), NULL);
+		w = t ? t->parent : XCB_NONE;
+		free(t);
+	}
+	for (int i = n - 1; i >= 0; i--)
+		print_window(f, d, chain[i], n - 1 - i);
+}
+
+/* Parses "0x%x STATE" lines into a sorted array; dies on a line it cannot read. */
+static struct x_view *read_cmd(struct desk *d, const char *cmd, size_t *n)
+{
+	FILE *f = popen(cmd, "r");
+	if (f == NULL)
+		desk_die(d, 1, "cannot run %s", cmd);
+	struct views vs = { 0 };
+	char *line = NULL, word[32];
+	size_t cap = 0;
+	unsigned long lineno = 0;
+	unsigned int xid;
+	while (getline(&line, &cap, f) > 0) {
+		lineno++;
+		int end = 0, state = -1;
+		if (sscanf(line, "0x%x %31s %n", &xid, word, &end) == 2 && line[end] == '\0')
+			for (int s = 0; s < 3; s++)
+				if (strcmp(word, state_names[s]) == 0)
+					state = s;
+		if (state < 0) {
+			line[strcspn(line, "\n")] = '\0';
+			fprintf(stderr, "x11-desk: %s, line %lu: not \"0x… STATE\": %s\n", cmd, lineno,
+				line);
+			free(line);
+			free(vs.v);
+			pclose(f);
+			desk_die(d, 1, "cannot read the states of %s", cmd);
+		}
+		push(d, &vs, xid, state);
+	}
+	free(line);
+	int status = pclose(f);
+	if (status != 0) {
+		free(vs.v);
+		if (WIFEXITED(status))
+			desk_die(d, 1, "%s failed (exit status %d)", cmd, WEXITSTATUS(status));
+		desk_die(d, 1, "%s failed (wait status %d)", cmd, status);
+	}
+	if (vs.n > 1)
+		qsort(vs.v, vs.n, sizeof *vs.v, by_xid);
+	*n = vs.n;
+	return vs.v;
+}
+
+/* Reports one difference; the first of a step names the step. */
+static void report(struct desk *d, unsigned long step, const char *what, unsigned long *diffs,
+		   xcb_window_t xid, const char *x_says, const char *cmd_says)
+{
+	if (*diffs == 0)
+		printf("x11-desk: step %lu (%s):\n", step, what);
+	++*diffs;
+	printf("  0x%x: X %s, visd %s; its path from the root:\n", xid, x_says, cmd_says);
+	check_print_path(stdout, d, xid);
+}
+
+unsigned long check_compare(struct desk *d, const char *cmd, unsigned long step, const char *what,
+			    unsigned long *checked)
+{
+	size_t nx, nc;
+	struct x_view *c = read_cmd(d, cmd, &nc);
+	struct x_view *x = check_x_views(d, &nx);
+	unsigned long diffs = 0;
+	size_t i = 0, k = 0;
+	while (i < nx || k < nc) {
+		bool in_x = i < nx && (k == nc || x[i].xid <= c[k].xid);
+		bool in_cmd = k < nc && (i == nx || c[k].xid <= x[i].xid);
+		if (in_x && x[i].state < 0) {
+			/* The harness's failure, not visd's: X's truth is missing. */
+			d->harness_failures++;
+			printf("x11-desk: step %lu (%s): harness: 0x%x is viewable, %s\n", step, what,
+			       x[i].xid, check_state_name(x[i].state));
+			check_print_path(stdout, d, x[i].xid);
+		} else if (in_x && in_cmd) {
+			++*checked;
+			if (x[i].state != c[k].state)
+				report(d, step, what, &diffs, x[i].xid, check_state_name(x[i].state),
+				       check_state_name(c[k].state));
+		} else if (in_x) {
+			report(d, step, what, &diffs, x[i].xid, check_state_name(x[i].state),
+			       "lists nothing");
+		} else if (c[k].xid != d->root) {
+			report(d, step, what, &diffs, c[k].xid, "has no such viewable InputOutput window",
+			       check_state_name(c[k].state));
+		}
+		i += in_x;
+		k += in_cmd;
+	}
+	fflush(stdout);
+	free(x);
+	free(c);
+	return diffs;
+}

@@ -1,0 +1,225 @@
+/*
+ * x11-desk: drives a real X desktop and records X's own truth, for checking visd-x11 (the bridge
+ * that mirrors an X server's window tree into visd) against X's VisibilityNotify states.
+ *
+ * It starts the recorder before anything else (x11-desk-record.c), builds a desktop under the
+ * running window manager (x11-desk-build.c), then performs --steps random operations from --seed
+ * (x11-desk-ops.c). After the desktop is built and after each step it waits for a quiet point:
+ * a round trip, then no event for 40 ms (the WM reacts on its own time), at most 2 s. Then,
+ * unless --no-bridge, the handshake with the bridge: the root's _VISD_X11_SYNC set to k, and
+ * _VISD_X11_SYNCED awaited until it holds k (5 s at most), so that visd has applied everything X
+ * told the bridge; then a round trip, so that every VisibilityNotify X sent is in. With --check
+ * CMD, CMD's states (visctl -s SOCK states --x11) must equal X's for every viewable InputOutput
+ * window (x11-desk-check.c). With --no-bridge, X's states are printed instead, step by step.
+ *
+ * Without a compositing manager, X's state of a viewable InputOutput window is the last
+ * VisibilityNotify it sent for it, which is what visd's must be.
+ * Exit: 0, 1 (a difference, a harness failure, or a lost X connection), 2 (usage).
+ */
+#include <getopt.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <xcb/shape.h>
+
+#include "x11-desk.h"
+
+#define MAX_CLIENTS_OPTION (DESK_MAX_TOPS - DESK_MAX_CLIENTS - 4)
+
+static void usage(FILE *f)
+{
+	fprintf(f, "usage: x11-desk [--display D] --seed S --steps N [--clients K] [--check CMD]\n"
+		   "                [--no-bridge] [-v]\n"
+		   "  --display D   the X server (default: $DISPLAY)\n"
+		   "  --seed S      the seed of the desktop and of the operations\n"
+		   "  --steps N     how many operations\n"
+		   "  --clients K   top-level windows of its own (default 6, at most %d)\n"
+		   "  --check CMD   compare X's states with CMD's \"0x… STATE\" lines at every step\n"
+		   "  --no-bridge   no handshake with visd-x11; print X's states at every step\n"
+		   "  -v            the operations as they happen, and the count of each kind\n",
+		MAX_CLIENTS_OPTION);
+}
+
+static struct desk *dying; /* the desk desk_die cleans up once */
+
+/* Kills the clients, frees everything and closes the connection. */
+static void desk_finish(struct desk *d)
+{
+	build_kill_clients(d);
+	record_finish(&d->rec);
+	if (d->c != NULL)
+		xcb_disconnect(d->c);
+	d->c = NULL;
+}
+
+_Noreturn void desk_die(struct desk *d, int status, const char *fmt, ...)
+{
+	va_list ap;
+	fflush(stdout);
+	fprintf(stderr, "x11-desk: ");
+	va_start(ap, fmt);
+	vfprintf(stderr, fmt, ap);
+	va_end(ap);
+	fprintf(stderr, "\n");
+	if (dying == d) {
+		dying = NULL;
+		desk_finish(d);
+	}
+	exit(status);
+}
+
+void desk_check_connection(struct desk *d)
+{
+	if (xcb_connection_has_error(d->c))
+		desk_die(d, 1, "the X server closed the connection");
+}
+
+/* Waits up to 5 s for a window manager to own WM_Sn of the screen; the desktop needs one. */
+static void wait_wm(struct desk *d, int screen_no)
+{
+	char name[32];
+	snprintf(name, sizeof name, "WM_S%d", screen_no);
+	xcb_atom_t wm_s = record_intern(d, name);
+	for (int waited = 0;; waited += 50) {
+		xcb_get_selection_owner_reply_t *o = xcb_get_selection_owner_reply(
+			d->c, xcb_get_selection_owner(d->c, wm_s), NULL);
+		bool owned = o != NULL && o->owner != XCB_NONE;
+		free(o);
+		if (owned)
+			return;
+		desk_check_connection(d);
+		if (waited >= 5000)
+			desk_die(d, 1, "no window manager owns %s", name);
+		record_wait(d, 50, NULL, NULL);
+	}
+}
+
+static bool parse_ulong(const char *s, unsigned long *out)
+{
+	char *end;
+	if (s[0] < '0' || s[0] > '9')
+		return false;
+	*out = strtoul(s, &end, 10);
+	return *end == '\0';
+}
+
+int main(int argc, char **argv)
+{
+	static const struct option options[] = {
+		{ "display", required_argument, NULL, 'd' }, { "seed", required_argument, NULL, 's' },
+		{ "steps", required_argument, NULL, 'n' },   { "clients", required_argument, NULL, 'k' },
+		{ "check", required_argument, NULL, 'c' },   { "no-bridge", no_argument, NULL, 'b' },
+		{ "help", no_argument, NULL, 'h' },	     { NULL, 0, NULL, 0 },
+	};
+	const char *display = NULL, *cmd = NULL;
+	unsigned long seed = 0, steps = 0, clients = 6;
+	bool have_seed = false, have_steps = false, bridge = true, verbose = false;
+	int opt;
+	while ((opt = getopt_long(argc, argv, "v", options, NULL)) != -1) {
+		switch (opt) {
+		case 'd':
+			display = optarg;
+			break;
+		case 's':
+			have_seed = parse_ulong(optarg, &seed);
+			if (!have_seed)
+				goto bad;
+			break;
+		case 'n':
+			have_steps = parse_ulong(optarg, &steps);
+			if (!have_steps)
+				goto bad;
+			break;
+		case 'k':
+			if (!parse_ulong(optarg, &clients) || clients > MAX_CLIENTS_OPTION)
+				goto bad;
+			break;
+		case 'c':
+			cmd = optarg;
+			break;
+		case 'b':
+			bridge = false;
+			break;
+		case 'v':
+			verbose = true;
+			break;
+		case 'h':
+			usage(stdout);
+			return 0;
+		default:
+			goto bad;
+		}
+	}
+	if (optind != argc || !have_seed || !have_steps || (cmd != NULL && !bridge)) {
+bad:
+		usage(stderr);
+		return 2;
+	}
+
+	struct desk d = { .rng = { seed }, .verbose = verbose };
+	int screen_no;
+	d.c = xcb_connect(display, &screen_no);
+	if (xcb_connection_has_error(d.c)) {
+		fprintf(stderr, "x11-desk: cannot connect to the X server %s\n",
+			display ? display : getenv("DISPLAY") ? getenv("DISPLAY") : "(DISPLAY unset)");
+		xcb_disconnect(d.c);
+		return 1;
+	}
+	dying = &d;
+	if (display != NULL)
+		setenv("DISPLAY", display, 1); /* for the clients */
+	xcb_screen_iterator_t si = xcb_setup_roots_iterator(xcb_get_setup(d.c));
+	for (int i = 0; i < screen_no && si.rem; i++)
+		xcb_screen_next(&si);
+	d.screen = si.data;
+	d.root = d.screen->root;
+	const xcb_query_extension_reply_t *shape = xcb_get_extension_data(d.c, &xcb_shape_id);
+	d.shape = shape != NULL && shape->present;
+	d.atoms[ATOM_WM_CHANGE_STATE] = record_intern(&d, "WM_CHANGE_STATE");
+	d.atoms[ATOM_WM_STATE] = record_intern(&d, "WM_STATE");
+	d.atoms[ATOM_NET_ACTIVE_WINDOW] = record_intern(&d, "_NET_ACTIVE_WINDOW");
+	d.atoms[ATOM_NET_RESTACK_WINDOW] = record_intern(&d, "_NET_RESTACK_WINDOW");
+
+	uint32_t sync = record_start(&d);
+	wait_wm(&d, screen_no);
+	build_desktop(&d, (int)clients);
+	unsigned long checked = 0, diffs = 0, done = 0;
+	char what[160] = "the desktop built";
+	for (unsigned long step = 0;; step++) {
+		if (step > 0) {
+			ops_step(&d, what, sizeof what);
+			done = step;
+			if (verbose)
+				fprintf(stderr, "x11-desk: step %lu: %s\n", step, what);
+		}
+		record_quiet(&d);
+		if (bridge)
+			record_sync(&d, ++sync);
+		if (cmd != NULL) {
+			unsigned long n = check_compare(&d, cmd, step, what, &checked);
+			diffs += n;
+			if (n > 0 || d.harness_failures > 0)
+				break;
+		} else if (!bridge) {
+			check_print(&d, step);
+		}
+		if (step == steps)
+			break;
+	}
+	printf("x11-desk: %lu steps, %lu windows checked in all, %lu differences, X sent %lu "
+	       "VisibilityNotify (%lu synthetic)\n",
+	       done, checked, diffs, d.rec.visibility_events, d.rec.synthetic_events);
+	if (verbose) {
+		fprintf(stderr, "x11-desk: operations:");
+		for (int k = 0; ops_kind_names[k] != NULL; k++)
+			fprintf(stderr, " %s %lu", ops_kind_names[k], d.op_counts[k]);
+		fprintf(stderr, "\nx11-desk: %lu late windows, %lu covers, %lu states inferred, "
+				"%lu X errors\n",
+			d.rec.late_windows, d.rec.refreshes, d.rec.inferred, d.rec.x_errors);
+	}
+	int status = diffs > 0 || d.harness_failures > 0 ? 1 : 0;
+	dying = NULL;
+	desk_finish(&d);
+	return status;
+}
