@@ -31,7 +31,7 @@ struct views {
 };
 
 /* Appends a window to a growing list; dies when memory runs out. */
-static void push(struct desk *d, struct views *vs, xcb_window_t xid, int state)
+static void push(struct desk *d, struct views *vs, xcb_window_t xid, int state, bool redirected)
 {
 	if (vs->n == vs->cap) {
 		size_t cap = vs->cap ? vs->cap * 2 : 64;
@@ -43,20 +43,37 @@ static void push(struct desk *d, struct views *vs, xcb_window_t xid, int state)
 		vs->v = v;
 		vs->cap = cap;
 	}
-	vs->v[vs->n++] = (struct x_view){ xid, state };
+	vs->v[vs->n++] = (struct x_view){ xid, state, redirected };
 }
 
-/* Adds the viewable InputOutput windows among xid's subtree (xid itself included). */
-static void walk(struct desk *d, struct views *vs, xcb_window_t xid)
+/*
+ * Adds the viewable InputOutput windows among xid's subtree (xid itself included); parent_depth
+ * is its parent's depth, redirected whether an ancestor is redirected.
+ */
+static void walk(struct desk *d, struct views *vs, xcb_window_t xid, uint8_t parent_depth,
+		 bool redirected)
 {
-	xcb_get_window_attributes_reply_t *a =
-		xcb_get_window_attributes_reply(d->c, xcb_get_window_attributes(d->c, xid), NULL);
-	if (a == NULL)
+	xcb_get_window_attributes_cookie_t ac = xcb_get_window_attributes(d->c, xid);
+	xcb_get_geometry_cookie_t gc = xcb_get_geometry(d->c, xid);
+	xcb_get_window_attributes_reply_t *a = xcb_get_window_attributes_reply(d->c, ac, NULL);
+	xcb_get_geometry_reply_t *g = xcb_get_geometry_reply(d->c, gc, NULL);
+	if (a == NULL || g == NULL) {
+		free(a);
+		free(g);
 		return;
+	}
+	uint8_t depth = g->depth;
+	free(g);
+	/* Composite redirects a 32-bit (ARGB) window whose parent has another depth. */
+	if (xid != d->root && a->_class == XCB_WINDOW_CLASS_INPUT_OUTPUT && depth == 32 &&
+	    parent_depth != 32)
+		redirected = true;
+	if (a->_class != XCB_WINDOW_CLASS_INPUT_OUTPUT)
+		depth = parent_depth; /* an InputOnly window has no depth of its own */
 	bool viewable = a->map_state == XCB_MAP_STATE_VIEWABLE;
 	if (viewable && xid != d->root && a->_class == XCB_WINDOW_CLASS_INPUT_OUTPUT) {
 		struct rec_window *w = record_find(&d->rec, xid);
-		push(d, vs, xid, w ? w->state : NO_RECORD);
+		push(d, vs, xid, w ? w->state : NO_RECORD, redirected);
 	}
 	free(a);
 	if (!viewable && xid != d->root)
@@ -66,7 +83,7 @@ static void walk(struct desk *d, struct views *vs, xcb_window_t xid)
 		return;
 	xcb_window_t *kids = xcb_query_tree_children(t);
 	for (int i = 0; i < xcb_query_tree_children_length(t); i++)
-		walk(d, vs, kids[i]);
+		walk(d, vs, kids[i], depth, redirected);
 	free(t);
 }
 
@@ -81,7 +98,7 @@ struct x_view *check_x_views(struct desk *d, size_t *n)
 {
 	struct views vs = { 0 };
 	xcb_grab_server(d->c);
-	walk(d, &vs, d->root);
+	walk(d, &vs, d->root, d->screen->root_depth, false);
 	xcb_ungrab_server(d->c);
 	xcb_flush(d->c);
 	if (vs.n > 1)
@@ -95,7 +112,8 @@ void check_print(struct desk *d, unsigned long step)
 	size_t n;
 	struct x_view *v = check_x_views(d, &n);
 	for (size_t i = 0; i < n; i++)
-		printf("step %lu: 0x%x %s\n", step, v[i].xid, check_state_name(v[i].state));
+		printf("step %lu: 0x%x %s%s\n", step, v[i].xid, check_state_name(v[i].state),
+		       v[i].redirected ? " (redirected by X)" : "");
 	fflush(stdout);
 	free(v);
 }
@@ -171,7 +189,7 @@ static struct x_view *read_cmd(struct desk *d, const char *cmd, size_t *n)
 			pclose(f);
 			desk_die(d, 1, "cannot read the states of %s", cmd);
 		}
-		push(d, &vs, xid, state);
+		push(d, &vs, xid, state, false);
 	}
 	free(line);
 	int status = pclose(f);
@@ -209,7 +227,9 @@ unsigned long check_compare(struct desk *d, const char *cmd, unsigned long step,
 	while (i < nx || k < nc) {
 		bool in_x = i < nx && (k == nc || x[i].xid <= c[k].xid);
 		bool in_cmd = k < nc && (i == nx || c[k].xid <= x[i].xid);
-		if (in_x && x[i].state < 0) {
+		if (in_x && x[i].redirected) {
+			d->redirected++;
+		} else if (in_x && x[i].state < 0) {
 			/* The harness's failure, not visd's: X's truth is missing. */
 			d->harness_failures++;
 			printf("x11-desk: step %lu (%s): harness: 0x%x is viewable, %s\n", step, what,

@@ -208,8 +208,8 @@ bad:
 			break;
 	}
 	printf("x11-desk: %lu steps, %lu windows checked in all, %lu differences, X sent %lu "
-	       "VisibilityNotify (%lu synthetic)\n",
-	       done, checked, diffs, d.rec.visibility_events, d.rec.synthetic_events);
+	       "VisibilityNotify (%lu synthetic), %lu left out (X redirects them)\n",
+	       done, checked, diffs, d.rec.visibility_events, d.rec.synthetic_events, d.redirected);
 	if (verbose) {
 		fprintf(stderr, "x11-desk: operations:");
 		for (int k = 0; ops_kind_names[k] != NULL; k++)

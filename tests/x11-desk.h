@@ -92,6 +92,7 @@ struct desk {
 	xcb_atom_t atoms[ATOM_COUNT];
 	unsigned long op_counts[32];
 	unsigned long harness_failures; /* viewable InputOutput windows without X's state */
+	unsigned long redirected;       /* windows left out of comparisons: X redirects them */
 };
 
 
@@ -143,6 +144,10 @@ extern const char *const ops_kind_names[];
 struct x_view {
 	xcb_window_t xid;
 	int state;
+	/* In the subtree of a window X redirects by itself (Composite's automatic redirection of a
+	 * 32-bit window in a parent of another depth, such as openbox's frame around an ARGB
+	 * client): X's states there do not follow the stacking, so they are not compared. */
+	bool redirected;
 };
 /* Every viewable InputOutput window under the root (not the root), sorted by XID; *n set. */
 struct x_view *check_x_views(struct desk *d, size_t *n);

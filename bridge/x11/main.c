@@ -17,6 +17,10 @@
 #include <xcb/xfixes.h>
 
 #include "bridge.h"
+#include "histogram.h"
+
+/* From a turn's first X event read to the turn's end: every turn, and those that told clients. */
+static struct histogram turn_times, told_times;
 
 static volatile sig_atomic_t stop_signal, check_asked;
 
@@ -90,11 +94,11 @@ static xcb_atom_t intern(xcb_connection_t *x, const char *name)
 	return a;
 }
 
-static double now_ms(void)
+static uint64_t now_ns(void)
 {
 	struct timespec t;
 	clock_gettime(CLOCK_MONOTONIC, &t);
-	return t.tv_sec * 1e3 + t.tv_nsec / 1e6;
+	return (uint64_t)t.tv_sec * 1000000000u + (uint64_t)t.tv_nsec;
 }
 
 /* Connects to X and finds the screen, its extensions and atoms. */
@@ -187,8 +191,9 @@ static void answer_sync(struct bridge *b)
 }
 
 /* One turn: ev and every event already read, one visd batch, the answers. */
-static void turn(struct bridge *b, xcb_generic_event_t *ev)
+static void turn(struct bridge *b, xcb_generic_event_t *ev, uint64_t arrival)
 {
+	uint64_t told_before = b->synthetic_sent;
 	b->turns++;
 	while (ev) {
 		events_handle(b, ev);
@@ -212,6 +217,19 @@ static void turn(struct bridge *b, xcb_generic_event_t *ev)
 		answer_sync(b);
 	notify_flush(b);
 	xcb_flush(b->x);
+	uint64_t took = now_ns() - arrival;
+	histogram_record(&turn_times, took);
+	if (b->synthetic_sent != told_before)
+		histogram_record(&told_times, took);
+}
+
+static void report_times(const struct bridge *b, const char *what, const struct histogram *h)
+{
+	if (h->n)
+		bridge_log(b, 1, "%s: %llu, from the first X event read to the turn's end: p50 %.0f "
+				 "µs, p99 %.0f µs, max %.0f µs",
+			   what, (unsigned long long)h->n, histogram_percentile(h, 50) / 1e3,
+			   histogram_percentile(h, 99) / 1e3, (double)h->max / 1e3);
 }
 
 static int run(struct bridge *b)
@@ -221,6 +239,7 @@ static int run(struct bridge *b)
 		if (check_asked)
 			check_mirror(b);
 		xcb_generic_event_t *ev = xcb_poll_for_queued_event(b->x);
+		uint64_t arrival = now_ns();
 		if (!ev) {
 			struct pollfd p[2] = { { xfd, POLLIN, 0 }, { vfd, POLLIN, 0 } };
 			if (vis_client_flush(b->vc) == 1)
@@ -235,6 +254,7 @@ static int run(struct bridge *b)
 				b->visd_failed = true;
 				break;
 			}
+			arrival = now_ns();
 			ev = xcb_poll_for_event(b->x);
 			if (!ev && xcb_connection_has_error(b->x)) {
 				b->x_failed = true;
@@ -246,7 +266,7 @@ static int run(struct bridge *b)
 				continue;
 			}
 		}
-		turn(b, ev);
+		turn(b, ev, arrival);
 	}
 	if (b->x_failed) {
 		bridge_log(b, 0, "the X server closed the connection");
@@ -335,6 +355,8 @@ int main(int argc, char **argv)
 	sigaction(SIGUSR1, &sa, NULL);
 	signal(SIGPIPE, SIG_IGN);
 
+	histogram_init(&turn_times);
+	histogram_init(&told_times);
 	int rc = 1;
 	if (setup_x(&b, display) < 0 || setup_visd(&b, socket) < 0)
 		goto out;
@@ -342,7 +364,7 @@ int main(int argc, char **argv)
 		bridge_log(&b, 0, "out of memory");
 		goto out;
 	}
-	double t0 = now_ms();
+	uint64_t t0 = now_ns();
 	xread_cm(&b);
 	if (xread_screen(&b) < 0 || visd_end_turn(&b) < 0) {
 		bridge_log(&b, 0, "%s while reading the tree",
@@ -352,7 +374,7 @@ int main(int argc, char **argv)
 	}
 	notify_flush(&b);
 	xcb_flush(b.x);
-	bridge_log(&b, 1, "mirrored %u windows in %.1f ms%s", b.n_windows, now_ms() - t0,
+	bridge_log(&b, 1, "mirrored %u windows in %.1f ms%s", b.n_windows, (double)(now_ns() - t0) / 1e6,
 		   b.cm_running ? "; a compositing manager runs" : "");
 	rc = run(&b);
 	if (stop_signal)
@@ -361,6 +383,8 @@ int main(int argc, char **argv)
 			  "events sent",
 		   (unsigned long long)b.events, (unsigned long long)b.turns,
 		   (unsigned long long)b.resyncs, (unsigned long long)b.synthetic_sent);
+	report_times(&b, "turns", &turn_times);
+	report_times(&b, "turns that sent synthetic events", &told_times);
 out:
 	mirror_finish(&b);
 	vis_client_destroy(b.vc);
