@@ -22,7 +22,7 @@ cleanup() {
 	exec 4>&- 2>/dev/null
 	for pid in $cpid $bpid $wpid $vpid $xpid; do kill "$pid" 2>/dev/null; done
 	for pid in $cpid $bpid $wpid $vpid $xpid; do wait "$pid" 2>/dev/null; done
-	rm -rf "$dir"
+	[ -n "${KEEP:-}" ] && echo "kept $dir" || rm -rf "$dir"
 }
 trap cleanup EXIT
 trap 'exit 1' INT TERM HUP PIPE
@@ -71,7 +71,7 @@ start_visd() {
 
 start_bridge() {
 	: >"$dir/bridge.log"
-	"$bridge" -s "$dir/sock" -v 2>"$dir/bridge.log" &
+	"$bridge" -s "$dir/sock" ${BRIDGE_VERBOSE:--v} 2>"$dir/bridge.log" &
 	bpid=$!
 	wait_for grep -q 'mirrored' "$dir/bridge.log" || fail "visd-x11 did not start" "$dir/bridge.log"
 }

@@ -8,6 +8,7 @@
  * Usage: x11-churn [--display D] [--windows N] [--rounds R] [--seed S] [--hold]
  */
 #include <getopt.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
