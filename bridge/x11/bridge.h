@@ -50,9 +50,17 @@ struct xwin {
 	struct vis_rect32 *opaque_region;
 	/* The opaque mode visd has for it (enum vis_opaque_mode), to send only changes. */
 	uint32_t opaque_mode;
-	/* Events about it generated before this X sequence number are older than what the bridge
-	 * read of it (a walk under a server grab); they are skipped. */
-	uint32_t snap;
+	/*
+	 * What the bridge read of it, as X sequence numbers (the grab of a read: see xread.c).
+	 * snap: its own place and geometry, read with its parent's children; events about it
+	 * generated before are older than what the mirror has and are skipped. csnap: its list of
+	 * children; an event that adds to the list before that is skipped too.
+	 */
+	uint32_t snap, csnap;
+	/* It left its parent, for a window whose children were read after it arrived there (so it
+	 * had gone on by then): its next event or read places it, within the turn. */
+	bool limbo;
+	bool reread_due; /* on the list of windows whose children are read again at the turn's end */
 	uint32_t seen;         /* the number of the last tree read that found it */
 	uint32_t reparent_seq; /* the sequence of the last ReparentNotify applied (each comes twice) */
 	/* Its state: visd's, X's last word (non-synthetic VisibilityNotify), what its clients were
@@ -62,6 +70,8 @@ struct xwin {
 	bool vis_dirty; /* on the dirty list: visd's or X's word changed this turn */
 	struct xwin *next_dirty;
 };
+
+struct xread;
 
 struct bridge {
 	xcb_connection_t *x;
@@ -87,9 +97,18 @@ struct bridge {
 	bool cm_running;      /* someone owns _NET_WM_CM_Sn */
 	bool translucent_now; /* the translucency rule applies (cm_running, or --translucency on) */
 
+	struct xread *prefetch; /* this turn's new windows, read at once (xread.c) */
+	xcb_generic_event_t **events_read; /* the events of a turn, and its new windows */
+	xcb_window_t *new_windows;
+	size_t cap_events;
 	bool batch_open;      /* a visd batch is open this turn */
 	uint32_t visd_sent;   /* visd requests since the last round trip */
 	bool resync_needed;   /* the mirror drifted: read the whole tree again */
+	uint32_t n_limbo;     /* windows with limbo set */
+	/* Windows whose children's order an old event could not settle (see events.c): read again
+	 * at the end of the turn. */
+	xcb_window_t *reread;
+	size_t n_reread, cap_reread;
 	const char *resync_reason;
 	bool sync_asked;      /* _VISD_X11_SYNC changed this turn */
 	struct xwin *dirty;   /* windows whose state words changed this turn */
@@ -132,16 +151,33 @@ void visd_begin(struct bridge *b);
 int visd_ensure(struct bridge *b, struct xwin *w);
 int visd_end_turn(struct bridge *b);
 void mirror_mark_dirty(struct bridge *b, struct xwin *w);
+void mirror_set_limbo(struct bridge *b, struct xwin *w, bool limbo);
 
 /* xread.c: reading windows from X. */
 /* Reads the whole screen under a grab into the mirror (start-up and resynchronization). */
 int xread_screen(struct bridge *b);
-/* Reads the subtree of a window just created (w itself is known from its CreateNotify). */
-int xread_subtree(struct bridge *b, struct xwin *w);
+/*
+ * Reads the subtree of a window just learnt of and sends it to visd: w itself is placed by its
+ * parent's events, and with_geometry takes its geometry and map state from the read as well.
+ * A window the turn's prefetch read is taken from it.
+ */
+int xread_subtree(struct bridge *b, struct xwin *w, bool with_geometry);
+/*
+ * Reads the subtrees of the turn's new windows under one grab before the turn's events are
+ * applied (one round of requests a level instead of one grab a window); the read is as good as
+ * one made when each CreateNotify is applied, since it comes after every event of the turn.
+ */
+void xread_prefetch(struct bridge *b, const xcb_window_t *tops, uint32_t k);
+void xread_prefetch_done(struct bridge *b);
 /* Re-reads one window's bounding shape, and its translucency properties. */
 void xread_shape(struct bridge *b, struct xwin *w);
 void xread_property(struct bridge *b, struct xwin *w, xcb_atom_t atom);
 void xread_cm(struct bridge *b);
+/* Asks for w's children to be read again at the end of the turn. */
+void xread_later(struct bridge *b, struct xwin *w);
+/* At the end of a turn: finds where the windows in limbo went (asking X), then reads again the
+ * children of every window xread_later() named. */
+void xread_pending(struct bridge *b);
 
 /* events.c: X's events. */
 void events_handle(struct bridge *b, xcb_generic_event_t *ev);

@@ -190,20 +190,51 @@ static void answer_sync(struct bridge *b)
 	b->sync_asked = false;
 }
 
+
 /* One turn: ev and every event already read, one visd batch, the answers. */
 static void turn(struct bridge *b, xcb_generic_event_t *ev, uint64_t arrival)
 {
 	uint64_t told_before = b->synthetic_sent;
 	b->turns++;
 	while (ev) {
-		events_handle(b, ev);
-		free(ev);
+		/* Everything read so far, then the new windows' subtrees at once, then in order. */
+		size_t n = 0, n_new = 0;
+		for (; ev; ev = xcb_poll_for_event(b->x)) {
+			if (n == b->cap_events) {
+				size_t cap = b->cap_events ? 2 * b->cap_events : 256;
+				xcb_generic_event_t **e = realloc(b->events_read, cap * sizeof(*e));
+				xcb_window_t *w = realloc(b->new_windows, cap * sizeof(*w));
+				if (e)
+					b->events_read = e;
+				if (w)
+					b->new_windows = w;
+				if (!e || !w) {
+					bridge_log(b, 0, "out of memory");
+					free(ev);
+					b->x_failed = true;
+					return;
+				}
+				b->cap_events = cap;
+			}
+			b->events_read[n++] = ev;
+			if (ev->response_type == XCB_CREATE_NOTIFY)
+				b->new_windows[n_new++] = ((xcb_create_notify_event_t *)ev)->window;
+		}
+		if (n_new)
+			xread_prefetch(b, b->new_windows, (uint32_t)n_new);
+		for (size_t i = 0; i < n; i++) {
+			events_handle(b, b->events_read[i]);
+			free(b->events_read[i]);
+		}
+		xread_prefetch_done(b);
 		ev = xcb_poll_for_event(b->x);
 	}
 	if (xcb_connection_has_error(b->x)) {
 		b->x_failed = true;
 		return;
 	}
+	if (b->n_limbo || b->n_reread)
+		xread_pending(b);
 	if (b->resync_needed) {
 		bridge_log(b, 0, "resynchronizing from a fresh read of the tree: %s",
 			   b->resync_reason);
@@ -387,6 +418,8 @@ int main(int argc, char **argv)
 	report_times(&b, "turns that sent synthetic events", &told_times);
 out:
 	mirror_finish(&b);
+	free(b.events_read);
+	free(b.new_windows);
 	vis_client_destroy(b.vc);
 	if (b.x)
 		xcb_disconnect(b.x);

@@ -128,8 +128,21 @@ int mirror_init(struct bridge *b)
 	return vis_idmap_put(&b->by_xid, b->root->id, b->root);
 }
 
+void mirror_set_limbo(struct bridge *b, struct xwin *w, bool limbo)
+{
+	if (w->limbo == limbo)
+		return;
+	w->limbo = limbo;
+	if (limbo)
+		b->n_limbo++;
+	else
+		b->n_limbo--;
+}
+
 static void free_window(struct bridge *b, struct xwin *w)
 {
+	bridge_log(b, 3, "forgetting 0x%x (in 0x%x)", w->id, w->parent ? w->parent->id : 0);
+	mirror_set_limbo(b, w, false);
 	while (w->top)
 		free_window(b, w->top);
 	unlink_sibling(w);
@@ -151,6 +164,8 @@ static void free_window(struct bridge *b, struct xwin *w)
 
 void mirror_finish(struct bridge *b)
 {
+	free(b->reread);
+	b->reread = NULL;
 	if (!b->root)
 		return;
 	while (b->root->top)
@@ -210,8 +225,31 @@ void mirror_create_in_visd(struct bridge *b, struct xwin *w)
 	refresh_one(b, w, false);
 }
 
+/*
+ * A window in limbo below w left it already (its move is still to be learnt): it outlives w, in
+ * limbo at the top of the screen until the end of the turn places it. visd moves it too, before
+ * w's destruction would take it.
+ */
+static void rescue_limbo(struct bridge *b, struct xwin *w)
+{
+	for (struct xwin *c = w->bottom, *next; c; c = next) {
+		next = c->above;
+		if (!c->limbo) {
+			rescue_limbo(b, c);
+			continue;
+		}
+		unlink_sibling(c);
+		link_above(b->root, c, b->root->top);
+		if (visd_ensure(b, c) == 0) {
+			visd_begin(b);
+			vis_client_reparent(b->vc, c->vid, VIS_WINDOW_ROOT, c->x, c->y);
+		}
+	}
+}
+
 void mirror_remove(struct bridge *b, struct xwin *w)
 {
+	rescue_limbo(b, w);
 	if (w->pending)
 		visd_ensure(b, w);
 	if (w->vid) {
@@ -272,6 +310,8 @@ void mirror_place(struct bridge *b, struct xwin *w, struct xwin *sibling)
 
 void mirror_reparent(struct bridge *b, struct xwin *w, struct xwin *parent, int32_t x, int32_t y)
 {
+	bridge_log(b, 3, "0x%x: from 0x%x to 0x%x", w->id, w->parent->id, parent->id);
+	mirror_set_limbo(b, w, false);
 	unlink_sibling(w);
 	link_above(parent, w, parent->top);
 	w->x = x;

@@ -3,7 +3,8 @@
  * request of a level in flight at once: no other client runs meanwhile, so what is read is one
  * moment of the tree, and the bridge's selections are in place before anything can change again.
  * Events generated before the grab describe an older tree than the read: the windows read get
- * the grab's sequence number (xwin.snap), and events about them older than it are skipped.
+ * the grab's sequence number (xwin.snap and csnap), and events older than it about them, or
+ * adding to their children, are skipped (events.c).
  */
 #include <stdlib.h>
 #include <string.h>
@@ -196,16 +197,28 @@ static int read_level(struct bridge *b, struct snode **nodes, uint32_t *n, uint3
 }
 
 /* Gives the mirror's w what was read of it (its own placement aside). */
-static void take_look(struct bridge *b, struct xwin *w, struct snode *s)
+/* A copy of rects[0 … n) (NULL for none, or when memory ran out: *n is then 0). */
+static struct vis_rect32 *copy_rects(const struct vis_rect32 *rects, uint32_t *n)
+{
+	struct vis_rect32 *c = *n ? malloc(*n * sizeof(*c)) : NULL;
+	if (c)
+		memcpy(c, rects, *n * sizeof(*c));
+	else
+		*n = 0;
+	return c;
+}
+
+/* Gives the mirror's w what was read of it (its own placement aside); s stays as read, since a
+ * window can be read into more than one subtree of a read. */
+static void take_look(struct bridge *b, struct xwin *w, const struct snode *s)
 {
 	w->input_only = s->input_only;
 	w->argb = s->argb;
 	w->override_redirect = s->override_redirect;
-	mirror_set_shape(b, w, s->shaped, s->shape, s->n_shape);
-	s->shape = NULL;
+	uint32_t n_shape = s->n_shape, n_region = s->n_region;
+	mirror_set_shape(b, w, s->shaped, copy_rects(s->shape, &n_shape), n_shape);
 	mirror_set_opacity(b, w, s->opacity);
-	mirror_set_opaque_region(b, w, s->has_region, s->region, s->n_region);
-	s->region = NULL;
+	mirror_set_opaque_region(b, w, s->has_region, copy_rects(s->region, &n_region), n_region);
 }
 
 /* Removes the windows under w that the read did not find (their subtrees with them). */
@@ -220,29 +233,75 @@ static void sweep_unseen(struct bridge *b, struct xwin *w)
 	}
 }
 
-/* Makes the mirror's subtree of top what was read, and visd's with it. */
-static void apply(struct bridge *b, struct xwin *top, struct snode *nodes, uint32_t n,
-		  uint32_t snap)
+/* One read under one grab: the subtrees of its tops, nodes[0 … n_tops), level by level. */
+struct xread {
+	struct snode *nodes;
+	uint32_t n, cap, n_tops;
+	uint32_t snap;          /* the grab's sequence number */
+	struct vis_idmap tops;  /* a top's XID → its index + 1 */
+};
+
+static void xread_free(struct xread *r)
 {
-	b->read_number++;
-	top->seen = b->read_number;
-	if (top != b->root) {
-		/* A window just created: its look and class, then itself in visd, before its
-		 * children. */
-		if (nodes[0].ok)
-			take_look(b, top, &nodes[0]);
-		if (!top->vid && !top->pending) {
-			if (top->input_only)
-				top->border = 0;
-			mirror_create_in_visd(b, top);
-		}
+	if (!r)
+		return;
+	for (uint32_t i = 0; i < r->n; i++) {
+		free(r->nodes[i].shape);
+		free(r->nodes[i].region);
 	}
-	/* Parents come before children: creations, reparentings, geometry, map state. */
-	for (uint32_t i = 1; i < n; i++) {
-		struct snode *s = &nodes[i];
+	free(r->nodes);
+	vis_idmap_finish(&r->tops);
+	free(r);
+}
+
+/* Reads the subtrees of tops[0 … k) under one grab; NULL when X or memory failed. */
+static struct xread *read_tops(struct bridge *b, const xcb_window_t *tops, uint32_t k)
+{
+	struct xread *r = calloc(1, sizeof(*r));
+	if (!r)
+		return NULL;
+	vis_idmap_init(&r->tops);
+	r->cap = k < 32 ? 64 : 2 * k;
+	r->nodes = calloc(r->cap, sizeof(*r->nodes));
+	if (!r->nodes) {
+		xread_free(r);
+		return NULL;
+	}
+	for (uint32_t i = 0; i < k; i++) {
+		if (vis_idmap_get(&r->tops, tops[i]))
+			continue;
+		r->nodes[r->n] = (struct snode){ .id = tops[i], .parent = UINT32_MAX };
+		if (vis_idmap_put(&r->tops, tops[i], (void *)(uintptr_t)(r->n + 1)) < 0) {
+			xread_free(r);
+			return NULL;
+		}
+		r->n++;
+	}
+	r->n_tops = r->n;
+	xcb_void_cookie_t grab = xcb_grab_server(b->x);
+	r->snap = grab.sequence;
+	bridge_log(b, 3, "reading %u windows' subtrees under grab %u", r->n_tops, r->snap);
+	int rc = 0;
+	for (uint32_t lo = 0, hi = r->n; lo < hi && rc == 0; lo = hi, hi = r->n)
+		rc = read_level(b, &r->nodes, &r->n, &r->cap, lo, hi);
+	xcb_ungrab_server(b->x);
+	xcb_flush(b->x);
+	if (rc < 0 || xcb_connection_has_error(b->x)) {
+		xread_free(r);
+		return NULL;
+	}
+	return r;
+}
+
+/* Creates or updates, in the mirror and in visd, the windows below node i, parents first. */
+static void apply_below(struct bridge *b, struct xread *r, uint32_t i)
+{
+	struct snode *ps = &r->nodes[i];
+	struct xwin *p = mirror_find(b, ps->id);
+	for (uint32_t j = 0; p && ps->ok && j < ps->n_children; j++) {
+		struct snode *s = &r->nodes[ps->first_child + j];
 		if (!s->ok)
 			continue;
-		struct xwin *p = mirror_find(b, nodes[s->parent].id);
 		struct xwin *w = mirror_find(b, s->id);
 		if (!w) {
 			w = mirror_add(b, p, s->id);
@@ -262,13 +321,11 @@ static void apply(struct bridge *b, struct xwin *top, struct snode *nodes, uint3
 			w->override_redirect = s->override_redirect;
 			w->opacity = s->opacity;
 			w->has_opaque_region = s->has_region;
-			w->opaque_region = s->region;
 			w->n_opaque_region = s->n_region;
-			s->region = NULL;
+			w->opaque_region = copy_rects(s->region, &w->n_opaque_region);
 			w->shaped = s->shaped;
-			w->shape = s->shape;
 			w->n_shape = s->shaped ? s->n_shape : 0;
-			s->shape = NULL;
+			w->shape = copy_rects(s->shape, &w->n_shape);
 			mirror_create_in_visd(b, w);
 		} else {
 			if (w->parent != p)
@@ -277,67 +334,106 @@ static void apply(struct bridge *b, struct xwin *top, struct snode *nodes, uint3
 			mirror_set_mapped(b, w, s->mapped);
 			take_look(b, w, s);
 		}
-		w->snap = snap;
+		w->snap = w->csnap = r->snap;
 		w->seen = b->read_number;
+		mirror_set_limbo(b, w, false);
+		apply_below(b, r, ps->first_child + j);
 	}
-	/* The children's order, bottom to top. */
-	for (uint32_t i = 0; i < n; i++) {
-		struct snode *s = &nodes[i];
-		struct xwin *prev = NULL;
-		for (uint32_t j = 0; s->ok && j < s->n_children; j++) {
-			struct snode *c = &nodes[s->first_child + j];
-			struct xwin *cw = c->ok ? mirror_find(b, c->id) : NULL;
-			if (!cw)
-				continue;
-			mirror_place(b, cw, prev);
-			prev = cw;
+}
+
+/* Puts the children of node i and of its descendants in the order read, bottom to top. */
+static void order_below(struct bridge *b, struct xread *r, uint32_t i)
+{
+	struct snode *s = &r->nodes[i];
+	struct xwin *prev = NULL;
+	for (uint32_t j = 0; s->ok && j < s->n_children; j++) {
+		struct snode *c = &r->nodes[s->first_child + j];
+		struct xwin *cw = c->ok ? mirror_find(b, c->id) : NULL;
+		if (!cw)
+			continue;
+		mirror_place(b, cw, prev);
+		prev = cw;
+		order_below(b, r, s->first_child + j);
+	}
+}
+
+/*
+ * Makes the mirror's subtree of top (node ti of the read) what was read, and visd's with it;
+ * with_geometry: top's geometry and map state too (otherwise they come from its parent's events).
+ */
+static void apply(struct bridge *b, struct xwin *top, struct xread *r, uint32_t ti,
+		  bool with_geometry)
+{
+	struct snode *t = &r->nodes[ti];
+	b->read_number++;
+	top->seen = b->read_number;
+	top->csnap = r->snap;
+	if (top != b->root) {
+		/* A window just learnt of: its look and class, then itself in visd, before its
+		 * children. */
+		if (t->ok) {
+			take_look(b, top, t);
+			if (with_geometry) {
+				top->x = t->x;
+				top->y = t->y;
+				top->width = t->width;
+				top->height = t->height;
+				top->border = t->border;
+				top->mapped = t->mapped;
+			}
+		}
+		if (!top->vid && !top->pending) {
+			if (top->input_only)
+				top->border = 0;
+			mirror_create_in_visd(b, top);
 		}
 	}
+	apply_below(b, r, ti);
+	order_below(b, r, ti);
 	sweep_unseen(b, top);
 	mirror_refresh_opaque(b, top);
 }
 
 /* Reads top's subtree under a grab and applies it; 0, or -1 when X failed. */
-static int read_subtree(struct bridge *b, struct xwin *top)
+static int read_subtree(struct bridge *b, struct xwin *top, bool with_geometry)
 {
-	uint32_t n = 1, cap = 64;
-	struct snode *nodes = calloc(cap, sizeof(*nodes));
-	if (!nodes)
+	struct xread *r = read_tops(b, &top->id, 1);
+	if (!r)
 		return -1;
-	nodes[0] = (struct snode){ .id = top->id, .parent = UINT32_MAX };
-	xcb_void_cookie_t grab = xcb_grab_server(b->x);
-	int rc = 0;
-	for (uint32_t lo = 0, hi = 1; lo < hi; lo = hi, hi = n) {
-		if (read_level(b, &nodes, &n, &cap, lo, hi) < 0) {
-			rc = -1;
-			break;
-		}
-	}
-	xcb_ungrab_server(b->x);
-	xcb_flush(b->x);
-	if (xcb_connection_has_error(b->x))
-		rc = -1;
-	if (rc == 0) {
-		apply(b, top, nodes, n, grab.sequence);
-		if (top == b->root)
-			b->screen_snap = grab.sequence;
-	}
-	for (uint32_t i = 0; i < n; i++) {
-		free(nodes[i].shape);
-		free(nodes[i].region);
-	}
-	free(nodes);
-	return rc;
+	apply(b, top, r, 0, with_geometry);
+	if (top == b->root)
+		b->screen_snap = r->snap;
+	xread_free(r);
+	return 0;
 }
 
 int xread_screen(struct bridge *b)
 {
-	return read_subtree(b, b->root);
+	return read_subtree(b, b->root, false);
 }
 
-int xread_subtree(struct bridge *b, struct xwin *w)
+void xread_prefetch(struct bridge *b, const xcb_window_t *tops, uint32_t k)
 {
-	return read_subtree(b, w);
+	xread_free(b->prefetch);
+	b->prefetch = k ? read_tops(b, tops, k) : NULL;
+}
+
+void xread_prefetch_done(struct bridge *b)
+{
+	xread_free(b->prefetch);
+	b->prefetch = NULL;
+}
+
+int xread_subtree(struct bridge *b, struct xwin *w, bool with_geometry)
+{
+	uintptr_t i = b->prefetch ? (uintptr_t)vis_idmap_get(&b->prefetch->tops, w->id) : 0;
+	if (i) {
+		/* Once: a later event naming the window again is newer than this read. */
+		vis_idmap_remove(&b->prefetch->tops, w->id);
+		apply(b, w, b->prefetch, (uint32_t)(i - 1), with_geometry);
+		return 0;
+	}
+	return read_subtree(b, w, with_geometry);
 }
 
 void xread_shape(struct bridge *b, struct xwin *w)
@@ -397,5 +493,84 @@ void xread_cm(struct bridge *b)
 	if (now != b->translucent_now) {
 		b->translucent_now = now;
 		mirror_refresh_opaque(b, b->root);
+	}
+}
+
+void xread_later(struct bridge *b, struct xwin *w)
+{
+	if (w->reread_due)
+		return;
+	if (b->n_reread == b->cap_reread) {
+		size_t cap = b->cap_reread ? 2 * b->cap_reread : 16;
+		xcb_window_t *r = realloc(b->reread, cap * sizeof(*r));
+		if (!r) {
+			b->resync_needed = true;
+			b->resync_reason = "out of memory";
+			return;
+		}
+		b->reread = r;
+		b->cap_reread = cap;
+	}
+	w->reread_due = true;
+	b->reread[b->n_reread++] = w->id;
+}
+
+/*
+ * A window still in limbo at the end of a turn moved through windows the bridge did not watch
+ * then (each event that would say so went to nobody): X says where it is now, and its parent's
+ * children are read again, which places it; one that is gone is dropped. Events of the reads'
+ * time are still to come, and the reads' sequence numbers sort them out as for any read.
+ */
+static void find_limbo(struct bridge *b)
+{
+	for (size_t i = 0; i < b->by_xid.cap && b->n_limbo; i++) {
+		struct xwin *w = b->by_xid.keys[i] ? b->by_xid.values[i] : NULL;
+		if (!w || !w->limbo)
+			continue;
+		xcb_query_tree_reply_t *t =
+			xcb_query_tree_reply(b->x, xcb_query_tree(b->x, w->id), NULL);
+		struct xwin *p = t ? mirror_find(b, t->parent) : NULL;
+		free(t);
+		if (!t) {
+			bridge_log(b, 2, "0x%x: gone while out of sight", w->id);
+			mirror_remove(b, w);
+			i = (size_t)-1; /* the map changed: from the start again */
+		} else if (p) {
+			bridge_log(b, 2, "0x%x: found in 0x%x", w->id, p->id);
+			xread_later(b, p);
+		}
+	}
+}
+
+void xread_pending(struct bridge *b)
+{
+	if (b->n_limbo)
+		find_limbo(b);
+	bool screen = false;
+	for (size_t i = 0; i < b->n_reread; i++) {
+		struct xwin *w = mirror_find(b, b->reread[i]);
+		if (w)
+			w->reread_due = false;
+		screen |= w == b->root;
+	}
+	if (screen) {
+		/* The root's children are the whole screen: it makes every other read moot. */
+		bridge_log(b, 2, "reading the whole screen again");
+		xread_screen(b);
+	} else {
+		for (size_t i = 0; i < b->n_reread; i++) {
+			struct xwin *w = mirror_find(b, b->reread[i]);
+			if (!w)
+				continue;
+			bridge_log(b, 2, "reading the children of 0x%x again", w->id);
+			if (read_subtree(b, w, false) < 0)
+				break;
+		}
+	}
+	b->n_reread = 0;
+	if (b->n_limbo && !b->resync_needed) {
+		/* Not where X said a moment ago: it moves faster than the bridge reads. */
+		b->resync_needed = true;
+		b->resync_reason = "a window moved out of sight and could not be found";
 	}
 }
