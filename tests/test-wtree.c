@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "oracle.h"
 #include "rng.h"
 #include "stack.h"
 #include "wtree.h"
@@ -22,82 +23,7 @@ static struct vis_wtree tree;
 static struct vis_window *wins[CAP];
 static int nwins;
 
-/*
- * The oracle: X's model applied to one pixel at a time, straight from the windows' fields.
- * A window's border box starts at its parent's inside's corner + (x, y); the inside starts border
- * pixels further in; shape and opaque rectangles are relative to the inside's corner.
- */
-static void corner(const struct vis_window *w, int64_t *bx, int64_t *by)
-{
-	*bx = w->x;
-	*by = w->y;
-	for (const struct vis_window *a = w->parent; a->parent; a = a->parent) {
-		*bx += (int64_t)a->x + a->look.border;
-		*by += (int64_t)a->y + a->look.border;
-	}
-}
-
-static int in_rects(const struct vis_rect *r, uint32_t n, int64_t x, int64_t y)
-{
-	for (uint32_t k = 0; k < n; k++)
-		if (x >= r[k].x && y >= r[k].y && x < (int64_t)r[k].x + r[k].w &&
-		    y < (int64_t)r[k].y + r[k].h)
-			return 1;
-	return 0;
-}
-
-/* Whether pixel (px, py) of the screen is one of w's own (its shape in its border box). */
-static int pixel_of(const struct vis_window *w, int64_t px, int64_t py)
-{
-	const struct vis_look *l = &w->look;
-	int64_t bx, by, b = l->border;
-	if (l->input_only)
-		return 0;
-	corner(w, &bx, &by);
-	if (px < bx || py < by || px >= bx + w->width + 2 * b || py >= by + w->height + 2 * b)
-		return 0;
-	return !l->shaped || in_rects(l->shape, l->n_shape, px - bx - b, py - by - b);
-}
-
-/* Whether pixel (px, py) is an opaque pixel of w's own. */
-static int opaque_of(const struct vis_window *w, int64_t px, int64_t py)
-{
-	const struct vis_look *l = &w->look;
-	if (!pixel_of(w, px, py) || l->opaque == VIS_OPAQUE_NONE)
-		return 0;
-	if (l->opaque == VIS_OPAQUE_ALL)
-		return 1;
-	int64_t bx, by;
-	corner(w, &bx, &by);
-	return in_rects(l->opaque_rects, l->n_opaque, px - bx - l->border, py - by - l->border);
-}
-
-/* Whether pixel (px, py) of the screen is inside the screen and every ancestor's inside (and
- * shape). */
-static int inside_chain(const struct vis_window *w, int64_t px, int64_t py)
-{
-	if (px < 0 || py < 0 || px >= SW || py >= SH)
-		return 0;
-	for (const struct vis_window *a = w->parent; a->parent; a = a->parent) {
-		int64_t ax, ay, b = a->look.border;
-		corner(a, &ax, &ay);
-		if (px < ax + b || py < ay + b || px >= ax + b + a->width ||
-		    py >= ay + b + a->height)
-			return 0;
-		/* A shaped ancestor clips its descendants to its shape, as X does. */
-		if (a->look.shaped && !in_rects(a->look.shape, a->look.n_shape, px - ax - b, py - ay - b))
-			return 0;
-	}
-	return 1;
-}
-
-static int viewable(const struct vis_window *w)
-{
-	for (; w->parent; w = w->parent)
-		if (!w->mapped)
-			return 0;
-	return 1;
-}
+/* The oracle: X's model applied to one pixel at a time (oracle.h). */
 
 /* Whether W obscures Q by X's rule: W lies in the subtree of a later sibling of Q or of an
  * ancestor of Q. With own, descendants of Q count too (for Q's own visible pixels). */
@@ -118,12 +44,12 @@ static int obscures(const struct vis_window *w, const struct vis_window *q, int 
  */
 static int shows(const struct vis_window *q, int64_t px, int64_t py, int own)
 {
-	if (!pixel_of(q, px, py) || !inside_chain(q, px, py))
+	if (!oracle_pixel_of(q, px, py) || !oracle_inside_chain(q, px, py))
 		return 0;
 	for (int i = 0; i < nwins; i++) {
 		const struct vis_window *w = wins[i];
-		if (w && viewable(w) && obscures(w, q, own) && opaque_of(w, px, py) &&
-		    inside_chain(w, px, py))
+		if (w && oracle_viewable(w) && obscures(w, q, own) && oracle_opaque_of(w, px, py) &&
+		    oracle_inside_chain(w, px, py))
 			return 0;
 	}
 	return 1;
@@ -136,19 +62,19 @@ static void check(uint64_t seed)
 		struct vis_window *q = wins[i];
 		if (!q)
 			continue;
-		if (!viewable(q)) {
+		if (!oracle_viewable(q)) {
 			assert(q->state == VIS_WTREE_STATE_NONE);
 			continue;
 		}
 		int64_t ax, ay, b2 = 2 * (int64_t)q->look.border;
-		corner(q, &ax, &ay);
+		oracle_corner(q, &ax, &ay);
 		long seen = 0, all = 0, own_all = 0;
 		pixman_region32_t reg;
 		pixman_region32_init(&reg);
 		assert(vis_wtree_visible_region(&tree, q, &reg) == 0);
 		for (int64_t y = ay; y < ay + q->height + b2; y++)
 			for (int64_t x = ax; x < ax + q->width + b2; x++) {
-				all += pixel_of(q, x, y);
+				all += oracle_pixel_of(q, x, y);
 				seen += shows(q, x, y, 0);
 				int own = shows(q, x, y, 1);
 				own_all += own;
@@ -181,6 +107,18 @@ static void check(uint64_t seed)
 			exit(1);
 		}
 	}
+	/* The painter (x11-desk's brute force) agrees, window by window in pre-order. */
+	uint8_t painted[CAP];
+	long np = oracle_paint(&tree, painted);
+	assert(np >= 0 && np <= CAP);
+	long kp = 0;
+	for (const struct vis_window *w = tree.root.bottom; w; w = vis_wtree_next(w), kp++)
+		if (painted[kp] != w->state) {
+			fprintf(stderr, "seed %llu: window %u state %d, the painter says %d\n",
+				(unsigned long long)seed, w->id, w->state, painted[kp]);
+			exit(1);
+		}
+	assert(kp == np);
 	/* Repaint of the whole screen: the windows showing own pixels. */
 	struct vis_window *out[CAP];
 	long n = vis_wtree_repaint(&tree, (struct vis_box){ 2, 1, SW - 3, SH - 2 }, out);
