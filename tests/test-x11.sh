@@ -8,7 +8,7 @@ build=${1:?usage: test-x11.sh BUILD-DIR}
 bridge=$build/bridge/x11/visd-x11
 x11_desk=$build/tests/x11-desk
 visd=$build/daemon/visd
-visctl=$build/client/visctl/visctl
+visctl=${VISCTL:-$build/client/visctl/visctl} # VISCTL: another program of visctl's interface
 width=640
 height=480
 

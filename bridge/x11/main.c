@@ -244,9 +244,10 @@ static void turn(struct bridge *b, xcb_generic_event_t *ev, uint64_t arrival)
 	}
 	if (visd_end_turn(b) < 0)
 		return;
+	/* The synthetic events first: a client that sees the answer has them already. */
+	notify_flush(b);
 	if (b->sync_asked)
 		answer_sync(b);
-	notify_flush(b);
 	xcb_flush(b->x);
 	uint64_t took = now_ns() - arrival;
 	histogram_record(&turn_times, took);
