@@ -101,6 +101,7 @@ struct bridge {
 	xcb_generic_event_t **events_read; /* the events of a turn, and its new windows */
 	xcb_window_t *new_windows;
 	size_t cap_events;
+	bool grabbed;         /* the server is grabbed around more than one read (check_mirror) */
 	bool batch_open;      /* a visd batch is open this turn */
 	uint32_t visd_sent;   /* visd requests since the last round trip */
 	bool resync_needed;   /* the mirror drifted: read the whole tree again */

@@ -34,13 +34,40 @@ static void on_signal(int sig)
 
 /*
  * SIGUSR1: reads the whole tree again and applies it. The mirror was exact when that changes
- * nothing, since every mirror function sends visd only differences.
+ * nothing, since every mirror function sends visd only differences. Under one server grab, every
+ * event X generated before it is applied first, then the tree is read: nothing can change in
+ * between, so a correction is a drift, never an event still on its way (a desktop need not be
+ * quiet to be checked).
  */
 static void check_mirror(struct bridge *b)
 {
 	check_asked = 0;
-	uint64_t before = b->requests;
-	if (xread_screen(b) < 0 || visd_end_turn(b) < 0)
+	xcb_grab_server(b->x);
+	b->grabbed = true;
+	free(xcb_get_input_focus_reply(b->x, xcb_get_input_focus(b->x), NULL));
+	xcb_generic_event_t *ev;
+	while ((ev = xcb_poll_for_queued_event(b->x)) != NULL) {
+		events_handle(b, ev);
+		free(ev);
+	}
+	if (b->n_limbo || b->n_reread)
+		xread_pending(b);
+	if (b->resync_needed) {
+		bridge_log(b, 0, "resynchronizing from a fresh read of the tree: %s",
+			   b->resync_reason);
+		b->resync_needed = false;
+		b->resyncs++;
+	}
+	uint64_t before = 0;
+	int rc = visd_end_turn(b);
+	if (rc == 0) {
+		before = b->requests;
+		rc = xread_screen(b);
+	}
+	b->grabbed = false;
+	xcb_ungrab_server(b->x);
+	xcb_flush(b->x);
+	if (rc < 0 || visd_end_turn(b) < 0)
 		return;
 	if (b->requests == before)
 		bridge_log(b, 0, "checked: the mirror of %u windows equals X's tree", b->n_windows);

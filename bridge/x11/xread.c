@@ -284,7 +284,8 @@ static struct xread *read_tops(struct bridge *b, const xcb_window_t *tops, uint3
 	int rc = 0;
 	for (uint32_t lo = 0, hi = r->n; lo < hi && rc == 0; lo = hi, hi = r->n)
 		rc = read_level(b, &r->nodes, &r->n, &r->cap, lo, hi);
-	xcb_ungrab_server(b->x);
+	if (!b->grabbed) /* an outer grab (SIGUSR1's check) ends where it began */
+		xcb_ungrab_server(b->x);
 	xcb_flush(b->x);
 	if (rc < 0 || xcb_connection_has_error(b->x)) {
 		xread_free(r);
