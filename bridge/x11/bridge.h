@@ -26,8 +26,10 @@
 enum send_events { SEND_AUTO, SEND_ALWAYS, SEND_NEVER };
 enum translucency { TRANSLUCENCY_AUTO, TRANSLUCENCY_ON, TRANSLUCENCY_OFF };
 
-/* What clients were last told of a window's state: one of enum vis_visibility, or this. */
-#define TOLD_NOTHING 0xffu
+/* What clients were last told of a window's state: one of enum vis_visibility, or these. */
+#define TOLD_NOTHING 0xffu /* nothing since it became viewable: X speaks first */
+/* Something the bridge never heard: X's word went out before the bridge selected its events. */
+#define TOLD_UNKNOWN 0xfeu
 
 struct xwin {
 	xcb_window_t id;
@@ -66,6 +68,11 @@ struct xwin {
 	/* Its state: visd's, X's last word (non-synthetic VisibilityNotify), what its clients were
 	 * last told (X's word or the bridge's synthetic event, whichever came last). */
 	uint8_t vstate, xstate, told;
+	/* The X sequence number of the bridge's last synthetic event about it: X's own events
+	 * numbered below it were generated before the server sent ours, so every client got them
+	 * first, whenever the bridge reads them. */
+	uint32_t told_seq;
+	bool told_synthetic; /* told_seq is set */
 	bool vchanged;  /* visd's state changed this turn */
 	bool vis_dirty; /* on the dirty list: visd's or X's word changed this turn */
 	struct xwin *next_dirty;
@@ -84,6 +91,12 @@ struct bridge {
 
 	struct xwin *root;
 	struct vis_idmap by_xid, by_vid;
+	/* visd's states of windows whose creation visd has not answered yet (its notice can come
+	 * first), by visd ID: state + 1, until created_cb() hands them to notify_created(). visd
+	 * never reuses an ID, so a notice of an ID above max_vid is about such a window, and one
+	 * of another unknown ID about a window already removed. */
+	struct vis_idmap early_states;
+	uint32_t max_vid;
 	uint32_t n_windows;
 	uint32_t read_number; /* tree reads so far (xwin.seen) */
 	uint32_t screen_snap; /* events older than the last whole-screen read are stale */
@@ -186,5 +199,7 @@ void events_handle(struct bridge *b, xcb_generic_event_t *ev);
 /* notify.c: synthetic VisibilityNotify for unmodified X clients. */
 void notify_flush(struct bridge *b);
 void notify_on_visd(void *data, const struct vis_notice *n);
+/* A window visd just answered the creation of: the state its notice gave before, if any. */
+void notify_created(struct bridge *b, struct xwin *w);
 
 #endif

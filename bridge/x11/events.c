@@ -204,13 +204,15 @@ static void on_property(struct bridge *b, xcb_property_notify_event_t *ev, uint3
 		xread_property(b, w, ev->atom);
 }
 
-static void on_visibility(struct bridge *b, xcb_visibility_notify_event_t *ev)
+static void on_visibility(struct bridge *b, xcb_visibility_notify_event_t *ev, uint32_t seq)
 {
 	struct xwin *w = mirror_find(b, ev->window);
 	if (!w || w == b->root || ev->state > VIS_VISIBILITY_FULLY_OBSCURED)
 		return;
 	w->xstate = ev->state;
-	w->told = ev->state;
+	/* Generated before the server sent the bridge's last event: clients got that one after. */
+	if (!w->told_synthetic || (int32_t)(seq - w->told_seq) >= 0)
+		w->told = ev->state;
 	mirror_mark_dirty(b, w);
 }
 
@@ -294,7 +296,7 @@ void events_handle(struct bridge *b, xcb_generic_event_t *ev)
 		on_property(b, (xcb_property_notify_event_t *)ev, seq);
 		break;
 	case XCB_VISIBILITY_NOTIFY:
-		on_visibility(b, (xcb_visibility_notify_event_t *)ev);
+		on_visibility(b, (xcb_visibility_notify_event_t *)ev, seq);
 		break;
 	default:
 		break;

@@ -119,6 +119,7 @@ int mirror_init(struct bridge *b)
 	the_bridge = b;
 	vis_idmap_init(&b->by_xid);
 	vis_idmap_init(&b->by_vid);
+	vis_idmap_init(&b->early_states);
 	b->root = calloc(1, sizeof(*b->root));
 	if (!b->root)
 		return -1;
@@ -174,6 +175,7 @@ void mirror_finish(struct bridge *b)
 	b->root = NULL;
 	vis_idmap_finish(&b->by_xid);
 	vis_idmap_finish(&b->by_vid);
+	vis_idmap_finish(&b->early_states);
 }
 
 struct xwin *mirror_add(struct bridge *b, struct xwin *parent, xcb_window_t id)
@@ -203,8 +205,12 @@ static void created_cb(void *data, const struct vis_error *err, uint32_t window)
 		return;
 	}
 	w->vid = window;
+	if (window > the_bridge->max_vid)
+		the_bridge->max_vid = window;
 	if (vis_idmap_put(&the_bridge->by_vid, window, w) < 0)
 		the_bridge->visd_failed = true;
+	else
+		notify_created(the_bridge, w);
 }
 
 void mirror_create_in_visd(struct bridge *b, struct xwin *w)

@@ -6,13 +6,29 @@
  * every window, so it sees X's word as the clients do). At the end of a turn, once visd has
  * answered, every window whose clients were told something other than visd's state gets the true
  * one: the bridge's event always comes after X's, which X generated before the bridge could read
- * it, so no client is left with a stale state. auto sends only then; always also on every change
+ * it, so no client is left with a stale state. X's own event read after the bridge sent one may
+ * still be older than it (generated before the server handled the SendEvent): its sequence
+ * number says so, and then the bridge's event is what clients saw last. A window that was viewable before the bridge
+ * selected its events counts as told something unknown, and gets the truth. auto sends only then; always also on every change
  * of visd's state; never sends nothing. SendEvent with VisibilityChangeMask and no propagation
  * reaches exactly the clients that selected that mask on that window.
  */
+#include <stdint.h>
 #include <string.h>
 
 #include "bridge.h"
+
+/* visd's state for w, as it changes. */
+static void take_state(struct bridge *b, struct xwin *w, uint8_t state)
+{
+	if (state == w->vstate)
+		return;
+	w->vstate = state;
+	if (state == VIS_VISIBILITY_NONE)
+		w->told = TOLD_NOTHING; /* X speaks again when it is viewable again */
+	w->vchanged = true;
+	mirror_mark_dirty(b, w);
+}
 
 /* visd's notices: the state of every window, as it changes. */
 void notify_on_visd(void *data, const struct vis_notice *n)
@@ -25,16 +41,26 @@ void notify_on_visd(void *data, const struct vis_notice *n)
 	if (n->kind != VIS_NOTICE_KIND_VISIBILITY)
 		return;
 	struct xwin *w = vis_idmap_get(&b->by_vid, n->window);
-	if (!w)
-		return;
 	uint8_t state = (uint8_t)n->visibility.state;
-	if (state == w->vstate)
+	if (!w && n->window > b->max_vid) {
+		/* A window created in this batch: the notice can come before visd's answer to the
+		 * create, which names it. Kept until then (a failed put only loses a state). */
+		if (vis_idmap_put(&b->early_states, n->window, (void *)(uintptr_t)(state + 1u)) < 0)
+			bridge_log(b, 0, "out of memory: the state of visd's window %u is lost",
+				   n->window);
 		return;
-	w->vstate = state;
-	if (state == VIS_VISIBILITY_NONE)
-		w->told = TOLD_NOTHING; /* X speaks again when it is viewable again */
-	w->vchanged = true;
-	mirror_mark_dirty(b, w);
+	}
+	if (w)
+		take_state(b, w, state);
+}
+
+void notify_created(struct bridge *b, struct xwin *w)
+{
+	void *early = vis_idmap_get(&b->early_states, w->vid);
+	if (!early)
+		return;
+	vis_idmap_remove(&b->early_states, w->vid);
+	take_state(b, w, (uint8_t)((uintptr_t)early - 1u));
 }
 
 static void send_state(struct bridge *b, struct xwin *w)
@@ -47,7 +73,8 @@ static void send_state(struct bridge *b, struct xwin *w)
 	ev.state = w->vstate;
 	memset(buf, 0, sizeof(buf));
 	memcpy(buf, &ev, sizeof(ev) < sizeof(buf) ? sizeof(ev) : sizeof(buf));
-	xcb_send_event(b->x, 0, w->id, XCB_EVENT_MASK_VISIBILITY_CHANGE, buf);
+	w->told_seq = xcb_send_event(b->x, 0, w->id, XCB_EVENT_MASK_VISIBILITY_CHANGE, buf).sequence;
+	w->told_synthetic = true;
 	w->told = w->vstate;
 	b->synthetic_sent++;
 	bridge_log(b, 2, "told 0x%x: %s", w->id, vis_visibility_name(w->vstate));

@@ -19,7 +19,7 @@ struct snode {
 	uint32_t parent, first_child, n_children;
 	int32_t x, y;
 	uint32_t width, height, border;
-	bool ok, mapped, input_only, argb, override_redirect, shaped, has_region;
+	bool ok, mapped, viewable, input_only, argb, override_redirect, shaped, has_region;
 	uint32_t n_shape, n_region, opacity;
 	struct vis_rect32 *shape, *region;
 };
@@ -136,6 +136,7 @@ static int read_level(struct bridge *b, struct snode **nodes, uint32_t *n, uint3
 			if (s->ok) {
 				s->input_only = a->_class == XCB_WINDOW_CLASS_INPUT_ONLY;
 				s->mapped = a->map_state != XCB_MAP_STATE_UNMAPPED;
+				s->viewable = a->map_state == XCB_MAP_STATE_VIEWABLE;
 				s->override_redirect = a->override_redirect;
 				s->x = g->x;
 				s->y = g->y;
@@ -196,7 +197,17 @@ static int read_level(struct bridge *b, struct snode **nodes, uint32_t *n, uint3
 	return rc;
 }
 
-/* Gives the mirror's w what was read of it (its own placement aside). */
+/*
+ * A window new to the mirror that X already has viewable became so before the bridge selected
+ * VisibilityChange on it: X's word reached its clients and will not reach the bridge until the
+ * state changes in X's eyes, which under a compositor may be never. Its clients get the truth.
+ */
+static void told_unknown(struct xwin *w, const struct snode *s)
+{
+	if (s->viewable && !s->input_only && w->told == TOLD_NOTHING)
+		w->told = TOLD_UNKNOWN;
+}
+
 /* A copy of rects[0 … n) (NULL for none, or when memory ran out: *n is then 0). */
 static struct vis_rect32 *copy_rects(const struct vis_rect32 *rects, uint32_t *n)
 {
@@ -317,6 +328,7 @@ static void apply_below(struct bridge *b, struct xread *r, uint32_t i)
 			w->height = s->height;
 			w->border = s->input_only ? 0 : s->border;
 			w->mapped = s->mapped;
+			told_unknown(w, s);
 			w->input_only = s->input_only;
 			w->argb = s->argb;
 			w->override_redirect = s->override_redirect;
@@ -374,6 +386,7 @@ static void apply(struct bridge *b, struct xwin *top, struct xread *r, uint32_t 
 		 * children. */
 		if (t->ok) {
 			take_look(b, top, t);
+			told_unknown(top, t);
 			if (with_geometry) {
 				top->x = t->x;
 				top->y = t->y;
