@@ -31,7 +31,8 @@ struct views {
 };
 
 /* Appends a window to a growing list; dies when memory runs out. */
-static void push(struct desk *d, struct views *vs, xcb_window_t xid, int state, bool redirected)
+static void push(struct desk *d, struct views *vs, xcb_window_t xid, int state, int told,
+		 bool redirected)
 {
 	if (vs->n == vs->cap) {
 		size_t cap = vs->cap ? vs->cap * 2 : 64;
@@ -43,7 +44,7 @@ static void push(struct desk *d, struct views *vs, xcb_window_t xid, int state, 
 		vs->v = v;
 		vs->cap = cap;
 	}
-	vs->v[vs->n++] = (struct x_view){ xid, state, redirected };
+	vs->v[vs->n++] = (struct x_view){ xid, state, told, redirected };
 }
 
 /*
@@ -73,7 +74,7 @@ static void walk(struct desk *d, struct views *vs, xcb_window_t xid, uint8_t par
 	bool viewable = a->map_state == XCB_MAP_STATE_VIEWABLE;
 	if (viewable && xid != d->root && a->_class == XCB_WINDOW_CLASS_INPUT_OUTPUT) {
 		struct rec_window *w = record_find(&d->rec, xid);
-		push(d, vs, xid, w ? w->state : NO_RECORD, redirected);
+		push(d, vs, xid, w ? w->state : NO_RECORD, w ? w->told : NO_RECORD, redirected);
 	}
 	free(a);
 	if (!viewable && xid != d->root)
@@ -189,7 +190,7 @@ static struct x_view *read_cmd(struct desk *d, const char *cmd, size_t *n)
 			pclose(f);
 			desk_die(d, 1, "cannot read the states of %s", cmd);
 		}
-		push(d, &vs, xid, state, false);
+		push(d, &vs, xid, state, state, false);
 	}
 	free(line);
 	int status = pclose(f);
@@ -205,15 +206,102 @@ static struct x_view *read_cmd(struct desk *d, const char *cmd, size_t *n)
 	return vs.v;
 }
 
-/* Reports one difference; the first of a step names the step. */
+/* Reports one difference (who says what, and visd); the first of a step names the step. */
 static void report(struct desk *d, unsigned long step, const char *what, unsigned long *diffs,
-		   xcb_window_t xid, const char *x_says, const char *cmd_says)
+		   xcb_window_t xid, const char *who, const char *x_says, const char *cmd_says)
 {
 	if (*diffs == 0)
 		printf("x11-desk: step %lu (%s):\n", step, what);
 	++*diffs;
-	printf("  0x%x: X %s, visd %s; its path from the root:\n", xid, x_says, cmd_says);
+	printf("  0x%x: %s %s, visd %s; its path from the root:\n", xid, who, x_says, cmd_says);
 	check_print_path(stdout, d, xid);
+}
+
+/*
+ * Under a compositor: what a client that selected VisibilityChangeMask was told last (X's word or
+ * the bridge's synthetic event) must be visd's state, unless the bridge sends nothing (never);
+ * X's own word is only counted when it differs.
+ */
+static void compare_told(struct desk *d, unsigned long step, const char *what,
+			 unsigned long *diffs, const struct x_view *x, const struct x_view *c)
+{
+	if (x->state >= 0 && x->state != c->state)
+		d->x_wrong++;
+	if (x->told == NO_RECORD) {
+		d->harness_failures++;
+		printf("x11-desk: step %lu (%s): harness: 0x%x is viewable, %s\n", step, what,
+		       x->xid, check_state_name(x->told));
+		return;
+	}
+	if (x->told < 0) {
+		d->untold++;
+		return;
+	}
+	if (d->send_events == SEND_NEVER || x->told == c->state)
+		return;
+	char says[96];
+	snprintf(says, sizeof says, "%s (X's own word: %s)", check_state_name(x->told),
+		 check_state_name(x->state));
+	report(d, step, what, diffs, x->xid, "its clients were told", says,
+	       check_state_name(c->state));
+}
+
+/* Every window visd has a state for against the brute force over X's tree read now. */
+static void compare_brute(struct desk *d, unsigned long step, const char *what,
+			  unsigned long *diffs, const struct x_view *c, size_t nc)
+{
+	size_t nb;
+	struct brute *b = brute_states(d, &nb);
+	for (size_t k = 0; k < nc; k++) {
+		const struct brute *f = brute_find(b, nb, c[k].xid);
+		if (f == NULL)
+			continue; /* not a viewable InputOutput window: the X views say so */
+		d->brute_checked++;
+		if (f->state == c[k].state)
+			continue;
+		char says[96];
+		snprintf(says, sizeof says, "%s (visd's engine on X's tree: %s)",
+			 check_state_name(f->state), check_state_name(f->engine));
+		report(d, step, what, diffs, c[k].xid, "the brute force says", says,
+		       check_state_name(c[k].state));
+	}
+	free(b);
+}
+
+/*
+ * --send-events always: every window whose visd state changed since the last quiet point must
+ * have got a synthetic event since (a change and its undoing between two points go unseen).
+ */
+static void compare_changes(struct desk *d, unsigned long step, const char *what,
+			    unsigned long *diffs, const struct x_view *c, size_t nc)
+{
+	const struct x_view *p = d->prev_visd;
+	for (size_t i = 0, k = 0; i < d->n_prev_visd && k < nc;) {
+		if (p[i].xid != c[k].xid) {
+			if (p[i].xid < c[k].xid)
+				i++;
+			else
+				k++;
+			continue;
+		}
+		if (p[i].state != c[k].state) {
+			d->visd_changes++;
+			struct rec_window *w = record_find(&d->rec, c[k].xid);
+			if (d->send_events == SEND_ALWAYS &&
+			    (w == NULL || w->synthetic == w->synthetic_mark)) {
+				d->changes_untold++;
+				char says[96];
+				snprintf(says, sizeof says, "nothing synthetic after visd's %s",
+					 check_state_name(p[i].state));
+				report(d, step, what, diffs, c[k].xid, "its clients got", says,
+				       check_state_name(c[k].state));
+			}
+		}
+		i++;
+		k++;
+	}
+	for (size_t i = 0; i < d->rec.n; i++)
+		d->rec.w[i].synthetic_mark = d->rec.w[i].synthetic;
 }
 
 unsigned long check_compare(struct desk *d, const char *cmd, unsigned long step, const char *what,
@@ -227,9 +315,9 @@ unsigned long check_compare(struct desk *d, const char *cmd, unsigned long step,
 	while (i < nx || k < nc) {
 		bool in_x = i < nx && (k == nc || x[i].xid <= c[k].xid);
 		bool in_cmd = k < nc && (i == nx || c[k].xid <= x[i].xid);
-		if (in_x && x[i].redirected) {
+		if (in_x && !d->compositor && x[i].redirected) {
 			d->redirected++;
-		} else if (in_x && x[i].state < 0) {
+		} else if (in_x && !d->compositor && x[i].state < 0) {
 			/* The harness's failure, not visd's: X's truth is missing. */
 			d->harness_failures++;
 			printf("x11-desk: step %lu (%s): harness: 0x%x is viewable, %s\n", step, what,
@@ -237,21 +325,27 @@ unsigned long check_compare(struct desk *d, const char *cmd, unsigned long step,
 			check_print_path(stdout, d, x[i].xid);
 		} else if (in_x && in_cmd) {
 			++*checked;
-			if (x[i].state != c[k].state)
-				report(d, step, what, &diffs, x[i].xid, check_state_name(x[i].state),
+			if (d->compositor)
+				compare_told(d, step, what, &diffs, &x[i], &c[k]);
+			else if (x[i].state != c[k].state)
+				report(d, step, what, &diffs, x[i].xid, "X", check_state_name(x[i].state),
 				       check_state_name(c[k].state));
 		} else if (in_x) {
-			report(d, step, what, &diffs, x[i].xid, check_state_name(x[i].state),
+			report(d, step, what, &diffs, x[i].xid, "X", check_state_name(x[i].state),
 			       "lists nothing");
 		} else if (c[k].xid != d->root) {
-			report(d, step, what, &diffs, c[k].xid, "has no such viewable InputOutput window",
+			report(d, step, what, &diffs, c[k].xid, "X", "has no such viewable InputOutput window",
 			       check_state_name(c[k].state));
 		}
 		i += in_x;
 		k += in_cmd;
 	}
+	compare_brute(d, step, what, &diffs, c, nc);
+	compare_changes(d, step, what, &diffs, c, nc);
 	fflush(stdout);
 	free(x);
-	free(c);
+	free(d->prev_visd);
+	d->prev_visd = c;
+	d->n_prev_visd = nc;
 	return diffs;
 }

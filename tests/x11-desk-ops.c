@@ -7,6 +7,7 @@
  * state), never on what the WM made of it, so a seed gives the same operations on every run.
  */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <xcb/shape.h>
 
@@ -27,6 +28,8 @@ enum op {
 	OP_REPLACE,
 	OP_SHAPE,
 	OP_KID_MOVE,
+	OP_OPACITY,
+	OP_OPAQUE_REGION,
 	OP_OR_MOVE,
 	OP_OR_RESIZE,
 	OP_OR_RAISE,
@@ -38,7 +41,8 @@ enum op {
 const char *const ops_kind_names[] = {
 	"move",	    "resize",	"raise",     "lower",	  "activate", "restack",
 	"iconify",  "deiconify", "withdraw", "map",	  "replace",  "shape",
-	"kid-move", "or-move",	"or-resize", "or-raise", "or-map",   "or-unmap",
+	"kid-move", "opacity",	"opaque-region", "or-move", "or-resize", "or-raise",
+	"or-map",   "or-unmap",
 	NULL,
 };
 
@@ -61,6 +65,8 @@ static bool eligible(enum op op, const struct top *t)
 		return t->ours;
 	case OP_KID_MOVE:
 		return t->ours && t->n_kids > 0;
+	case OP_OPAQUE_REGION:
+		return t->ours;
 	default:
 		return t->state == TOP_NORMAL;
 	}
@@ -96,6 +102,76 @@ static void withdraw(struct desk *d, xcb_window_t xid)
 	xcb_send_event(d->c, 0, d->root,
 		       XCB_EVENT_MASK_SUBSTRUCTURE_REDIRECT | XCB_EVENT_MASK_SUBSTRUCTURE_NOTIFY,
 		       (const char *)&ev);
+}
+
+/* The child of the root that xid is in (its WM frame), or xid itself. */
+static xcb_window_t frame_of(struct desk *d, xcb_window_t xid)
+{
+	for (;;) {
+		xcb_query_tree_reply_t *t = xcb_query_tree_reply(d->c, xcb_query_tree(d->c, xid), NULL);
+		xcb_window_t parent = t != NULL ? t->parent : XCB_NONE;
+		free(t);
+		if (parent == XCB_NONE || parent == d->root)
+			return xid;
+		xid = parent;
+	}
+}
+
+/*
+ * Gives top t _NET_WM_WINDOW_OPACITY below 100% or takes it away, on the client window and on its
+ * frame, as window managers copy it there (openbox does; the frame, a child of the root, is what
+ * compositors and the bridge read).
+ */
+static void set_opacity(struct desk *d, struct top *t, char *what, size_t size, const char *who)
+{
+	xcb_window_t frame = frame_of(d, t->xid);
+	t->translucent = !t->translucent;
+	uint32_t opacity = 0x40000000u + (uint32_t)vis_rng_below(&d->rng, 0xbfffffffu);
+	xcb_window_t on[2] = { t->xid, frame };
+	for (int i = 0; i < (frame != t->xid ? 2 : 1); i++) {
+		if (t->translucent)
+			xcb_change_property(d->c, XCB_PROP_MODE_REPLACE, on[i], d->atom_opacity,
+					    XCB_ATOM_CARDINAL, 32, 1, &opacity);
+		else
+			xcb_delete_property(d->c, on[i], d->atom_opacity);
+	}
+	if (t->translucent)
+		snprintf(what, size, "opacity 0x%x (%s, frame 0x%x): 0x%08x", t->xid, who, frame,
+			 opacity);
+	else
+		snprintf(what, size, "opacity 0x%x (%s, frame 0x%x): none", t->xid, who, frame);
+}
+
+/* Sets a random _NET_WM_OPAQUE_REGION on top t or one of its subwindows, or takes it away. */
+static void set_opaque_region(struct desk *d, struct top *t, char *what, size_t size)
+{
+	xcb_window_t xid = t->xid;
+	uint32_t w = t->w, h = t->h;
+	if (t->n_kids > 0 && vis_rng_below(&d->rng, 3) == 0) {
+		xid = t->kids[vis_rng_below(&d->rng, (uint64_t)t->n_kids)];
+		xcb_get_geometry_reply_t *g =
+			xcb_get_geometry_reply(d->c, xcb_get_geometry(d->c, xid), NULL);
+		w = g != NULL ? g->width : 10;
+		h = g != NULL ? g->height : 10;
+		free(g);
+	}
+	uint32_t kind = (uint32_t)vis_rng_below(&d->rng, 6);
+	if (kind < 2) {
+		xcb_delete_property(d->c, xid, d->atom_opaque_region);
+		snprintf(what, size, "opaque-region 0x%x of 0x%x: none", xid, t->xid);
+		return;
+	}
+	/* kind 2: set but empty (hides nothing); else one or two rectangles, past the edges too. */
+	uint32_t n = kind == 2 ? 0 : kind == 5 ? 2 : 1, v[8];
+	for (uint32_t i = 0; i < n; i++) {
+		v[4 * i] = (uint32_t)vis_rng_range(&d->rng, -5, (int64_t)w);
+		v[4 * i + 1] = (uint32_t)vis_rng_range(&d->rng, -5, (int64_t)h);
+		v[4 * i + 2] = 1 + (uint32_t)vis_rng_below(&d->rng, w + 5);
+		v[4 * i + 3] = 1 + (uint32_t)vis_rng_below(&d->rng, h + 5);
+	}
+	xcb_change_property(d->c, XCB_PROP_MODE_REPLACE, xid, d->atom_opaque_region,
+			    XCB_ATOM_CARDINAL, 32, 4 * n, v);
+	snprintf(what, size, "opaque-region 0x%x of 0x%x: %u rectangles", xid, t->xid, n);
 }
 
 /* What a top-level is, for the step's description: ours, or the client's name. */
@@ -239,6 +315,12 @@ static void top_op(struct desk *d, enum op op, int i, char *what, size_t size)
 		snprintf(what, size, "shape 0x%x (%s): %u rectangles", t->xid, who, n);
 		return;
 	}
+	case OP_OPACITY:
+		set_opacity(d, t, what, size, who);
+		return;
+	case OP_OPAQUE_REGION:
+		set_opaque_region(d, t, what, size);
+		return;
 	case OP_KID_MOVE: {
 		xcb_window_t kid = t->kids[vis_rng_below(&d->rng, (uint64_t)t->n_kids)];
 		v[0] = (uint32_t)vis_rng_range(&d->rng, -10, (int64_t)t->w);

@@ -55,7 +55,7 @@ static struct rec_window *add(struct desk *d, xcb_window_t xid)
 		r->w = w;
 		r->cap = cap;
 	}
-	r->w[r->n] = (struct rec_window){ .xid = xid, .state = -1 };
+	r->w[r->n] = (struct rec_window){ .xid = xid, .state = -1, .told = -1 };
 	return &r->w[r->n++];
 }
 
@@ -74,7 +74,10 @@ void record_own(struct desk *d, xcb_window_t xid, bool input_only)
 
 uint32_t record_mask(bool input_only)
 {
-	return XCB_EVENT_MASK_SUBSTRUCTURE_NOTIFY | (input_only ? 0 : XCB_EVENT_MASK_VISIBILITY_CHANGE);
+	/* PropertyChange only so that the quiet point waits for the WM's property changes too
+	 * (openbox copies _NET_WM_WINDOW_OPACITY to the frame, which the bridge reads). */
+	return XCB_EVENT_MASK_SUBSTRUCTURE_NOTIFY | XCB_EVENT_MASK_PROPERTY_CHANGE |
+	       (input_only ? 0 : XCB_EVENT_MASK_VISIBILITY_CHANGE);
 }
 
 /* Selects the events on xid and adopts its subtree; the caller holds the server grab. */
@@ -86,8 +89,6 @@ static void adopt(struct desk *d, xcb_window_t xid)
 		return; /* destroyed already: its DestroyNotify follows */
 	bool io = a->_class == XCB_WINDOW_CLASS_INPUT_OUTPUT;
 	uint32_t mask = record_mask(!io);
-	if (xid == d->root)
-		mask |= XCB_EVENT_MASK_PROPERTY_CHANGE;
 	/* Keep what this connection selected already (its own windows ask for more). */
 	mask |= a->your_event_mask;
 	xcb_change_window_attributes(d->c, xid, XCB_CW_EVENT_MASK, &mask);
@@ -152,14 +153,16 @@ void record_event(struct desk *d, xcb_generic_event_t *ev)
 	}
 	case XCB_VISIBILITY_NOTIFY: {
 		xcb_visibility_notify_event_t *e = (void *)ev;
-		if (synthetic) {
-			r->synthetic_events++;
-			break;
-		}
-		r->visibility_events++;
 		struct rec_window *w = record_find(r, e->window);
 		if (w == NULL)
 			w = add(d, e->window);
+		w->told = e->state;
+		if (synthetic) {
+			r->synthetic_events++;
+			w->synthetic++;
+			break;
+		}
+		r->visibility_events++;
 		w->state = e->state;
 		w->inferred = false;
 		break;
@@ -247,13 +250,17 @@ static void refresh_late(struct desk *d)
 		if (!w->late)
 			continue;
 		w->late = false;
-		if (w->state < 0) {
+		/* Under a compositor the top-levels are redirected: the cover hides none of them,
+		 * so X's silence says nothing. Such a window stays without a state. */
+		if (w->state < 0 && !d->compositor) {
 			if (d->verbose) {
 				fprintf(stderr, "x11-desk: 0x%x: fully obscured by inference\n",
 					w->xid);
 				check_print_path(stderr, d, w->xid);
 			}
 			w->state = XCB_VISIBILITY_FULLY_OBSCURED;
+			if (w->told < 0)
+				w->told = w->state;
 			w->inferred = true;
 			r->inferred++;
 		}
@@ -317,11 +324,39 @@ uint32_t record_start(struct desk *d)
 	r->synced_atom = record_intern(d, "_VISD_X11_SYNCED");
 	adopt_grabbed(d, d->root);
 	r->synced = read_counter(d, r->synced_atom);
+	r->bystander = xcb_connect(d->display, NULL);
+	if (xcb_connection_has_error(r->bystander))
+		desk_die(d, 1, "the bystander cannot connect to the X server");
+	uint32_t mask = XCB_EVENT_MASK_SUBSTRUCTURE_NOTIFY | XCB_EVENT_MASK_PROPERTY_CHANGE;
+	xcb_change_window_attributes(r->bystander, d->root, XCB_CW_EVENT_MASK, &mask);
+	record_bystander(d);
 	return read_counter(d, r->sync_atom);
+}
+
+unsigned long record_bystander(struct desk *d)
+{
+	struct recorder *r = &d->rec;
+	free(xcb_get_input_focus_reply(r->bystander, xcb_get_input_focus(r->bystander), NULL));
+	xcb_generic_event_t *ev;
+	while ((ev = xcb_poll_for_event(r->bystander)) != NULL) {
+		if ((ev->response_type & 0x7f) == XCB_VISIBILITY_NOTIFY) {
+			xcb_visibility_notify_event_t *e = (void *)ev;
+			if (r->bystander_visibility++ < 5)
+				printf("x11-desk: the bystander got a%s VisibilityNotify for 0x%x\n",
+				       ev->response_type & 0x80 ? " synthetic" : "n", e->window);
+		}
+		free(ev);
+	}
+	if (xcb_connection_has_error(r->bystander))
+		desk_die(d, 1, "the bystander's connection broke");
+	return r->bystander_visibility;
 }
 
 void record_finish(struct recorder *r)
 {
+	if (r->bystander != NULL)
+		xcb_disconnect(r->bystander);
+	r->bystander = NULL;
 	free(r->w);
 	r->w = NULL;
 	r->n = r->cap = 0;

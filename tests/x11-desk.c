@@ -13,7 +13,14 @@
  * window (x11-desk-check.c). With --no-bridge, X's states are printed instead, step by step.
  *
  * Without a compositing manager, X's state of a viewable InputOutput window is the last
- * VisibilityNotify it sent for it, which is what visd's must be.
+ * VisibilityNotify it sent for it, which is what visd's must be. With --compositor (one runs:
+ * xcompmgr or picom), X's own states go wrong and are only counted ("X wrong"); what a client
+ * that selected VisibilityChangeMask was told last, X's event or the bridge's synthetic one, must
+ * be visd's state instead (unless --send-events never). In every mode, visd's states must equal
+ * the brute force over X's tree read at the quiet point (x11-desk-brute.c, under the translucency
+ * rule with --compositor); a bystander connection that selected no VisibilityChange must get no
+ * VisibilityNotify; --send-events never allows no synthetic event, and always wants one after
+ * every change of visd's state seen between two quiet points.
  * Exit: 0, 1 (a difference, a harness failure, or a lost X connection), 2 (usage).
  */
 #include <getopt.h>
@@ -30,12 +37,16 @@
 static void usage(FILE *f)
 {
 	fprintf(f, "usage: x11-desk [--display D] --seed S --steps N [--clients K] [--check CMD]\n"
-		   "                [--no-bridge] [-v]\n"
+		   "                [--compositor] [--send-events auto|always|never] [--no-bridge] [-v]\n"
 		   "  --display D   the X server (default: $DISPLAY)\n"
 		   "  --seed S      the seed of the desktop and of the operations\n"
 		   "  --steps N     how many operations\n"
 		   "  --clients K   top-level windows of its own (default 6, at most %d)\n"
 		   "  --check CMD   compare X's states with CMD's \"0x… STATE\" lines at every step\n"
+		   "  --compositor  a compositing manager runs (waits 5 s for one): what clients were\n"
+		   "                told must be visd's states; X's own differences are counted\n"
+		   "  --send-events the bridge's mode: never, no synthetic event may come; always, one\n"
+		   "                must follow every change of visd's state (default auto)\n"
 		   "  --no-bridge   no handshake with visd-x11; print X's states at every step\n"
 		   "  -v            the operations as they happen, and the count of each kind\n",
 		MAX_CLIENTS_OPTION);
@@ -75,11 +86,11 @@ void desk_check_connection(struct desk *d)
 		desk_die(d, 1, "the X server closed the connection");
 }
 
-/* Waits up to 5 s for a window manager to own WM_Sn of the screen; the desktop needs one. */
-static void wait_wm(struct desk *d, int screen_no)
+/* Waits up to 5 s for a manager to own the selection prefix + screen number (WM_S, _NET_WM_CM_S). */
+static void wait_owner(struct desk *d, const char *prefix, int screen_no)
 {
 	char name[32];
-	snprintf(name, sizeof name, "WM_S%d", screen_no);
+	snprintf(name, sizeof name, "%s%d", prefix, screen_no);
 	xcb_atom_t wm_s = record_intern(d, name);
 	for (int waited = 0;; waited += 50) {
 		xcb_get_selection_owner_reply_t *o = xcb_get_selection_owner_reply(
@@ -90,7 +101,7 @@ static void wait_wm(struct desk *d, int screen_no)
 			return;
 		desk_check_connection(d);
 		if (waited >= 5000)
-			desk_die(d, 1, "no window manager owns %s", name);
+			desk_die(d, 1, "nobody owns %s", name);
 		record_wait(d, 50, NULL, NULL);
 	}
 }
@@ -110,11 +121,13 @@ int main(int argc, char **argv)
 		{ "display", required_argument, NULL, 'd' }, { "seed", required_argument, NULL, 's' },
 		{ "steps", required_argument, NULL, 'n' },   { "clients", required_argument, NULL, 'k' },
 		{ "check", required_argument, NULL, 'c' },   { "no-bridge", no_argument, NULL, 'b' },
+		{ "compositor", no_argument, NULL, 'C' },    { "send-events", required_argument, NULL, 'e' },
 		{ "help", no_argument, NULL, 'h' },	     { NULL, 0, NULL, 0 },
 	};
 	const char *display = NULL, *cmd = NULL;
 	unsigned long seed = 0, steps = 0, clients = 6;
-	bool have_seed = false, have_steps = false, bridge = true, verbose = false;
+	bool have_seed = false, have_steps = false, bridge = true, verbose = false, compositor = false;
+	enum send_mode send_events = SEND_AUTO;
 	int opt;
 	while ((opt = getopt_long(argc, argv, "v", options, NULL)) != -1) {
 		switch (opt) {
@@ -141,6 +154,19 @@ int main(int argc, char **argv)
 		case 'b':
 			bridge = false;
 			break;
+		case 'C':
+			compositor = true;
+			break;
+		case 'e':
+			if (strcmp(optarg, "auto") == 0)
+				send_events = SEND_AUTO;
+			else if (strcmp(optarg, "always") == 0)
+				send_events = SEND_ALWAYS;
+			else if (strcmp(optarg, "never") == 0)
+				send_events = SEND_NEVER;
+			else
+				goto bad;
+			break;
 		case 'v':
 			verbose = true;
 			break;
@@ -157,7 +183,8 @@ bad:
 		return 2;
 	}
 
-	struct desk d = { .rng = { seed }, .verbose = verbose };
+	struct desk d = { .rng = { seed }, .verbose = verbose, .display = display,
+			  .compositor = compositor, .send_events = send_events };
 	int screen_no;
 	d.c = xcb_connect(display, &screen_no);
 	if (xcb_connection_has_error(d.c)) {
@@ -180,9 +207,13 @@ bad:
 	d.atoms[ATOM_WM_STATE] = record_intern(&d, "WM_STATE");
 	d.atoms[ATOM_NET_ACTIVE_WINDOW] = record_intern(&d, "_NET_ACTIVE_WINDOW");
 	d.atoms[ATOM_NET_RESTACK_WINDOW] = record_intern(&d, "_NET_RESTACK_WINDOW");
+	d.atom_opacity = record_intern(&d, "_NET_WM_WINDOW_OPACITY");
+	d.atom_opaque_region = record_intern(&d, "_NET_WM_OPAQUE_REGION");
 
 	uint32_t sync = record_start(&d);
-	wait_wm(&d, screen_no);
+	wait_owner(&d, "WM_S", screen_no);
+	if (compositor)
+		wait_owner(&d, "_NET_WM_CM_S", screen_no);
 	build_desktop(&d, (int)clients);
 	unsigned long checked = 0, diffs = 0, done = 0;
 	char what[160] = "the desktop built";
@@ -196,6 +227,7 @@ bad:
 		record_quiet(&d);
 		if (bridge)
 			record_sync(&d, ++sync);
+		record_bystander(&d);
 		if (cmd != NULL) {
 			unsigned long n = check_compare(&d, cmd, step, what, &checked);
 			diffs += n;
@@ -207,9 +239,23 @@ bad:
 		if (step == steps)
 			break;
 	}
+	unsigned long bystander = record_bystander(&d);
+	bool synthetic_wrong = send_events == SEND_NEVER && d.rec.synthetic_events > 0;
 	printf("x11-desk: %lu steps, %lu windows checked in all, %lu differences, X sent %lu "
 	       "VisibilityNotify (%lu synthetic), %lu left out (X redirects them)\n",
 	       done, checked, diffs, d.rec.visibility_events, d.rec.synthetic_events, d.redirected);
+	printf("x11-desk: %s, send-events %s: brute force %lu checked, X wrong %lu times, %lu "
+	       "told nothing, visd changed %lu states (%lu not followed by a synthetic event), "
+	       "bystander got %lu\n",
+	       compositor ? "compositor" : "no compositor",
+	       send_events == SEND_AUTO ? "auto" : send_events == SEND_ALWAYS ? "always" : "never",
+	       d.brute_checked, d.x_wrong, d.untold, d.visd_changes, d.changes_untold, bystander);
+	if (bystander > 0)
+		printf("x11-desk: the bystander, which selected no VisibilityChange, got %lu "
+		       "VisibilityNotify\n", bystander);
+	if (synthetic_wrong)
+		printf("x11-desk: the bridge runs with --send-events never, yet %lu synthetic "
+		       "VisibilityNotify came\n", d.rec.synthetic_events);
 	if (verbose) {
 		fprintf(stderr, "x11-desk: operations:");
 		for (int k = 0; ops_kind_names[k] != NULL; k++)
@@ -218,7 +264,8 @@ bad:
 				"%lu X errors\n",
 			d.rec.late_windows, d.rec.refreshes, d.rec.inferred, d.rec.x_errors);
 	}
-	int status = diffs > 0 || d.harness_failures > 0 ? 1 : 0;
+	int status = diffs > 0 || d.harness_failures > 0 || bystander > 0 || synthetic_wrong ? 1 : 0;
+	free(d.prev_visd);
 	dying = NULL;
 	desk_finish(&d);
 	return status;

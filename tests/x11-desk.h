@@ -3,7 +3,7 @@
  * seeded random operations and records X's own VisibilityNotify states, to compare them with
  * visd's as the X bridge mirrors that desktop. The parts: the recorder (x11-desk-record.c), the
  * desktop and its clients (x11-desk-build.c), the operations (x11-desk-ops.c), the comparison
- * (x11-desk-check.c), and main (x11-desk.c).
+ * (x11-desk-check.c), the brute force over X's tree (x11-desk-brute.c), and main (x11-desk.c).
  */
 #ifndef VIS_TESTS_X11_DESK_H
 #define VIS_TESTS_X11_DESK_H
@@ -17,10 +17,16 @@
 
 #include "rng.h"
 
-/* A window X told the recorder about; state is X's last non-synthetic VisibilityNotify state. */
+/*
+ * A window X told the recorder about; state is X's last non-synthetic VisibilityNotify state,
+ * told the last of any kind, X's own or a synthetic one (the bridge's), in arrival order: what
+ * an unmodified client that selected VisibilityChangeMask believes.
+ */
 struct rec_window {
 	xcb_window_t xid;
 	int state;       /* XCB_VISIBILITY_*, or -1 while X sent none */
+	int told;        /* XCB_VISIBILITY_*, or -1 while nobody sent any */
+	unsigned long synthetic, synthetic_mark; /* synthetic events for it: all, at the last check */
 	bool input_only; /* InputOnly: never selects VisibilityChange, has no state */
 	bool late;       /* viewable when adopted: its state awaits the cover (x11-desk-record.c) */
 	bool inferred;   /* state set by the cover's rule, not by an event */
@@ -36,6 +42,10 @@ struct recorder {
 	xcb_window_t cover; /* the late windows' cover, 0 until needed */
 	xcb_atom_t sync_atom, synced_atom;
 	uint32_t synced; /* the last value of _VISD_X11_SYNCED read */
+	/* A second connection that selects nothing but SubstructureNotify and PropertyChange on
+	 * the root: no VisibilityNotify may ever reach it, the bridge's included. */
+	xcb_connection_t *bystander;
+	unsigned long bystander_visibility;
 };
 
 /* Where a managed top-level stands as the operations intend it (not as the WM has it yet). */
@@ -50,6 +60,7 @@ struct top {
 	uint32_t w, h;
 	xcb_window_t kids[4];
 	int n_kids;
+	bool translucent; /* _NET_WM_WINDOW_OPACITY below 100% on it and its frame */
 };
 
 /* A started client process and the top-level window it mapped. */
@@ -72,8 +83,14 @@ enum desk_atom {
 	ATOM_COUNT
 };
 
+/* What the bridge was started with (--send-events): what x11-desk expects of synthetic events. */
+enum send_mode { SEND_AUTO, SEND_ALWAYS, SEND_NEVER };
+
 struct desk {
 	xcb_connection_t *c;
+	const char *display;
+	bool compositor; /* a compositing manager runs: the comparisons of --compositor */
+	enum send_mode send_events;
 	xcb_screen_t *screen;
 	xcb_window_t root;
 	struct recorder rec;
@@ -93,6 +110,16 @@ struct desk {
 	unsigned long op_counts[32];
 	unsigned long harness_failures; /* viewable InputOutput windows without X's state */
 	unsigned long redirected;       /* windows left out of comparisons: X redirects them */
+	xcb_atom_t atom_opacity, atom_opaque_region;
+	/* --compositor: windows whose last non-synthetic state differs from visd's; windows
+	 * nobody told anything (viewable before the recorder saw them, under a compositor, which
+	 * the cover cannot restate); the brute force's windows compared with visd's. */
+	unsigned long x_wrong, untold, brute_checked;
+	/* visd's states at the previous quiet point, for --send-events always: the changes seen
+	 * since, and those not followed by a synthetic event. */
+	struct x_view *prev_visd;
+	size_t n_prev_visd;
+	unsigned long visd_changes, changes_untold;
 };
 
 
@@ -139,11 +166,25 @@ const char *ops_step(struct desk *d, char *what, size_t what_size);
 /* The kinds' names, for the per-kind counts (NULL-terminated). */
 extern const char *const ops_kind_names[];
 
+/* x11-desk-record.c: the bystander's VisibilityNotify events so far (a round trip first). */
+unsigned long record_bystander(struct desk *d);
+
+/* x11-desk-brute.c */
+/* A viewable InputOutput window's state by the brute force, and by visd's engine on that tree. */
+struct brute {
+	xcb_window_t xid;
+	uint8_t state, engine;
+};
+/* Reads X's tree under a grab and computes every viewable InputOutput window's state; sorted. */
+struct brute *brute_states(struct desk *d, size_t *n);
+const struct brute *brute_find(const struct brute *b, size_t n, xcb_window_t xid);
+
 /* x11-desk-check.c */
 /* The viewable InputOutput windows X has, each with its state as the recorder has it. */
 struct x_view {
 	xcb_window_t xid;
 	int state;
+	int told; /* what its clients were told last (rec_window.told) */
 	/* In the subtree of a window X redirects by itself (Composite's automatic redirection of a
 	 * 32-bit window in a parent of another depth, such as openbox's frame around an ARGB
 	 * client): X's states there do not follow the stacking, so they are not compared. */
