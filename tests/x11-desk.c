@@ -242,8 +242,10 @@ bad:
 	unsigned long bystander = record_bystander(&d);
 	bool synthetic_wrong = send_events == SEND_NEVER && d.rec.synthetic_events > 0;
 	printf("x11-desk: %lu steps, %lu windows checked in all, %lu differences, X sent %lu "
-	       "VisibilityNotify (%lu synthetic), %lu left out (X redirects them)\n",
-	       done, checked, diffs, d.rec.visibility_events, d.rec.synthetic_events, d.redirected);
+	       "VisibilityNotify (%lu synthetic), %lu left out (X redirects them), %lu marked (a shape "
+	       "past the border box: X alone says partially obscured)\n",
+	       done, checked, diffs, d.rec.visibility_events, d.rec.synthetic_events, d.redirected,
+	       d.past_box);
 	printf("x11-desk: %s, send-events %s: brute force %lu checked, X wrong %lu times, %lu "
 	       "told nothing, visd changed %lu states (%lu not followed by a synthetic event), "
 	       "bystander got %lu\n",

@@ -110,6 +110,7 @@ struct desk {
 	unsigned long op_counts[32];
 	unsigned long harness_failures; /* viewable InputOutput windows without X's state */
 	unsigned long redirected;       /* windows left out of comparisons: X redirects them */
+	unsigned long past_box; /* X partially obscured, visd unobscured: a shape past the box */
 	xcb_atom_t atom_opacity, atom_opaque_region;
 	/* --compositor: windows whose last non-synthetic state differs from visd's; windows
 	 * nobody told anything (viewable before the recorder saw them, under a compositor, which
