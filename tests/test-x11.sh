@@ -2,8 +2,14 @@
 # visd-x11 against a real X desktop: a private Xvfb, openbox as the window manager, a visd on a
 # private socket and the bridge between them; x11-desk then drives the desktop (its windows,
 # xlogo, xeyes, xterm) for two seeds and, at every quiet point, compares X's own VisibilityNotify
-# states with `visctl states --x11`. Usage: test-x11.sh BUILD-DIR. Exits 77 (skipped) where the
-# bridge is not built or Xvfb or openbox is missing.
+# states with `visctl states --x11`, and visd's with a brute force over X's tree. Then a
+# compositing manager (xcompmgr, else picom) takes the screen: seed 3 under it, where what the
+# clients were told (X's word or the bridge's synthetic event) must be visd's state, X's own word
+# must be wrong somewhere, and a bystander connection must get no VisibilityNotify; then short
+# runs with a fresh visd and bridge under --send-events never and always. After each run the
+# bridge checks its mirror (SIGUSR1) and must not have drifted. Usage: test-x11.sh BUILD-DIR.
+# Exits 77 (skipped) where the bridge is not built or Xvfb or openbox is missing; the compositor
+# part is skipped (with a note) where neither compositor is installed.
 build=${1:?usage: test-x11.sh BUILD-DIR}
 bridge=$build/bridge/x11/visd-x11
 x11_desk=$build/tests/x11-desk
@@ -21,12 +27,12 @@ for prog in "$x11_desk" "$visd" "$visctl"; do
 done
 
 dir=$(mktemp -d "${TMPDIR:-/tmp}/test-x11.XXXXXX") || exit 1
-xpid= wpid= vpid= bpid=
+xpid= wpid= vpid= bpid= cpid=
 cleanup() {
-	for pid in $bpid $wpid $vpid $xpid; do
+	for pid in $bpid $cpid $wpid $vpid $xpid; do
 		kill "$pid" 2>/dev/null
 	done
-	for pid in $bpid $wpid $vpid $xpid; do
+	for pid in $bpid $cpid $wpid $vpid $xpid; do
 		wait "$pid" 2>/dev/null
 	done
 	rm -rf "$dir"
@@ -65,22 +71,96 @@ wm_ready() {
 }
 wait_for wm_ready || fail "openbox did not take the screen:" "$dir/openbox.log"
 
-# visd's screen is X's, so that what lies past the root is off the screen for both.
-sock=$dir/visd
-"$visd" --socket "$sock" --screen ${width}x${height} 2>"$dir/visd.log" &
-vpid=$!
-wait_for test -S "$sock" || fail "visd did not start:" "$dir/visd.log"
+# visd's screen is X's, so that what lies past the root is off the screen for both. Each visd
+# (N: 1, 2, …) gets a bridge of its own, started with the arguments given.
+n=0
+start_bridge() {
+	if [ -n "$bpid" ]; then
+		kill "$bpid" "$vpid"
+		wait "$bpid" "$vpid" 2>/dev/null
+	fi
+	n=$((n + 1))
+	sock=$dir/visd$n
+	"$visd" --socket "$sock" --screen ${width}x${height} 2>"$dir/visd$n.log" &
+	vpid=$!
+	wait_for test -S "$sock" || fail "visd did not start:" "$dir/visd$n.log"
+	log=$dir/bridge$n.log
+	"$bridge" --display "$display" -s "$sock" "$@" 2>"$log" &
+	bpid=$!
+}
 
-"$bridge" --display "$display" -s "$sock" 2>"$dir/bridge.log" &
-bpid=$!
+# The bridge checks its mirror against X's tree (SIGUSR1): it must not have drifted.
+checks() {
+	grep -c 'checked:' "$log"
+}
+checked_again() {
+	test "$(checks)" -gt "$before"
+}
+check_bridge() {
+	before=$(checks)
+	kill -USR1 "$bpid"
+	wait_for checked_again || fail "visd-x11 did not check its mirror:" "$log"
+	if grep -q -e drifted -e resynchronizing "$log"; then
+		fail "visd-x11's mirror drifted:" "$log"
+	fi
+}
 
+# Runs x11-desk with the arguments, its summary kept in $dir/desk.out; fails the test on failure.
 status=0
+desk() {
+	"$x11_desk" --display "$display" --check "$visctl -s $sock states --x11" "$@" \
+		>"$dir/desk.out" || status=1
+	cat "$dir/desk.out"
+	kill -0 "$bpid" 2>/dev/null || fail "visd-x11 died:" "$log"
+	kill -0 "$vpid" 2>/dev/null || fail "visd died:" "$dir/visd$n.log"
+	check_bridge
+}
+
+# A figure of x11-desk's summary: the number just before the words (e.g. "times").
+figure() {
+	sed -n "s/.* \([0-9]*\) $1.*/\1/p" "$dir/desk.out" | head -n 1
+}
+# The number just after the words (e.g. "bystander got").
+after() {
+	sed -n "s/.*$1 \([0-9]*\).*/\1/p" "$dir/desk.out" | head -n 1
+}
+
+start_bridge
 for seed in 1 2; do
 	echo "test-x11: seed $seed"
-	"$x11_desk" --display "$display" --seed $seed --steps 200 \
-		--check "$visctl -s $sock states --x11" || status=1
-	kill -0 "$bpid" 2>/dev/null || fail "visd-x11 died:" "$dir/bridge.log"
-	kill -0 "$vpid" 2>/dev/null || fail "visd died:" "$dir/visd.log"
+	desk --seed $seed --steps 200
 done
-[ $status = 0 ] || { echo "test-x11: the bridge's log:"; cat "$dir/bridge.log"; }
+
+# Under a compositing manager.
+if command -v xcompmgr >/dev/null 2>&1; then
+	DISPLAY=$display xcompmgr >"$dir/cm.log" 2>&1 &
+	cpid=$!
+elif command -v picom >/dev/null 2>&1; then
+	DISPLAY=$display picom --backend xrender >"$dir/cm.log" 2>&1 &
+	cpid=$!
+else
+	echo "test-x11: neither xcompmgr nor picom is installed: no run under a compositor"
+fi
+if [ -n "$cpid" ]; then
+	# x11-desk --compositor waits until the compositor owns _NET_WM_CM_S0.
+	echo "test-x11: seed 3 under a compositing manager"
+	desk --seed 3 --steps 200 --compositor
+	wrong=$(figure 'times')
+	[ "${wrong:-0}" -gt 0 ] || { echo "test-x11: X's own states were never wrong under the compositor"; status=1; }
+	[ "$(after 'bystander got')" = 0 ] || { echo "test-x11: the bystander got VisibilityNotify"; status=1; }
+
+	for mode in never always; do
+		echo "test-x11: seed 4 under a compositing manager, --send-events $mode"
+		start_bridge --send-events $mode
+		desk --seed 4 --steps 30 --compositor --send-events $mode
+		synthetic=$(sed -n 's/.*(\([0-9]*\) synthetic).*/\1/p' "$dir/desk.out")
+		changes=$(figure 'states')
+		case $mode in
+		never) [ "$synthetic" = 0 ] || { echo "test-x11: synthetic events under never"; status=1; } ;;
+		always) [ "$synthetic" -ge "$changes" ] ||
+			{ echo "test-x11: $synthetic synthetic events for $changes changes"; status=1; } ;;
+		esac
+	done
+fi
+[ $status = 0 ] || { echo "test-x11: the bridge's log:"; cat "$log"; }
 exit $status
