@@ -9,7 +9,8 @@
  * it, so no client is left with a stale state. X's own event read after the bridge sent one may
  * still be older than it (generated before the server handled the SendEvent): its sequence
  * number says so, and then the bridge's event is what clients saw last. A window that was viewable before the bridge
- * selected its events counts as told something unknown, and gets the truth. auto sends only then; always also on every change
+ * selected its events counts as told something unknown, and gets the truth while a compositor
+ * runs. auto sends only then; always also on every change
  * of visd's state; never sends nothing. SendEvent with VisibilityChangeMask and no propagation
  * reaches exactly the clients that selected that mask on that window.
  */
@@ -92,7 +93,10 @@ void notify_flush(struct bridge *b)
 		    w->vstate == VIS_VISIBILITY_NONE || w->pending || !w->vid)
 			continue;
 		/* X speaks first when a window becomes viewable: until then, auto waits. */
-		bool wrong = w->told != TOLD_NOTHING && w->told != w->vstate;
+		/* A word the bridge never heard is wrong only where X's can be: under a compositor
+		 * (without one, X's was right, and auto sends nothing). */
+		bool wrong = w->told != TOLD_NOTHING && w->told != w->vstate &&
+			     (w->told != TOLD_UNKNOWN || b->cm_running);
 		if (wrong || (b->send_events == SEND_ALWAYS && changed))
 			send_state(b, w);
 	}
