@@ -3,7 +3,8 @@
  * redirect windows (children, borders, InputOnly ones, bounding shapes), then changes it as fast
  * as X takes requests, without ever waiting: windows destroyed right after they are created,
  * reparented, restacked, resized, shaped, mapped and unmapped, so that the bridge's queries of a
- * window keep racing its destruction. It then holds the windows until its standard input closes.
+ * window keep racing its destruction. With --hold it then keeps its windows until a signal kills
+ * it (its windows go with its connection).
  *
  * Usage: x11-churn [--display D] [--windows N] [--rounds R] [--seed S] [--hold]
  */
@@ -172,11 +173,9 @@ int main(int argc, char **argv)
 	int rc = xcb_connection_has_error(k.c) ? 1 : 0;
 	printf("x11-churn: %zu windows live after %lu changes\n", k.n, rounds);
 	fflush(stdout);
-	if (hold && rc == 0) {
-		char buf[64];
-		while (read(0, buf, sizeof(buf)) > 0)
-			;
-	}
+	if (hold && rc == 0)
+		for (;;)
+			pause();
 	xcb_disconnect(k.c);
 	free(k.w);
 	return rc;

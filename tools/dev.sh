@@ -15,7 +15,8 @@ cd "$(dirname "$0")/.."
 # systemd-analyze to verify the user units (tests/test-activate.sh, tests/check-units.sh).
 PACKAGES=(gcc meson ninja-build pkg-config libpixman-1-dev libevent-dev libxcb1-dev libxcb-shape0-dev xvfb
 	libxml2-utils
-	scdoc systemd)
+	scdoc systemd
+	libxcb-xfixes0-dev openbox xcompmgr x11-apps xterm x11-utils)
 
 # Installs the Debian packages given that are missing, asking apt only when something is.
 install_missing() {
