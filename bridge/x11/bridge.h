@@ -62,6 +62,7 @@ struct xwin {
 	/* It left its parent, for a window whose children were read after it arrived there (so it
 	 * had gone on by then): its next event or read places it, within the turn. */
 	bool limbo;
+	bool look_due;   /* its shape or opaque region waits for its visd ID (bridge.look_due) */
 	bool reread_due; /* on the list of windows whose children are read again at the turn's end */
 	uint32_t seen;         /* the number of the last tree read that found it */
 	uint32_t reparent_seq; /* the sequence of the last ReparentNotify applied (each comes twice) */
@@ -115,6 +116,10 @@ struct bridge {
 	xcb_window_t *new_windows;
 	size_t cap_events;
 	bool grabbed;         /* the server is grabbed around more than one read (check_mirror) */
+	/* Windows whose look waits for visd's answer to their creation: sent with the next batch
+	 * after it, rather than one round trip each. */
+	xcb_window_t *look_due;
+	size_t n_look_due, cap_look_due;
 	bool batch_open;      /* a visd batch is open this turn */
 	uint32_t visd_sent;   /* visd requests since the last round trip */
 	bool resync_needed;   /* the mirror drifted: read the whole tree again */

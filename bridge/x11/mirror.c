@@ -9,8 +9,7 @@
 
 #include "bridge.h"
 
-static void send_shape(struct bridge *b, struct xwin *w);
-static void refresh_one(struct bridge *b, struct xwin *w, bool force);
+static uint32_t opaque_mode_of(const struct bridge *b, struct xwin *w);
 
 /* The one bridge of this process, for visd's callbacks, whose data is the window. */
 static struct bridge *the_bridge;
@@ -32,6 +31,44 @@ void visd_begin(struct bridge *b)
 }
 
 /* Ends the batch and waits until visd has applied it and sent its notices. */
+static void send_shape(struct bridge *b, struct xwin *w);
+static void refresh_one(struct bridge *b, struct xwin *w, bool force);
+
+/* Puts w on the list of windows whose look waits for their visd ID. */
+static void look_later(struct bridge *b, struct xwin *w)
+{
+	if (w->look_due)
+		return;
+	if (b->n_look_due == b->cap_look_due) {
+		size_t cap = b->cap_look_due ? 2 * b->cap_look_due : 64;
+		xcb_window_t *l = realloc(b->look_due, cap * sizeof(*l));
+		if (!l) {
+			b->visd_failed = true;
+			return;
+		}
+		b->look_due = l;
+		b->cap_look_due = cap;
+	}
+	w->look_due = true;
+	b->look_due[b->n_look_due++] = w->id;
+}
+
+/* The looks that waited for their windows' IDs, into a new batch. */
+static void send_due_looks(struct bridge *b)
+{
+	size_t n = b->n_look_due;
+	b->n_look_due = 0;
+	for (size_t i = 0; i < n; i++) {
+		struct xwin *w = mirror_find(b, b->look_due[i]);
+		if (!w || !w->look_due || !w->vid)
+			continue;
+		w->look_due = false;
+		if (w->shaped)
+			send_shape(b, w);
+		refresh_one(b, w, true);
+	}
+}
+
 static int visd_roundtrip(struct bridge *b)
 {
 	if (b->batch_open) {
@@ -43,6 +80,8 @@ static int visd_roundtrip(struct bridge *b)
 		return -1;
 	}
 	b->visd_sent = 0;
+	if (b->n_look_due)
+		send_due_looks(b);
 	return 0;
 }
 
@@ -70,9 +109,11 @@ int visd_ensure(struct bridge *b, struct xwin *w)
 /* Ends the turn: commits the batch and waits for visd's answer, if anything was sent. */
 int visd_end_turn(struct bridge *b)
 {
-	if (!b->batch_open && !b->visd_sent)
-		return 0;
-	return visd_roundtrip(b);
+	/* A round trip can open a batch again, with the looks of the windows it created. */
+	while (b->batch_open || b->visd_sent)
+		if (visd_roundtrip(b) < 0)
+			return -1;
+	return 0;
 }
 
 void mirror_mark_dirty(struct bridge *b, struct xwin *w)
@@ -167,6 +208,8 @@ void mirror_finish(struct bridge *b)
 {
 	free(b->reread);
 	b->reread = NULL;
+	free(b->look_due);
+	b->look_due = NULL;
 	if (!b->root)
 		return;
 	while (b->root->top)
@@ -224,11 +267,10 @@ void mirror_create_in_visd(struct bridge *b, struct xwin *w)
 					      VIS_EXTERNAL_X11, w->id, created_cb, w))
 		return;
 	w->pending = true;
-	/* The look names the window: known at the next round trip, which visd_ensure() makes. */
-	if (w->shaped)
-		send_shape(b, w);
+	/* Its look names it: sent after the round trip that gives its ID. */
 	w->opaque_mode = VIS_OPAQUE_MODE_ALL;
-	refresh_one(b, w, false);
+	if (w->shaped || opaque_mode_of(b, w) != VIS_OPAQUE_MODE_ALL)
+		look_later(b, w);
 }
 
 /*
@@ -379,6 +421,10 @@ void mirror_set_opaque_region(struct bridge *b, struct xwin *w, bool has, struct
 /* Sends w's bounding shape as the mirror has it. */
 static void send_shape(struct bridge *b, struct xwin *w)
 {
+	if (w->pending) {
+		look_later(b, w);
+		return;
+	}
 	if (w->input_only || visd_ensure(b, w) < 0)
 		return;
 	visd_begin(b);
@@ -419,6 +465,10 @@ static void refresh_one(struct bridge *b, struct xwin *w, bool force)
 	uint32_t mode = opaque_mode_of(b, w);
 	if (mode == w->opaque_mode && !(force && mode == VIS_OPAQUE_MODE_RECTS))
 		return;
+	if (w->pending) {
+		look_later(b, w);
+		return;
+	}
 	w->opaque_mode = mode;
 	if (visd_ensure(b, w) < 0)
 		return;

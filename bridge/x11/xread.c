@@ -305,53 +305,76 @@ static struct xread *read_tops(struct bridge *b, const xcb_window_t *tops, uint3
 	return r;
 }
 
-/* Creates or updates, in the mirror and in visd, the windows below node i, parents first. */
-static void apply_below(struct bridge *b, struct xread *r, uint32_t i)
+/* Creates or updates one window read, under p; false when memory ran out. */
+static bool apply_one(struct bridge *b, struct xread *r, struct xwin *p, struct snode *s)
 {
-	struct snode *ps = &r->nodes[i];
-	struct xwin *p = mirror_find(b, ps->id);
-	for (uint32_t j = 0; p && ps->ok && j < ps->n_children; j++) {
-		struct snode *s = &r->nodes[ps->first_child + j];
-		if (!s->ok)
-			continue;
-		struct xwin *w = mirror_find(b, s->id);
+	struct xwin *w = mirror_find(b, s->id);
+	if (!w) {
+		w = mirror_add(b, p, s->id);
 		if (!w) {
-			w = mirror_add(b, p, s->id);
-			if (!w) {
-				b->resync_needed = true;
-				b->resync_reason = "out of memory";
-				return;
-			}
-			w->x = s->x;
-			w->y = s->y;
-			w->width = s->width;
-			w->height = s->height;
-			w->border = s->input_only ? 0 : s->border;
-			w->mapped = s->mapped;
-			told_unknown(w, s);
-			w->input_only = s->input_only;
-			w->argb = s->argb;
-			w->override_redirect = s->override_redirect;
-			w->opacity = s->opacity;
-			w->has_opaque_region = s->has_region;
-			w->n_opaque_region = s->n_region;
-			w->opaque_region = copy_rects(s->region, &w->n_opaque_region);
-			w->shaped = s->shaped;
-			w->n_shape = s->shaped ? s->n_shape : 0;
-			w->shape = copy_rects(s->shape, &w->n_shape);
-			mirror_create_in_visd(b, w);
-		} else {
-			if (w->parent != p)
-				mirror_reparent(b, w, p, s->x, s->y);
-			mirror_set_geometry(b, w, s->x, s->y, s->width, s->height, s->border);
-			mirror_set_mapped(b, w, s->mapped);
-			take_look(b, w, s);
+			b->resync_needed = true;
+			b->resync_reason = "out of memory";
+			return false;
 		}
-		w->snap = w->csnap = r->snap;
-		w->seen = b->read_number;
-		mirror_set_limbo(b, w, false);
-		apply_below(b, r, ps->first_child + j);
+		w->x = s->x;
+		w->y = s->y;
+		w->width = s->width;
+		w->height = s->height;
+		w->border = s->input_only ? 0 : s->border;
+		w->mapped = s->mapped;
+		told_unknown(w, s);
+		w->input_only = s->input_only;
+		w->argb = s->argb;
+		w->override_redirect = s->override_redirect;
+		w->opacity = s->opacity;
+		w->has_opaque_region = s->has_region;
+		w->n_opaque_region = s->n_region;
+		w->opaque_region = copy_rects(s->region, &w->n_opaque_region);
+		w->shaped = s->shaped;
+		w->n_shape = s->shaped ? s->n_shape : 0;
+		w->shape = copy_rects(s->shape, &w->n_shape);
+		mirror_create_in_visd(b, w);
+	} else {
+		if (w->parent != p)
+			mirror_reparent(b, w, p, s->x, s->y);
+		mirror_set_geometry(b, w, s->x, s->y, s->width, s->height, s->border);
+		mirror_set_mapped(b, w, s->mapped);
+		take_look(b, w, s);
 	}
+	w->snap = w->csnap = r->snap;
+	w->seen = b->read_number;
+	mirror_set_limbo(b, w, false);
+	return true;
+}
+
+/*
+ * Creates or updates, in the mirror and in visd, the windows below node top, level by level: a
+ * level's creations wait for their parents' IDs once, not once a parent.
+ */
+static void apply_below(struct bridge *b, struct xread *r, uint32_t top)
+{
+	uint32_t *queue = malloc(r->n * sizeof(*queue));
+	if (!queue) {
+		b->resync_needed = true;
+		b->resync_reason = "out of memory";
+		return;
+	}
+	uint32_t head = 0, tail = 0;
+	queue[tail++] = top;
+	while (head < tail) {
+		uint32_t i = queue[head++];
+		struct snode *ps = &r->nodes[i];
+		struct xwin *p = mirror_find(b, ps->id);
+		for (uint32_t j = 0; p && ps->ok && j < ps->n_children; j++) {
+			struct snode *s = &r->nodes[ps->first_child + j];
+			if (!s->ok)
+				continue;
+			if (!apply_one(b, r, p, s))
+				break;
+			queue[tail++] = ps->first_child + j;
+		}
+	}
+	free(queue);
 }
 
 /* Puts the children of node i and of its descendants in the order read, bottom to top. */
