@@ -106,7 +106,8 @@ static void usage(FILE *f)
 	      "  --translucency MODE whether ARGB windows and windows below 100% opacity hide only\n"
 	      "                      their _NET_WM_OPAQUE_REGION: auto (default) while a compositing\n"
 	      "                      manager runs, on, off\n"
-	      "  -v                  say more (twice: every window created, every event sent)\n"
+	      "  -v                  say more (twice: every window created, every event sent;\n"
+	      "                      three times: every event read)\n"
 	      "SIGUSR1 checks the mirror against a fresh read of X's tree and says whether it had drifted.\n"
 	      "exit status: 0 stopped by a signal, 1 the X server or visd went away or refused, 2 usage\n",
 	      f);
