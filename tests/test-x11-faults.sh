@@ -33,9 +33,9 @@ fail() {
 }
 ok() { echo "test-x11-faults: ok: $1"; }
 
-# Waits up to 20 s for the command to succeed.
+# Waits for the command to succeed: up to 20 s, or $steps times 50 ms.
 wait_for() {
-	for _ in $(seq 400); do
+	for _ in $(seq "${steps:-400}"); do
 		"$@" && return 0
 		sleep 0.05
 	done
@@ -82,7 +82,8 @@ check_mirror() {
 	n=$(grep -c '^visd-x11: checked:' "$dir/bridge.log")
 	kill -USR1 "$bpid"
 	more_checks() { [ "$(grep -c '^visd-x11: checked:' "$dir/bridge.log")" -gt "$n" ]; }
-	wait_for more_checks || fail "$what: visd-x11 did not answer SIGUSR1" "$dir/bridge.log"
+	# Twenty thousand windows under the sanitizers take a while.
+	steps=2400 wait_for more_checks || fail "$what: visd-x11 did not answer SIGUSR1" "$dir/bridge.log"
 	grep -q 'drifted\|resynchroniz' "$dir/bridge.log" &&
 		fail "$what: the mirror drifted" "$dir/bridge.log"
 	ok "$what: $(grep '^visd-x11: checked:' "$dir/bridge.log" | tail -n 1 | sed 's/^visd-x11: checked: //')"
@@ -123,7 +124,7 @@ kill "$churn_pid"
 wait "$churn_pid" 2>/dev/null
 "$churn" --windows 20000 --rounds 0 --seed 2 --hold >"$dir/churn.out" &
 churn_pid=$!
-wait_for grep -q 'live' "$dir/churn.out" || fail "x11-churn did not create 20,000 windows"
+steps=2400 wait_for grep -q 'live' "$dir/churn.out" || fail "x11-churn did not create 20,000 windows"
 check_mirror "20,000 more windows"
 kill "$churn_pid"
 wait "$churn_pid" 2>/dev/null

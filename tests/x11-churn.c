@@ -6,10 +6,15 @@
  * window keep racing its destruction. With --hold it then keeps its windows until a signal kills
  * it (its windows go with its connection).
  *
- * Usage: x11-churn [--display D] [--windows N] [--rounds R] [--seed S] [--hold]
+ * With --moves M, SIGUSR1 makes it move and raise M of its top-level windows one at a time, each
+ * after the server answered the previous one (tools/x11-bench.sh measures the bridge with it).
+ *
+ * Usage: x11-churn [--display D] [--windows N] [--rounds R] [--seed S] [--hold] [--moves M]
  */
 #include <getopt.h>
+#include <signal.h>
 #include <stdbool.h>
+#include <time.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -129,15 +134,55 @@ static void change(struct churn *k)
 	}
 }
 
+static volatile sig_atomic_t moves_asked;
+
+static void on_usr1(int sig)
+{
+	(void)sig;
+	moves_asked = 1;
+}
+
+/* Moves and raises m top-level windows, one at a time, a millisecond apart. */
+static void move_some(struct churn *k, unsigned long m)
+{
+	size_t tops = 0;
+	for (unsigned long i = 0; i < m; i++) {
+		/* Its own top-level windows: those of the list whose parent is the root. */
+		xcb_window_t w = 0;
+		for (int tries = 0; tries < 100 && !w; tries++) {
+			xcb_window_t c = k->w[below(k, (uint32_t)k->n)];
+			xcb_query_tree_reply_t *q =
+				xcb_query_tree_reply(k->c, xcb_query_tree(k->c, c), NULL);
+			if (q && q->parent == k->s->root)
+				w = c;
+			free(q);
+		}
+		if (!w)
+			break;
+		uint32_t v[] = { below(k, k->s->width_in_pixels), below(k, k->s->height_in_pixels),
+				 XCB_STACK_MODE_ABOVE };
+		xcb_configure_window(k->c, w,
+				     XCB_CONFIG_WINDOW_X | XCB_CONFIG_WINDOW_Y |
+					     XCB_CONFIG_WINDOW_STACK_MODE,
+				     v);
+		free(xcb_get_input_focus_reply(k->c, xcb_get_input_focus(k->c), NULL));
+		nanosleep(&(struct timespec){ 0, 1000000 }, NULL);
+		tops++;
+	}
+	printf("x11-churn: %zu moves done\n", tops);
+	fflush(stdout);
+}
+
 int main(int argc, char **argv)
 {
 	static const struct option longs[] = {
 		{ "display", required_argument, NULL, 'd' }, { "windows", required_argument, NULL, 'n' },
 		{ "rounds", required_argument, NULL, 'r' },  { "seed", required_argument, NULL, 's' },
-		{ "hold", no_argument, NULL, 'h' },          { NULL, 0, NULL, 0 },
+		{ "hold", no_argument, NULL, 'h' },          { "moves", required_argument, NULL, 'm' },
+		{ NULL, 0, NULL, 0 },
 	};
 	const char *display = NULL;
-	unsigned long windows = 100, rounds = 1000, seed = 1;
+	unsigned long windows = 100, rounds = 1000, seed = 1, moves = 0;
 	bool hold = false;
 	int opt;
 	while ((opt = getopt_long(argc, argv, "", longs, NULL)) != -1) {
@@ -147,12 +192,15 @@ int main(int argc, char **argv)
 		case 'r': rounds = strtoul(optarg, NULL, 10); break;
 		case 's': seed = strtoul(optarg, NULL, 10); break;
 		case 'h': hold = true; break;
+		case 'm': moves = strtoul(optarg, NULL, 10); break;
 		default:
 			fprintf(stderr, "usage: x11-churn [--display D] [--windows N] [--rounds R] "
-					"[--seed S] [--hold]\n");
+					"[--seed S] [--hold] [--moves M]\n");
 			return 2;
 		}
 	}
+	struct sigaction sa = { .sa_handler = on_usr1 };
+	sigaction(SIGUSR1, &sa, NULL);
 	struct churn k = { 0 };
 	k.c = xcb_connect(display, NULL);
 	if (xcb_connection_has_error(k.c)) {
@@ -173,9 +221,15 @@ int main(int argc, char **argv)
 	int rc = xcb_connection_has_error(k.c) ? 1 : 0;
 	printf("x11-churn: %zu windows live after %lu changes\n", k.n, rounds);
 	fflush(stdout);
-	if (hold && rc == 0)
-		for (;;)
+	if (hold && rc == 0) {
+		for (;;) {
 			pause();
+			if (moves_asked && moves && k.n) {
+				moves_asked = 0;
+				move_some(&k, moves);
+			}
+		}
+	}
 	xcb_disconnect(k.c);
 	free(k.w);
 	return rc;
