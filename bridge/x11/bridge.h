@@ -40,7 +40,7 @@ struct xwin {
 	struct xwin *bottom, *top;    /* children */
 	int32_t x, y;
 	uint32_t width, height, border;
-	bool mapped, input_only, argb, override_redirect;
+	bool mapped, input_only, argb;
 	/* Its bounding shape (window coordinates), when shaped. */
 	bool shaped;
 	uint32_t n_shape;
@@ -66,9 +66,9 @@ struct xwin {
 	bool reread_due; /* on the list of windows whose children are read again at the turn's end */
 	uint32_t seen;         /* the number of the last tree read that found it */
 	uint32_t reparent_seq; /* the sequence of the last ReparentNotify applied (each comes twice) */
-	/* Its state: visd's, X's last word (non-synthetic VisibilityNotify), what its clients were
-	 * last told (X's word or the bridge's synthetic event, whichever came last). */
-	uint8_t vstate, xstate, told;
+	/* Its state: visd's, and what its clients were last told (X's own VisibilityNotify or the
+	 * bridge's synthetic event, whichever came last). */
+	uint8_t vstate, told;
 	/* The X sequence number of the bridge's last synthetic event about it: X's own events
 	 * numbered below it were generated before the server sent ours, so every client got them
 	 * first, whenever the bridge reads them. */
@@ -80,6 +80,12 @@ struct xwin {
 };
 
 struct xread;
+
+/* A growing list of X window IDs (windows can go while listed: look them up again). */
+struct xid_list {
+	xcb_window_t *ids;
+	size_t n, cap;
+};
 
 struct bridge {
 	xcb_connection_t *x;
@@ -118,16 +124,14 @@ struct bridge {
 	bool grabbed;         /* the server is grabbed around more than one read (check_mirror) */
 	/* Windows whose look waits for visd's answer to their creation: sent with the next batch
 	 * after it, rather than one round trip each. */
-	xcb_window_t *look_due;
-	size_t n_look_due, cap_look_due;
+	struct xid_list look_due;
 	bool batch_open;      /* a visd batch is open this turn */
 	uint32_t visd_sent;   /* visd requests since the last round trip */
 	bool resync_needed;   /* the mirror drifted: read the whole tree again */
 	uint32_t n_limbo;     /* windows with limbo set */
 	/* Windows whose children's order an old event could not settle (see events.c): read again
 	 * at the end of the turn. */
-	xcb_window_t *reread;
-	size_t n_reread, cap_reread;
+	struct xid_list reread;
 	const char *resync_reason;
 	bool sync_asked;      /* _VISD_X11_SYNC changed this turn */
 	struct xwin *dirty;   /* windows whose state words changed this turn */
@@ -139,6 +143,9 @@ struct bridge {
 /* Logging: errors always, -v information. */
 void bridge_log(const struct bridge *b, int level, const char *fmt, ...)
 	__attribute__((format(printf, 3, 4)));
+
+/* Appends id; 0, or -1 when memory ran out. */
+int xid_list_push(struct xid_list *l, xcb_window_t id);
 
 /* mirror.c: the tree and its twin in visd. */
 struct xwin *mirror_find(const struct bridge *b, xcb_window_t id);

@@ -83,7 +83,6 @@ static void on_create(struct bridge *b, xcb_create_notify_event_t *ev, uint32_t 
 	w->width = ev->width;
 	w->height = ev->height;
 	w->border = ev->border_width;
-	w->override_redirect = ev->override_redirect;
 	/* Its class, depth, shape, properties and any children come from a read, which sends
 	 * it to visd. */
 	xread_subtree(b, w, false);
@@ -140,7 +139,6 @@ static void adopt_stray(struct bridge *b, xcb_reparent_notify_event_t *ev, uint3
 	w->x = ev->x;
 	w->y = ev->y;
 	w->width = w->height = 1;
-	w->override_redirect = ev->override_redirect;
 	xread_subtree(b, w, true);
 	bridge_log(b, 2, "adopted 0x%x in 0x%x: created where the bridge could not see it", w->id,
 		   p->id);
@@ -209,7 +207,6 @@ static void on_visibility(struct bridge *b, xcb_visibility_notify_event_t *ev, u
 	struct xwin *w = mirror_find(b, ev->window);
 	if (!w || w == b->root || ev->state > VIS_VISIBILITY_FULLY_OBSCURED)
 		return;
-	w->xstate = ev->state;
 	/* Generated before the server sent the bridge's last event: clients got that one after. */
 	if (!w->told_synthetic || (int32_t)(seq - w->told_seq) >= 0)
 		w->told = ev->state;

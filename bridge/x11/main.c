@@ -50,7 +50,7 @@ static void check_mirror(struct bridge *b)
 		events_handle(b, ev);
 		free(ev);
 	}
-	if (b->n_limbo || b->n_reread)
+	if (b->n_limbo || b->reread.n)
 		xread_pending(b);
 	if (b->resync_needed) {
 		bridge_log(b, 0, "resynchronizing from a fresh read of the tree: %s",
@@ -261,7 +261,7 @@ static void turn(struct bridge *b, xcb_generic_event_t *ev, uint64_t arrival)
 		b->x_failed = true;
 		return;
 	}
-	if (b->n_limbo || b->n_reread)
+	if (b->n_limbo || b->reread.n)
 		xread_pending(b);
 	if (b->resync_needed) {
 		bridge_log(b, 0, "resynchronizing from a fresh read of the tree: %s",

@@ -30,36 +30,42 @@ void visd_begin(struct bridge *b)
 	b->requests++;
 }
 
-/* Ends the batch and waits until visd has applied it and sent its notices. */
 static void send_shape(struct bridge *b, struct xwin *w);
 static void refresh_one(struct bridge *b, struct xwin *w, bool force);
+
+int xid_list_push(struct xid_list *l, xcb_window_t id)
+{
+	if (l->n == l->cap) {
+		size_t cap = l->cap ? 2 * l->cap : 64;
+		xcb_window_t *ids = realloc(l->ids, cap * sizeof(*ids));
+		if (!ids)
+			return -1;
+		l->ids = ids;
+		l->cap = cap;
+	}
+	l->ids[l->n++] = id;
+	return 0;
+}
 
 /* Puts w on the list of windows whose look waits for their visd ID. */
 static void look_later(struct bridge *b, struct xwin *w)
 {
 	if (w->look_due)
 		return;
-	if (b->n_look_due == b->cap_look_due) {
-		size_t cap = b->cap_look_due ? 2 * b->cap_look_due : 64;
-		xcb_window_t *l = realloc(b->look_due, cap * sizeof(*l));
-		if (!l) {
-			b->visd_failed = true;
-			return;
-		}
-		b->look_due = l;
-		b->cap_look_due = cap;
+	if (xid_list_push(&b->look_due, w->id) < 0) {
+		b->visd_failed = true;
+		return;
 	}
 	w->look_due = true;
-	b->look_due[b->n_look_due++] = w->id;
 }
 
 /* The looks that waited for their windows' IDs, into a new batch. */
 static void send_due_looks(struct bridge *b)
 {
-	size_t n = b->n_look_due;
-	b->n_look_due = 0;
+	size_t n = b->look_due.n;
+	b->look_due.n = 0;
 	for (size_t i = 0; i < n; i++) {
-		struct xwin *w = mirror_find(b, b->look_due[i]);
+		struct xwin *w = mirror_find(b, b->look_due.ids[i]);
 		if (!w || !w->look_due || !w->vid)
 			continue;
 		w->look_due = false;
@@ -80,7 +86,7 @@ static int visd_roundtrip(struct bridge *b)
 		return -1;
 	}
 	b->visd_sent = 0;
-	if (b->n_look_due)
+	if (b->look_due.n)
 		send_due_looks(b);
 	return 0;
 }
@@ -206,10 +212,9 @@ static void free_window(struct bridge *b, struct xwin *w)
 
 void mirror_finish(struct bridge *b)
 {
-	free(b->reread);
-	b->reread = NULL;
-	free(b->look_due);
-	b->look_due = NULL;
+	free(b->reread.ids);
+	free(b->look_due.ids);
+	b->reread = b->look_due = (struct xid_list){ 0 };
 	if (!b->root)
 		return;
 	while (b->root->top)
@@ -231,7 +236,7 @@ struct xwin *mirror_add(struct bridge *b, struct xwin *parent, xcb_window_t id)
 	w->id = id;
 	w->opacity = 0xffffffffu;
 	w->opaque_mode = VIS_OPAQUE_MODE_ALL;
-	w->vstate = w->xstate = VIS_VISIBILITY_NONE;
+	w->vstate = VIS_VISIBILITY_NONE;
 	w->told = TOLD_NOTHING;
 	link_above(parent, w, parent->top);
 	b->n_windows++;

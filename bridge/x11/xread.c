@@ -19,7 +19,7 @@ struct snode {
 	uint32_t parent, first_child, n_children;
 	int32_t x, y;
 	uint32_t width, height, border;
-	bool ok, mapped, viewable, input_only, argb, override_redirect, shaped, has_region;
+	bool ok, mapped, viewable, input_only, argb, shaped, has_region;
 	uint32_t n_shape, n_region, opacity;
 	struct vis_rect32 *shape, *region;
 };
@@ -137,7 +137,6 @@ static int read_level(struct bridge *b, struct snode **nodes, uint32_t *n, uint3
 				s->input_only = a->_class == XCB_WINDOW_CLASS_INPUT_ONLY;
 				s->mapped = a->map_state != XCB_MAP_STATE_UNMAPPED;
 				s->viewable = a->map_state == XCB_MAP_STATE_VIEWABLE;
-				s->override_redirect = a->override_redirect;
 				s->x = g->x;
 				s->y = g->y;
 				s->width = g->width;
@@ -208,6 +207,17 @@ static void told_unknown(struct xwin *w, const struct snode *s)
 		w->told = TOLD_UNKNOWN;
 }
 
+/* Gives w the geometry and map state read, before it is in visd. */
+static void take_geometry(struct xwin *w, const struct snode *s)
+{
+	w->x = s->x;
+	w->y = s->y;
+	w->width = s->width;
+	w->height = s->height;
+	w->border = s->input_only ? 0 : s->border;
+	w->mapped = s->mapped;
+}
+
 /* A copy of rects[0 … n) (NULL for none, or when memory ran out: *n is then 0). */
 static struct vis_rect32 *copy_rects(const struct vis_rect32 *rects, uint32_t *n)
 {
@@ -225,7 +235,6 @@ static void take_look(struct bridge *b, struct xwin *w, const struct snode *s)
 {
 	w->input_only = s->input_only;
 	w->argb = s->argb;
-	w->override_redirect = s->override_redirect;
 	uint32_t n_shape = s->n_shape, n_region = s->n_region;
 	mirror_set_shape(b, w, s->shaped, copy_rects(s->shape, &n_shape), n_shape);
 	mirror_set_opacity(b, w, s->opacity);
@@ -316,23 +325,9 @@ static bool apply_one(struct bridge *b, struct xread *r, struct xwin *p, struct 
 			b->resync_reason = "out of memory";
 			return false;
 		}
-		w->x = s->x;
-		w->y = s->y;
-		w->width = s->width;
-		w->height = s->height;
-		w->border = s->input_only ? 0 : s->border;
-		w->mapped = s->mapped;
+		take_geometry(w, s);
 		told_unknown(w, s);
-		w->input_only = s->input_only;
-		w->argb = s->argb;
-		w->override_redirect = s->override_redirect;
-		w->opacity = s->opacity;
-		w->has_opaque_region = s->has_region;
-		w->n_opaque_region = s->n_region;
-		w->opaque_region = copy_rects(s->region, &w->n_opaque_region);
-		w->shaped = s->shaped;
-		w->n_shape = s->shaped ? s->n_shape : 0;
-		w->shape = copy_rects(s->shape, &w->n_shape);
+		take_look(b, w, s); /* kept: the window is not in visd yet */
 		mirror_create_in_visd(b, w);
 	} else {
 		if (w->parent != p)
@@ -410,14 +405,8 @@ static void apply(struct bridge *b, struct xwin *top, struct xread *r, uint32_t 
 		if (t->ok) {
 			take_look(b, top, t);
 			told_unknown(top, t);
-			if (with_geometry) {
-				top->x = t->x;
-				top->y = t->y;
-				top->width = t->width;
-				top->height = t->height;
-				top->border = t->border;
-				top->mapped = t->mapped;
-			}
+			if (with_geometry)
+				take_geometry(top, t);
 		}
 		if (!top->vid && !top->pending) {
 			if (top->input_only)
@@ -537,19 +526,12 @@ void xread_later(struct bridge *b, struct xwin *w)
 {
 	if (w->reread_due)
 		return;
-	if (b->n_reread == b->cap_reread) {
-		size_t cap = b->cap_reread ? 2 * b->cap_reread : 16;
-		xcb_window_t *r = realloc(b->reread, cap * sizeof(*r));
-		if (!r) {
-			b->resync_needed = true;
-			b->resync_reason = "out of memory";
-			return;
-		}
-		b->reread = r;
-		b->cap_reread = cap;
+	if (xid_list_push(&b->reread, w->id) < 0) {
+		b->resync_needed = true;
+		b->resync_reason = "out of memory";
+		return;
 	}
 	w->reread_due = true;
-	b->reread[b->n_reread++] = w->id;
 }
 
 /*
@@ -584,8 +566,8 @@ void xread_pending(struct bridge *b)
 	if (b->n_limbo)
 		find_limbo(b);
 	bool screen = false;
-	for (size_t i = 0; i < b->n_reread; i++) {
-		struct xwin *w = mirror_find(b, b->reread[i]);
+	for (size_t i = 0; i < b->reread.n; i++) {
+		struct xwin *w = mirror_find(b, b->reread.ids[i]);
 		if (w)
 			w->reread_due = false;
 		screen |= w == b->root;
@@ -595,8 +577,8 @@ void xread_pending(struct bridge *b)
 		bridge_log(b, 2, "reading the whole screen again");
 		xread_screen(b);
 	} else {
-		for (size_t i = 0; i < b->n_reread; i++) {
-			struct xwin *w = mirror_find(b, b->reread[i]);
+		for (size_t i = 0; i < b->reread.n; i++) {
+			struct xwin *w = mirror_find(b, b->reread.ids[i]);
 			if (!w)
 				continue;
 			bridge_log(b, 2, "reading the children of 0x%x again", w->id);
@@ -604,7 +586,7 @@ void xread_pending(struct bridge *b)
 				break;
 		}
 	}
-	b->n_reread = 0;
+	b->reread.n = 0;
 	if (b->n_limbo && !b->resync_needed) {
 		/* Not where X said a moment ago: it moves faster than the bridge reads. */
 		b->resync_needed = true;
