@@ -129,34 +129,31 @@ check_mirror "20,000 more windows"
 kill "$churn_pid"
 wait "$churn_pid" 2>/dev/null
 check_mirror "20,000 windows gone with their client"
-bad_exit=$(grep -c 'X error' "$dir/bridge.log")
-[ "$bad_exit" -eq 0 ] || fail "the bridge logged X errors it should not have" "$dir/bridge.log"
+x_errors=$(grep -c 'X error' "$dir/bridge.log")
+[ "$x_errors" -eq 0 ] || fail "the bridge logged X errors it should not have" "$dir/bridge.log"
 
-# visd going away: the bridge says so and exits 1.
+# A peer gone ($1 says which): the bridge exits 1 with a line saying $2.
+expect_gone() {
+	local what=$1 line=$2 status
+	wait "$bpid"
+	status=$?
+	bpid=
+	[ $status = 1 ] || fail "$what: visd-x11 exited $status, not 1" "$dir/bridge.log"
+	grep -q "$line" "$dir/bridge.log" || fail "$what: no line saying so" "$dir/bridge.log"
+	ok "$what: exit 1, '$(grep "$line" "$dir/bridge.log")'"
+}
+
 kill "$vpid"
 wait "$vpid" 2>/dev/null
 vpid=
-wait "$bpid"
-status=$?
-bpid=
-[ $status = 1 ] || fail "visd gone: visd-x11 exited $status, not 1" "$dir/bridge.log"
-grep -q 'visd closed the connection' "$dir/bridge.log" ||
-	fail "visd gone: no line saying so" "$dir/bridge.log"
-ok "visd gone: exit 1, '$(grep 'visd closed' "$dir/bridge.log")'"
+expect_gone "visd gone" 'visd closed the connection'
 
-# The X server going away: the same.
 start_visd
 start_bridge
 kill "$xpid"
 wait "$xpid" 2>/dev/null
 xpid=
-wait "$bpid"
-status=$?
-bpid=
-[ $status = 1 ] || fail "X gone: visd-x11 exited $status, not 1" "$dir/bridge.log"
-grep -q 'the X server closed the connection' "$dir/bridge.log" ||
-	fail "X gone: no line saying so" "$dir/bridge.log"
-ok "X gone: exit 1, '$(grep 'X server closed' "$dir/bridge.log")'"
+expect_gone "X gone" 'the X server closed the connection'
 kill "$wpid" "$cpid" 2>/dev/null
 wpid= cpid=
 
