@@ -247,13 +247,17 @@ static bool shape_past_box(struct desk *d, xcb_window_t xid)
 	return past;
 }
 
+/* Differences of a step shown with their windows' paths; the rest are counted. */
+#define SHOWN_DIFFS 6
+
 /* Reports one difference (who says what, and visd); the first of a step names the step. */
 static void report(struct desk *d, unsigned long step, const char *what, unsigned long *diffs,
 		   xcb_window_t xid, const char *who, const char *x_says, const char *cmd_says)
 {
 	if (*diffs == 0)
 		printf("x11-desk: step %lu (%s):\n", step, what);
-	++*diffs;
+	if (++*diffs > SHOWN_DIFFS)
+		return; /* counted; the first ones tell the story */
 	printf("  0x%x: %s %s, visd %s; its path from the root:\n", xid, who, x_says, cmd_says);
 	check_print_path(stdout, d, xid);
 }
@@ -287,12 +291,13 @@ static void compare_told(struct desk *d, unsigned long step, const char *what,
 	       check_state_name(c->state));
 }
 
-/* Every window visd has a state for against the brute force over X's tree read now. */
+/* Every window visd has a state for against the brute force over X's tree. */
 static void compare_brute(struct desk *d, unsigned long step, const char *what,
-			  unsigned long *diffs, const struct x_view *c, size_t nc)
+			  unsigned long *diffs, const struct check_read *r)
 {
-	size_t nb;
-	struct brute *b = brute_states(d, &nb);
+	const struct x_view *c = r->c;
+	size_t nc = r->nc, nb = r->nb;
+	const struct brute *b = r->b;
 	for (size_t k = 0; k < nc; k++) {
 		const struct brute *f = brute_find(b, nb, c[k].xid);
 		if (f == NULL)
@@ -306,7 +311,6 @@ static void compare_brute(struct desk *d, unsigned long step, const char *what,
 		report(d, step, what, diffs, c[k].xid, "the brute force says", says,
 		       check_state_name(c[k].state));
 	}
-	free(b);
 }
 
 /*
@@ -345,12 +349,26 @@ static void compare_changes(struct desk *d, unsigned long step, const char *what
 		d->rec.w[i].synthetic_mark = d->rec.w[i].synthetic;
 }
 
-unsigned long check_compare(struct desk *d, const char *cmd, unsigned long step, const char *what,
-			    unsigned long *checked)
+void check_read(struct desk *d, const char *cmd, struct check_read *r)
 {
-	size_t nx, nc;
-	struct x_view *c = read_cmd(d, cmd, &nc);
-	struct x_view *x = check_x_views(d, &nx);
+	r->c = read_cmd(d, cmd, &r->nc);
+	r->x = check_x_views(d, &r->nx);
+	r->b = brute_states(d, &r->nb);
+}
+
+void check_read_free(struct check_read *r)
+{
+	free(r->c);
+	free(r->x);
+	free(r->b);
+	*r = (struct check_read){ 0 };
+}
+
+unsigned long check_compare(struct desk *d, struct check_read *r, unsigned long step,
+			    const char *what, unsigned long *checked)
+{
+	size_t nx = r->nx, nc = r->nc;
+	const struct x_view *x = r->x, *c = r->c;
 	unsigned long diffs = 0;
 	size_t i = 0, k = 0;
 	while (i < nx || k < nc) {
@@ -384,12 +402,15 @@ unsigned long check_compare(struct desk *d, const char *cmd, unsigned long step,
 		i += in_x;
 		k += in_cmd;
 	}
-	compare_brute(d, step, what, &diffs, c, nc);
+	compare_brute(d, step, what, &diffs, r);
 	compare_changes(d, step, what, &diffs, c, nc);
+	if (diffs > SHOWN_DIFFS)
+		printf("  … and %lu more differences\n", diffs - SHOWN_DIFFS);
 	fflush(stdout);
-	free(x);
 	free(d->prev_visd);
-	d->prev_visd = c;
+	d->prev_visd = r->c;
 	d->n_prev_visd = nc;
+	r->c = NULL;
+	check_read_free(r);
 	return diffs;
 }

@@ -135,10 +135,20 @@ static uint32_t read_counter(struct desk *d, xcb_atom_t atom)
 	return v;
 }
 
+/* Whether ev is the handshake's own property change on the root. */
+static bool handshake(struct desk *d, const xcb_generic_event_t *ev)
+{
+	const xcb_property_notify_event_t *e = (const void *)ev;
+	return (ev->response_type & 0x7f) == XCB_PROPERTY_NOTIFY && e->window == d->root &&
+	       (e->atom == d->rec.sync_atom || e->atom == d->rec.synced_atom);
+}
+
 void record_event(struct desk *d, xcb_generic_event_t *ev)
 {
 	struct recorder *r = &d->rec;
 	bool synthetic = ev->response_type & 0x80;
+	if (!synthetic && ev->response_type != 0 && !handshake(d, ev))
+		r->changes++;
 	switch (ev->response_type & 0x7f) {
 	case 0: {
 		xcb_generic_error_t *e = (void *)ev;

@@ -42,6 +42,8 @@ struct recorder {
 	xcb_window_t cover; /* the late windows' cover, 0 until needed */
 	xcb_atom_t sync_atom, synced_atom;
 	uint32_t synced; /* the last value of _VISD_X11_SYNCED read */
+	/* X's own events but the handshake's: when it moves, the desktop changed. */
+	unsigned long changes;
 	/* A second connection that selects nothing but SubstructureNotify and PropertyChange on
 	 * the root: no VisibilityNotify may ever reach it, the bridge's included. */
 	xcb_connection_t *bystander;
@@ -195,9 +197,19 @@ struct x_view {
 struct x_view *check_x_views(struct desk *d, size_t *n);
 /* Prints "step K: 0x… STATE" for each (the --no-bridge mode). */
 void check_print(struct desk *d, unsigned long step);
-/* Compares with cmd's output; prints each difference; returns the number of differences. */
-unsigned long check_compare(struct desk *d, const char *cmd, unsigned long step, const char *what,
-			    unsigned long *checked);
+/* What a check compares, read at a quiet point: cmd's states, X's views and the brute force. */
+struct check_read {
+	struct x_view *c, *x;
+	size_t nc, nx;
+	struct brute *b;
+	size_t nb;
+};
+void check_read(struct desk *d, const char *cmd, struct check_read *r);
+void check_read_free(struct check_read *r);
+/* Compares what was read (and takes r's states of cmd as the next check's previous ones);
+ * prints each difference; returns the number of differences. */
+unsigned long check_compare(struct desk *d, struct check_read *r, unsigned long step,
+			    const char *what, unsigned long *checked);
 const char *check_state_name(int state);
 /* Prints the path from the root down to xid: each window's geometry, border, map state, class,
  * override-redirect and shape. */
