@@ -161,6 +161,19 @@ static void serve_good(struct fake *f)
 
 	fake_read(f, VIS_OP_LOOKUP); /* 11 */
 	fake_send(f, VIS_OP_FOUND, (union vis_arg[]){ U(11), U(5) });
+
+	/* A batch's round trip comes in one write: begin, map, sync, commit (8 + 12 + 8 + 8). */
+	if (f->len != 0)
+		fake_die("bytes before the batch");
+	ssize_t got = read(f->fd, f->buf, sizeof(f->buf));
+	if (got != 36)
+		fake_die("the batch's round trip did not come in one write");
+	f->len = (size_t)got;
+	fake_read(f, VIS_OP_BATCH_BEGIN); /* 12 */
+	fake_read(f, VIS_OP_MAP);         /* 13 */
+	fake_read(f, VIS_OP_SYNC);        /* 14 */
+	fake_read(f, VIS_OP_BATCH_COMMIT); /* 15 */
+	fake_synced(f, 14);
 	/* Then the daemon goes away: a clean EOF. */
 }
 
@@ -241,6 +254,11 @@ static void client_good(struct vis_client *c)
 	assert(vis_client_get_state(c, 5, &state) == 0 && state == 1);
 	assert(vis_client_sync(c) == 0);
 	assert(vis_client_lookup(c, VIS_EXTERNAL_X11, 0x1e00003, &window) == 0 && window == 5);
+	/* Held until the commit: a batch-begin written at once would reach the fake, which waits
+	 * in read, alone during the pause. */
+	assert(vis_client_batch_begin(c) == 12);
+	usleep(20000);
+	assert(vis_client_map(c, 5) == 13 && vis_client_batch_roundtrip(c) == 0);
 
 	/* The daemon hung up: sticky, and everything after fails at once. */
 	while (vis_client_dispatch(c) >= 0)

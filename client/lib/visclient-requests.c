@@ -69,9 +69,12 @@ uint32_t vis_client_reparent(struct vis_client *c, uint32_t window, uint32_t par
 
 uint32_t vis_client_batch_begin(struct vis_client *c)
 {
+	/* Held with the batch: the daemon wakes once for all of it, at the commit. */
+	int was = c->in_batch;
+	c->in_batch = 1;
 	uint32_t seq = vis_client_send(c, VIS_OP_BATCH_BEGIN, NULL, NULL);
-	if (seq)
-		c->in_batch = 1;
+	if (!seq)
+		c->in_batch = was;
 	return seq;
 }
 

@@ -224,6 +224,16 @@ int vis_client_roundtrip(struct vis_client *c)
 	return vis_client_wait(c, &done);
 }
 
+int vis_client_batch_roundtrip(struct vis_client *c)
+{
+	int done = 0;
+	if (!c->in_batch)
+		return vis_client_roundtrip(c);
+	if (!vis_client_sync_async(c, on_done, &done) || !vis_client_batch_commit(c))
+		return -1;
+	return vis_client_wait(c, &done);
+}
+
 int vis_client_sync(struct vis_client *c)
 {
 	if (vis_client_roundtrip(c) < 0)

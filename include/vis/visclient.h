@@ -205,6 +205,14 @@ VIS_EXPORT int vis_client_flush(struct vis_client *c);
 VIS_EXPORT int vis_client_roundtrip(struct vis_client *c);
 
 /*
+ * Inside a batch: commits it and blocks until the daemon has answered every request, as a commit
+ * then vis_client_roundtrip() would, but in one message (the sync travels inside the batch and
+ * runs after its recompute), so that the daemon wakes once for the batch and its answer. Outside
+ * a batch, vis_client_roundtrip(). Returns 0, or -1 on a connection error.
+ */
+VIS_EXPORT int vis_client_batch_roundtrip(struct vis_client *c);
+
+/*
  * Requests without a reply (an error may still come: see vis_client_last_error() and the error
  * handler). Each is written at once, without blocking, or inside a batch at its commit (see
  * Sending above). Return the request's number, 0 on a connection error (or, with errno
