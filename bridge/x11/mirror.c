@@ -77,11 +77,9 @@ static void send_due_looks(struct bridge *b)
 
 static int visd_roundtrip(struct bridge *b)
 {
-	if (b->batch_open) {
-		vis_client_batch_commit(b->vc);
-		b->batch_open = false;
-	}
-	if (vis_client_roundtrip(b->vc) < 0) {
+	/* The batch, its commit and the sync in one message: visd wakes once a turn. */
+	b->batch_open = false;
+	if (vis_client_batch_roundtrip(b->vc) < 0) {
 		b->visd_failed = true;
 		return -1;
 	}
