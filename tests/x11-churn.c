@@ -7,9 +7,12 @@
  * it (its windows go with its connection).
  *
  * With --moves M, SIGUSR1 makes it move and raise M of its top-level windows one at a time, each
- * after the server answered the previous one (tools/x11-bench.sh measures the bridge with it).
+ * to anywhere on the screen, after the server answered the previous one, a millisecond apart
+ * (tools/x11-bench.sh measures the bridge with it); with --drag, each move is a drag instead: by
+ * up to 64 pixels each way, without a raise, as a user drags a window.
  *
  * Usage: x11-churn [--display D] [--windows N] [--rounds R] [--seed S] [--hold] [--moves M]
+ *                  [--drag]
  */
 #include <getopt.h>
 #include <signal.h>
@@ -142,8 +145,8 @@ static void on_usr1(int sig)
 	moves_asked = 1;
 }
 
-/* Moves and raises m top-level windows, one at a time, a millisecond apart. */
-static void move_some(struct churn *k, unsigned long m)
+/* Moves and raises m top-level windows (drag: drags them), one at a time, a millisecond apart. */
+static void move_some(struct churn *k, unsigned long m, bool drag)
 {
 	size_t tops = 0;
 	for (unsigned long i = 0; i < m; i++) {
@@ -161,10 +164,19 @@ static void move_some(struct churn *k, unsigned long m)
 			break;
 		uint32_t v[] = { below(k, k->s->width_in_pixels), below(k, k->s->height_in_pixels),
 				 XCB_STACK_MODE_ABOVE };
-		xcb_configure_window(k->c, w,
-				     XCB_CONFIG_WINDOW_X | XCB_CONFIG_WINDOW_Y |
-					     XCB_CONFIG_WINDOW_STACK_MODE,
-				     v);
+		uint16_t mask = XCB_CONFIG_WINDOW_X | XCB_CONFIG_WINDOW_Y;
+		if (drag) {
+			xcb_get_geometry_reply_t *g =
+				xcb_get_geometry_reply(k->c, xcb_get_geometry(k->c, w), NULL);
+			if (!g)
+				continue; /* an X error: no move */
+			v[0] = (uint32_t)(int32_t)(g->x + (int)below(k, 129) - 64);
+			v[1] = (uint32_t)(int32_t)(g->y + (int)below(k, 129) - 64);
+			free(g);
+		} else {
+			mask |= XCB_CONFIG_WINDOW_STACK_MODE;
+		}
+		xcb_configure_window(k->c, w, mask, v);
 		free(xcb_get_input_focus_reply(k->c, xcb_get_input_focus(k->c), NULL));
 		nanosleep(&(struct timespec){ 0, 1000000 }, NULL);
 		tops++;
@@ -179,11 +191,11 @@ int main(int argc, char **argv)
 		{ "display", required_argument, NULL, 'd' }, { "windows", required_argument, NULL, 'n' },
 		{ "rounds", required_argument, NULL, 'r' },  { "seed", required_argument, NULL, 's' },
 		{ "hold", no_argument, NULL, 'h' },          { "moves", required_argument, NULL, 'm' },
-		{ NULL, 0, NULL, 0 },
+		{ "drag", no_argument, NULL, 'g' },          { NULL, 0, NULL, 0 },
 	};
 	const char *display = NULL;
 	unsigned long windows = 100, rounds = 1000, seed = 1, moves = 0;
-	bool hold = false;
+	bool hold = false, drag = false;
 	int opt;
 	while ((opt = getopt_long(argc, argv, "", longs, NULL)) != -1) {
 		switch (opt) {
@@ -193,9 +205,10 @@ int main(int argc, char **argv)
 		case 's': seed = strtoul(optarg, NULL, 10); break;
 		case 'h': hold = true; break;
 		case 'm': moves = strtoul(optarg, NULL, 10); break;
+		case 'g': drag = true; break;
 		default:
 			fprintf(stderr, "usage: x11-churn [--display D] [--windows N] [--rounds R] "
-					"[--seed S] [--hold] [--moves M]\n");
+					"[--seed S] [--hold] [--moves M] [--drag]\n");
 			return 2;
 		}
 	}
@@ -226,7 +239,7 @@ int main(int argc, char **argv)
 			pause();
 			if (moves_asked && moves && k.n) {
 				moves_asked = 0;
-				move_some(&k, moves);
+				move_some(&k, moves, drag);
 			}
 		}
 	}

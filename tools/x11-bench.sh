@@ -2,10 +2,11 @@
 # visd-x11's benchmark: start-up time to mirror a desktop of N windows, and the time from an X
 # event's arrival to the turn's end (the synthetic VisibilityNotify sent), on a private Xvfb
 # without a window manager. tests/x11-churn makes N override-redirect windows (nested, bordered,
-# shaped, some InputOnly), then moves and raises its top-level windows one at a time; the bridge
-# runs with --send-events always, so that every change of a state is told, and reports its turn
-# times at exit (-v). Usage: tools/x11-bench.sh [BUILD-DIR] [N...] (default build-release, 100
-# 1000 10000). Prints a table.
+# shaped, some InputOnly), then changes its top-level windows one at a time, in two runs a size:
+# drags (moves by up to 64 pixels, as a user drags a window) and jumps (moves anywhere on the
+# screen, with a raise); the bridge runs with --send-events always, so that every change of a
+# state is told, and reports its turn times at exit (-v). Usage: tools/x11-bench.sh [BUILD-DIR]
+# [N...] (default build-release, 100 1000 10000; MOVES=500 a run). Prints a table.
 set -u
 build=${1:-build-release}
 shift || true
@@ -28,9 +29,10 @@ wait_for() {
 	return 1
 }
 
-printf '%-8s %12s %8s %10s %10s %10s %10s\n' windows start-up/ms turns 'turn p50' 'turn p99' \
-	'told p50' 'told p99'
+printf '%-8s %-5s %12s %8s %10s %10s %10s %10s\n' windows moves start-up/ms turns 'turn p50' \
+	'turn p99' 'told p50' 'told p99'
 for n in "${sizes[@]}"; do
+for kind in drag jump; do
 	exec 3>"$dir/display"
 	Xvfb -displayfd 3 -screen 0 1920x1080x24 -nolisten tcp >/dev/null 2>&1 &
 	xpid=$!
@@ -38,7 +40,9 @@ for n in "${sizes[@]}"; do
 	wait_for test -s "$dir/display" || { echo "x11-bench: Xvfb did not start" >&2; exit 1; }
 	export DISPLAY=:$(head -n 1 "$dir/display")
 	: >"$dir/display"
-	"$build/tests/x11-churn" --windows "$n" --rounds 0 --seed 1 --hold --moves "$moves" \
+	drag=
+	[ $kind = drag ] && drag=--drag
+	"$build/tests/x11-churn" --windows "$n" --rounds 0 --seed 1 --hold --moves "$moves" $drag \
 		>"$dir/churn.out" &
 	cpid=$!
 	pids=("$xpid" "$cpid")
@@ -65,9 +69,10 @@ for n in "${sizes[@]}"; do
 		"$dir/bridge.log")
 	read -r tp50 tp99 <<<"${tp:-- -}"
 	read -r sp50 sp99 <<<"${sp:-- -}"
-	printf '%-8s %12s %8s %10s %10s %10s %10s\n' "$n" "$start" "$turns" "${tp50}µs" \
+	printf '%-8s %-5s %12s %8s %10s %10s %10s %10s\n' "$n" $kind "$start" "$turns" "${tp50}µs" \
 		"${tp99}µs" "${sp50}µs" "${sp99}µs"
 	kill "$cpid" "$vpid" "$xpid" 2>/dev/null
 	wait 2>/dev/null
 	pids=()
+done
 done
