@@ -63,7 +63,7 @@ start_wm() {
 
 start_visd() {
 	rm -f "$dir/sock"
-	"$visd" --socket "$dir/sock" --screen 800x600 2>"$dir/visd.log" &
+	"$visd" --socket "$dir/sock" --screen 800x600 "$@" 2>"$dir/visd.log" &
 	vpid=$!
 	wait_for test -S "$dir/sock" || fail "visd did not start" "$dir/visd.log"
 }
@@ -147,6 +147,24 @@ kill "$vpid"
 wait "$vpid" 2>/dev/null
 vpid=
 expect_gone "visd gone" 'visd closed the connection'
+
+# visd refusing windows (its limit): the bridge stops rather than keep a partial mirror, at
+# start-up and in a turn.
+start_visd --max-windows 20
+: >"$dir/bridge.log"
+"$bridge" -s "$dir/sock" 2>"$dir/bridge.log" &
+bpid=$!
+expect_gone "visd refusing windows at start-up" 'visd refused create of window 0x'
+grep -q 'stopping (see visd' "$dir/bridge.log" || fail "no advice on visd's limits" "$dir/bridge.log"
+kill "$vpid"
+wait "$vpid" 2>/dev/null
+start_visd --max-windows 300
+start_bridge
+"$churn" --windows 400 --rounds 0 --seed 3 --hold >"$dir/churn.out" &
+churn_pid=$!
+expect_gone "visd refusing windows later" 'visd refused create of window 0x'
+kill "$churn_pid" "$vpid"
+wait "$churn_pid" "$vpid" 2>/dev/null
 
 start_visd
 start_bridge

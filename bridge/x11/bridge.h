@@ -136,9 +136,16 @@ struct bridge {
 	bool sync_asked;      /* _VISD_X11_SYNC changed this turn */
 	struct xwin *dirty;   /* windows whose state words changed this turn */
 	bool x_failed, visd_failed;
+	/* visd refused a request (a limit: windows, depth, rectangles): its tree can no longer be
+	 * the mirror's, so the bridge stops (exit status 1) rather than drift. */
+	bool visd_refused;
+	uint32_t refusals;
 	uint64_t events, turns, resyncs, synthetic_sent;
 	uint64_t requests; /* visd requests sent in all */
 };
+
+/* visd's error for one of the bridge's requests: logged, and the bridge stops. */
+void bridge_refused(struct bridge *b, const struct vis_error *err, xcb_window_t xid);
 
 /* Logging: errors always, -v information. */
 void bridge_log(const struct bridge *b, int level, const char *fmt, ...)
@@ -204,6 +211,12 @@ void xread_later(struct bridge *b, struct xwin *w);
 /* At the end of a turn: finds where the windows in limbo went (asking X), then reads again the
  * children of every window xread_later() named. */
 void xread_pending(struct bridge *b);
+
+/* twin.c: visd's copy of the mirror. */
+/* Compares visd's tree with the mirror: 0 equal, 1 not (why says where), -1 visd failed. */
+int twin_check(struct bridge *b, char *why, size_t size);
+/* Makes visd's windows again from the mirror; 0, or -1 when visd failed. */
+int twin_rebuild(struct bridge *b);
 
 /* events.c: X's events. */
 void events_handle(struct bridge *b, xcb_generic_event_t *ev);

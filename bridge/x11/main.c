@@ -37,7 +37,7 @@ static void on_signal(int sig)
  * nothing, since every mirror function sends visd only differences. Under one server grab, every
  * event X generated before it is applied first, then the tree is read: nothing can change in
  * between, so a correction is a drift, never an event still on its way (a desktop need not be
- * quiet to be checked).
+ * quiet to be checked). Then visd's tree is compared with the mirror (twin.c).
  */
 static void check_mirror(struct bridge *b)
 {
@@ -69,13 +69,47 @@ static void check_mirror(struct bridge *b)
 	xcb_flush(b->x);
 	if (rc < 0 || visd_end_turn(b) < 0)
 		return;
-	if (b->requests == before)
-		bridge_log(b, 0, "checked: the mirror of %u windows equals X's tree", b->n_windows);
+	/* One line a check, once both are done: the tests wait for it. */
+	uint64_t corrections = b->requests - before;
+	char why[160];
+	rc = twin_check(b, why, sizeof(why));
+	if (rc < 0)
+		return;
+	char x_word[96];
+	if (corrections)
+		snprintf(x_word, sizeof(x_word), "the mirror had drifted from X's tree (%llu "
+			 "corrections sent)", (unsigned long long)corrections);
 	else
-		bridge_log(b, 0, "checked: the mirror had drifted; %llu corrections sent to visd",
-			   (unsigned long long)(b->requests - before));
+		snprintf(x_word, sizeof(x_word), "the mirror of %u windows equals X's tree",
+			 b->n_windows);
+	if (rc == 0) {
+		bridge_log(b, 0, "checked: %s, and visd's tree the mirror", x_word);
+	} else {
+		bridge_log(b, 0, "checked: %s, but visd's tree had drifted from the mirror (%s): its "
+				 "windows are made again", x_word, why);
+		b->resyncs++;
+		if (twin_rebuild(b) < 0)
+			return;
+	}
 	notify_flush(b);
 	xcb_flush(b->x);
+}
+
+void bridge_refused(struct bridge *b, const struct vis_error *err, xcb_window_t xid)
+{
+	b->visd_refused = true;
+	if (b->refusals++)
+		return; /* the first says why; the count comes at the end */
+	char what[32] = "";
+	if (xid)
+		snprintf(what, sizeof(what), " of window 0x%x", xid);
+	bridge_log(b, 0, "visd refused %s%s (%s): %s", vis_request_name(err->opcode), what,
+		   vis_error_code_name(err->code), err->message);
+}
+
+static void on_visd_error(void *data, const struct vis_error *err)
+{
+	bridge_refused(data, err, 0);
 }
 
 void bridge_log(const struct bridge *b, int level, const char *fmt, ...)
@@ -108,7 +142,8 @@ static void usage(FILE *f)
 	      "                      manager runs, on, off\n"
 	      "  -v                  say more (twice: every window created, every event sent;\n"
 	      "                      three times: every event read)\n"
-	      "SIGUSR1 checks the mirror against a fresh read of X's tree and says whether it had drifted.\n"
+	      "SIGUSR1 checks the mirror against a fresh read of X's tree, and visd's tree against the\n"
+	      "mirror, and says whether either had drifted.\n"
 	      "exit status: 0 stopped by a signal, 1 the X server or visd went away or refused, 2 usage\n",
 	      f);
 }
@@ -201,6 +236,7 @@ static int setup_visd(struct bridge *b, const char *socket)
 			   w, h, b->screen->width_in_pixels, b->screen->height_in_pixels,
 			   b->screen->width_in_pixels, b->screen->height_in_pixels);
 	vis_client_set_notice_handler(b->vc, notify_on_visd, b);
+	vis_client_set_error_handler(b->vc, on_visd_error, b);
 	vis_client_subscribe(b->vc, VIS_WINDOW_ALL, VIS_NOTICE_VISIBILITY, 0);
 	return vis_client_roundtrip(b->vc);
 }
@@ -292,10 +328,19 @@ static void report_times(const struct bridge *b, const char *what, const struct 
 			   histogram_percentile(h, 99) / 1e3, (double)h->max / 1e3);
 }
 
+/* The bridge cannot mirror the screen in this visd: says what to change, for exit status 1. */
+static int refused(const struct bridge *b)
+{
+	bridge_log(b, 0, "visd refused %u request%s: its tree can no longer mirror X's; stopping "
+			 "(see visd's --max-windows, --max-depth and --max-look-rects)",
+		   b->refusals, b->refusals == 1 ? "" : "s");
+	return 1;
+}
+
 static int run(struct bridge *b)
 {
 	int xfd = xcb_get_file_descriptor(b->x), vfd = vis_client_fd(b->vc);
-	while (!stop_signal && !b->x_failed && !b->visd_failed) {
+	while (!stop_signal && !b->x_failed && !b->visd_failed && !b->visd_refused) {
 		if (check_asked)
 			check_mirror(b);
 		xcb_generic_event_t *ev = xcb_poll_for_queued_event(b->x);
@@ -336,6 +381,8 @@ static int run(struct bridge *b)
 		bridge_log(b, 0, "visd closed the connection: %s", vis_client_error_message(b->vc));
 		return 1;
 	}
+	if (b->visd_refused)
+		return refused(b);
 	return 0;
 }
 
@@ -430,6 +477,10 @@ int main(int argc, char **argv)
 		bridge_log(&b, 0, "%s while reading the tree",
 			   xcb_connection_has_error(b.x) ? "the X server closed the connection"
 							 : "visd closed the connection");
+		goto out;
+	}
+	if (b.visd_refused) {
+		rc = refused(&b);
 		goto out;
 	}
 	notify_flush(&b);

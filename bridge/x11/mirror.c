@@ -101,7 +101,7 @@ int visd_ensure(struct bridge *b, struct xwin *w)
 	if (w->pending && visd_roundtrip(b) < 0)
 		return -1;
 	if (w->pending || !w->vid) {
-		if (!b->resync_needed) {
+		if (!b->resync_needed && !b->visd_refused) {
 			b->resync_needed = true;
 			b->resync_reason = "visd refused a window's creation";
 		}
@@ -246,8 +246,7 @@ static void created_cb(void *data, const struct vis_error *err, uint32_t window)
 	struct xwin *w = data;
 	w->pending = false;
 	if (err) {
-		/* visd_ensure() finds the ID missing and resynchronizes. */
-		bridge_log(the_bridge, 0, "visd refused window 0x%x: %s", w->id, err->message);
+		bridge_refused(the_bridge, err, w->id);
 		return;
 	}
 	w->vid = window;
