@@ -6,7 +6,8 @@
 # compositing manager (xcompmgr, else picom) takes the screen: seed 3 under it, where what the
 # clients were told (X's word or the bridge's synthetic event) must be visd's state, X's own word
 # must be wrong somewhere, and a bystander connection must get no VisibilityNotify; then short
-# runs with a fresh visd and bridge under --send-events never and always. After each run the
+# runs with a fresh visd and bridge under --send-events never and always; then, where both are
+# installed, picom replaces xcompmgr for a short run of its own. After each run the
 # bridge checks its mirror (SIGUSR1) and must not have drifted. Usage: test-x11.sh BUILD-DIR.
 # Exits 77 (skipped) where the bridge is not built or Xvfb or openbox is missing; the compositor
 # part is skipped (with a note) where neither compositor is installed.
@@ -27,12 +28,12 @@ for prog in "$x11_desk" "$visd" "$visctl"; do
 done
 
 dir=$(mktemp -d "${TMPDIR:-/tmp}/test-x11.XXXXXX") || exit 1
-xpid= wpid= vpid= bpid= cpid=
+xpid= wpid= vpid= bpid= cpid= watch_pid=
 cleanup() {
-	for pid in $bpid $cpid $wpid $vpid $xpid; do
+	for pid in $watch_pid $bpid $cpid $wpid $vpid $xpid; do
 		kill "$pid" 2>/dev/null
 	done
-	for pid in $bpid $cpid $wpid $vpid $xpid; do
+	for pid in $watch_pid $bpid $cpid $wpid $vpid $xpid; do
 		wait "$pid" 2>/dev/null
 	done
 	rm -rf "$dir"
@@ -125,11 +126,45 @@ after() {
 	sed -n "s/.*$1 \([0-9]*\).*/\1/p" "$dir/desk.out" | head -n 1
 }
 
+# visctl watch --x11 saw every change as a chain: each window (named by its XID, 0x…, as
+# everything the bridge mirrors is) went from the state its last line gave (or from none, when it
+# was not viewable in between), and its last line gives the state visd has now, for the windows
+# still there.
+check_watch() {
+	sleep 0.5
+	"$visctl" -s "$sock" states --x11 >"$dir/states.out" || fail "visctl states --x11 failed"
+	kill -INT "$watch_pid"
+	wait "$watch_pid" 2>/dev/null
+	watch_pid=
+	awk -v states="$dir/states.out" '
+		BEGIN { while ((getline l < states) > 0) { split(l, f, " "); now[f[1]] = f[2] } }
+		$2 != "visibility" { next }
+		{ lines++ }
+		$3 !~ /^0x/ { print "not named by its XID: " $0; bad++; next }
+		# "none": it was not viewable meanwhile (no notice says so), or is new.
+		($3 in last) && $5 != last[$3] && $5 != "none" && $5 != "initial" {
+			print "from " $5 ", but its last line said " last[$3] ": " $0; bad++
+		}
+		{ last[$3] = $4 }
+		END {
+			for (x in now) if (x in last && last[x] != now[x]) {
+				print x ": watch last said " last[x] ", visd says " now[x]; bad++
+			}
+			print lines " visibility lines"
+			exit bad > 0
+		}' "$dir/watch.out" >"$dir/watch.check" || fail "visctl watch --x11:" "$dir/watch.check"
+	echo "test-x11: visctl watch --x11: $(tail -n 1 "$dir/watch.check"), each from its last state"
+}
+
 start_bridge
+# A subscriber by X window IDs all along the first two seeds.
+"$visctl" -s "$sock" watch --x11 >"$dir/watch.out" 2>"$dir/watch.err" &
+watch_pid=$!
 for seed in 1 2; do
 	echo "test-x11: seed $seed"
 	desk --seed $seed --steps 200
 done
+check_watch
 
 # Under a compositing manager.
 if command -v xcompmgr >/dev/null 2>&1; then
@@ -161,6 +196,20 @@ if [ -n "$cpid" ]; then
 			{ echo "test-x11: $synthetic synthetic events for $changes changes"; status=1; } ;;
 		esac
 	done
+fi
+
+# picom, the compositor most desktops run now (xrender: Xvfb has no GL), when both are there.
+if [ -n "$cpid" ] && command -v picom >/dev/null 2>&1 && command -v xcompmgr >/dev/null 2>&1; then
+	# The bridge first: picom's composite overlay window, which QueryTree leaves out of X's tree,
+	# comes to it as a CreateNotify and a MapNotify over the whole screen, and must hide nothing.
+	kill "$cpid"
+	wait "$cpid" 2>/dev/null
+	start_bridge
+	DISPLAY=$display picom --backend xrender --config /dev/null >"$dir/picom.log" 2>&1 &
+	cpid=$!
+	echo "test-x11: seed 5 under picom"
+	desk --seed 5 --steps 40 --compositor
+	[ "$(after 'bystander got')" = 0 ] || { echo "test-x11: the bystander got VisibilityNotify"; status=1; }
 fi
 [ $status = 0 ] || { echo "test-x11: the bridge's log:"; cat "$log"; }
 exit $status

@@ -97,6 +97,9 @@ struct bridge {
 	int verbose;
 
 	struct xwin *root;
+	/* The bits of an XID that name its client (above the setup's resource_id_mask): none are
+	 * set in the server's own windows (see server_window()). */
+	uint32_t client_bits;
 	struct vis_idmap by_xid, by_vid;
 	/* visd's states of windows whose creation visd has not answered yet (its notice can come
 	 * first), by visd ID: state + 1, until created_cb() hands them to notify_created(). visd
@@ -143,6 +146,17 @@ struct bridge {
 	uint64_t events, turns, resyncs, synthetic_sent;
 	uint64_t requests; /* visd requests sent in all */
 };
+
+/*
+ * A window the server made for itself, not a client: besides the root, the composite overlay
+ * window a compositor draws the screen into, and the screen saver's. QueryTree leaves them out of
+ * X's tree, though their CreateNotify and MapNotify reach the root's listeners; the bridge leaves
+ * them out too (the overlay shows the windows below it).
+ */
+static inline bool server_window(const struct bridge *b, xcb_window_t id)
+{
+	return (id & b->client_bits) == 0;
+}
 
 /* visd's error for one of the bridge's requests: logged, and the bridge stops. */
 void bridge_refused(struct bridge *b, const struct vis_error *err, xcb_window_t xid);

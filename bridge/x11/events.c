@@ -45,6 +45,8 @@ static struct xwin *subject(struct bridge *b, xcb_window_t id, xcb_window_t via,
 	struct xwin *w = mirror_find(b, id);
 	if (stale(b, w, seq) || w == b->root)
 		return NULL;
+	if (!w && server_window(b, id))
+		return NULL; /* never in the mirror */
 	if (!w) {
 		struct xwin *v = mirror_find(b, via);
 		if (v && v->id != id && !before(seq, v->csnap)) {
@@ -69,6 +71,11 @@ static void on_create(struct bridge *b, xcb_create_notify_event_t *ev, uint32_t 
 	struct xwin *p = mirror_find(b, ev->parent);
 	if (!p)
 		return;
+	if (server_window(b, ev->window)) {
+		bridge_log(b, 2, "0x%x is the server's own window (a compositor's overlay, or the "
+				 "screen saver's): left out, as QueryTree leaves it out", ev->window);
+		return;
+	}
 	/* The parent's children were read since: the window was not among them any more. If it
 	 * lives on, an event or a read of its new parent brings it. */
 	if (before(seq, p->csnap))

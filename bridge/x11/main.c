@@ -177,6 +177,7 @@ static int setup_x(struct bridge *b, const char *display)
 	for (int i = 0; i < b->screen_number && it.rem; i++)
 		xcb_screen_next(&it);
 	b->screen = it.data;
+	b->client_bits = ~xcb_get_setup(b->x)->resource_id_mask;
 	const xcb_query_extension_reply_t *e = xcb_get_extension_data(b->x, &xcb_shape_id);
 	if (e && e->present) {
 		b->shape_ext = true;
