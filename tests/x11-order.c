@@ -22,35 +22,30 @@
  * (src/brute.c) on the stack of mapped windows. Whenever W is viewable, the last VisibilityNotify
  * its client got, X's own or synthetic, must be that state: otherwise the change counts as
  * "stale last" and is printed in full. With --check CMD, CMD's state of W (visctl -s SOCK states
- * --x11: "0x… STATE" lines of the viewable windows) must be that state too.
+ * --x11: "0x… STATE" lines of the viewable windows) must be that state too. --bursts N then makes
+ * N runs of changes without waiting between them (bursts() says how), where only the last word
+ * is checked.
  *
- * Prints a table per kind of change and the orders seen. Exit: 0; 1 when a last word was stale,
- * CMD differed, or the display, the bridge or CMD failed; 2 (usage). tools/x11-order.sh runs it
- * on a private Xvfb with visd and the bridge (and xcompmgr).
+ * Prints a table per kind of change: how many; the world's round trip (p50); when X's first event
+ * came and when the bridge's first synthetic event came (p50/p99, from the world's request), and
+ * the synthetic event's distance from X's last own event before it; how often X's own last word
+ * was not the true state; stale last words. Then the orders of events seen, with how often. Exit:
+ * 0; 1 when a last word was stale, CMD differed, or the display, the bridge or CMD failed; 2
+ * (usage). tools/x11-order.sh runs it on a private Xvfb with visd and the bridge (and xcompmgr).
  */
 #include <getopt.h>
-#include <inttypes.h>
-#include <poll.h>
 #include <stdarg.h>
-#include <stdbool.h>
-#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <xcb/xcb.h>
-#include <xcb/xcbext.h> /* xcb_poll_for_reply: a reply awaited while events are read */
 
 #include "engine.h"
 #include "histogram.h"
+#include "rng.h"
+#include "x11-order.h"
 
-#define TIMEOUT_MS 5000
-#define QUIET_MAX_MS 2000
-#define MAX_SEEN 64
-#define MAX_ORDERS 8
-
-/* W, the cover (over W's place), the part cover (over part of it), the far window (elsewhere). */
-enum { WIN_W, WIN_COVER, WIN_PART, WIN_FAR, N_WINS };
+#define MAX_ORDERS 8 /* orders of events kept a kind of change */
 
 /* Where each starts: W at home, unmapped covers, the far window mapped. Fits 960×600. */
 #define HOME { 100, 100, 200, 150 }
@@ -92,14 +87,6 @@ static const struct step cycle[] = {
 };
 #define N_STEPS (sizeof(cycle) / sizeof(cycle[0]))
 
-/* What the client got: one of these, with a state for VisibilityNotify, and its arrival time. */
-enum seen_what { SEEN_CONFIGURE, SEEN_MAP, SEEN_UNMAP, SEEN_EXPOSE, SEEN_X_VIS, SEEN_SYN_VIS,
-		 SEEN_OTHER };
-struct seen {
-	uint8_t what, state;
-	uint64_t t; /* ns after the world's request */
-};
-
 /* The figures of one kind of change; orders[] holds the first MAX_ORDERS orders seen. */
 struct kind_stats {
 	const char *name;
@@ -113,35 +100,10 @@ struct kind_stats {
 	unsigned long other_orders;
 };
 
-struct order {
-	xcb_connection_t *client, *world;
-	xcb_screen_t *screen;
-	xcb_window_t win[N_WINS];
-	/* The world's model: rectangles, map states, stacking (stack[0] at the bottom). */
-	struct vis_rect rect[N_WINS];
-	bool mapped[N_WINS];
-	int stack[N_WINS];
-	xcb_atom_t sync, synced;
-	uint32_t k;        /* the handshake's last value */
-	bool synced_seen;  /* _VISD_X11_SYNCED changed since the flag was cleared */
-	int told, x_told;  /* W's last VisibilityNotify state, any and X's own; -1: none since map */
-	bool collecting;
-	uint64_t t_req;
-	struct seen seen[MAX_SEEN];
-	size_t n_seen;
-	unsigned long n_events; /* the client's events, all */
-	int quiet_ms;
-	const char *check;
-	bool verbose;
-};
-
 static struct kind_stats kinds[N_STEPS];
 static size_t n_kinds;
 
-static _Noreturn void die(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-
-/* Prints "x11-order: MESSAGE" and exits 1. */
-static _Noreturn void die(const char *fmt, ...)
+_Noreturn void order_die(const char *fmt, ...)
 {
 	va_list ap;
 	fflush(stdout);
@@ -153,184 +115,11 @@ static _Noreturn void die(const char *fmt, ...)
 	exit(1);
 }
 
-static uint64_t now_ns(void)
-{
-	struct timespec t;
-	clock_gettime(CLOCK_MONOTONIC, &t);
-	return (uint64_t)t.tv_sec * 1000000000u + (uint64_t)t.tv_nsec;
-}
-
+/* A state's short name in the tables. */
 static const char *short_state(int state)
 {
 	static const char *const names[] = { "U", "PO", "FO", "none" };
 	return state >= 0 && state < 4 ? names[state] : "?";
-}
-
-/* Records one of the client's events: W's last words always, the change's events while timed. */
-static void client_event(struct order *o, xcb_generic_event_t *ev, uint64_t t)
-{
-	uint8_t type = ev->response_type & 0x7f, what = SEEN_OTHER, state = 0;
-	o->n_events++;
-	if (ev->response_type == 0) {
-		xcb_generic_error_t *e = (void *)ev;
-		die("X error %u on the client's request %u.%u", e->error_code, e->major_code,
-		    e->minor_code);
-	}
-	switch (type) {
-	case XCB_CONFIGURE_NOTIFY:
-		what = SEEN_CONFIGURE;
-		break;
-	case XCB_MAP_NOTIFY:
-		what = SEEN_MAP;
-		break;
-	case XCB_UNMAP_NOTIFY:
-		what = SEEN_UNMAP;
-		o->told = o->x_told = -1; /* nothing holds until X speaks again */
-		break;
-	case XCB_EXPOSE:
-		what = SEEN_EXPOSE;
-		break;
-	case XCB_VISIBILITY_NOTIFY: {
-		xcb_visibility_notify_event_t *v = (void *)ev;
-		if (v->window != o->win[WIN_W])
-			break;
-		state = v->state;
-		o->told = state;
-		if (ev->response_type & 0x80) {
-			what = SEEN_SYN_VIS;
-		} else {
-			what = SEEN_X_VIS;
-			o->x_told = state;
-		}
-		break;
-	}
-	}
-	if (o->collecting && o->n_seen < MAX_SEEN)
-		o->seen[o->n_seen++] =
-			(struct seen){ what, state, t > o->t_req ? t - o->t_req : 0 };
-}
-
-/* Reads every event that has come on both connections: the client's timed, the world's for the
- * handshake. */
-static void collect(struct order *o)
-{
-	xcb_generic_event_t *ev;
-	while ((ev = xcb_poll_for_event(o->client)) != NULL) {
-		client_event(o, ev, now_ns());
-		free(ev);
-	}
-	if (xcb_connection_has_error(o->client))
-		die("the X server closed the client's connection");
-	while ((ev = xcb_poll_for_event(o->world)) != NULL) {
-		xcb_property_notify_event_t *p = (void *)ev;
-		if (ev->response_type == 0)
-			die("X error %u on the world's request %u.%u",
-			    ((xcb_generic_error_t *)ev)->error_code,
-			    ((xcb_generic_error_t *)ev)->major_code,
-			    ((xcb_generic_error_t *)ev)->minor_code);
-		if ((ev->response_type & 0x7f) == XCB_PROPERTY_NOTIFY &&
-		    p->window == o->screen->root && p->atom == o->synced &&
-		    p->state == XCB_PROPERTY_NEW_VALUE)
-			o->synced_seen = true;
-		free(ev);
-	}
-	if (xcb_connection_has_error(o->world))
-		die("the X server closed the world's connection");
-}
-
-/* Sleeps until either connection has something, or ms pass. */
-static void wait_input(struct order *o, int ms)
-{
-	struct pollfd p[2] = { { xcb_get_file_descriptor(o->client), POLLIN, 0 },
-			       { xcb_get_file_descriptor(o->world), POLLIN, 0 } };
-	poll(p, 2, ms < 0 ? 0 : ms);
-}
-
-/* The reply to request seq on c, the client's events read and timed meanwhile; dies after
- * TIMEOUT_MS. */
-static void *await_reply(struct order *o, xcb_connection_t *c, unsigned seq, const char *what)
-{
-	uint64_t end = now_ns() + TIMEOUT_MS * 1000000ull;
-	for (;;) {
-		collect(o);
-		void *reply = NULL;
-		xcb_generic_error_t *e = NULL;
-		if (xcb_poll_for_reply(c, seq, &reply, &e)) {
-			if (e != NULL)
-				die("X error %u on %s", e->error_code, what);
-			if (reply == NULL)
-				die("no answer to %s: the X server closed the connection", what);
-			collect(o); /* what was read with the reply */
-			return reply;
-		}
-		uint64_t t = now_ns();
-		if (t >= end)
-			die("the X server did not answer %s in %d ms", what, TIMEOUT_MS);
-		wait_input(o, (int)((end - t) / 1000000u) + 1);
-	}
-}
-
-/* A round trip on c, the client's events read and timed meanwhile. */
-static void round_trip(struct order *o, xcb_connection_t *c, const char *what)
-{
-	xcb_get_input_focus_cookie_t ck = xcb_get_input_focus(c);
-	xcb_flush(c);
-	free(await_reply(o, c, ck.sequence, what));
-}
-
-/* Reads _VISD_X11_SYNC or _VISD_X11_SYNCED (0 when unset), through the world. */
-static uint32_t read_counter(struct order *o, xcb_atom_t atom)
-{
-	xcb_get_property_cookie_t ck =
-		xcb_get_property(o->world, 0, o->screen->root, atom, XCB_ATOM_CARDINAL, 0, 1);
-	xcb_flush(o->world);
-	xcb_get_property_reply_t *r = await_reply(o, o->world, ck.sequence, "GetProperty");
-	uint32_t v = 0;
-	if (r->format == 32 && xcb_get_property_value_length(r) >= 4)
-		memcpy(&v, xcb_get_property_value(r), 4);
-	free(r);
-	return v;
-}
-
-/* The handshake: the bridge has applied everything X told it so far, and sent its events. */
-static void handshake(struct order *o)
-{
-	o->k++;
-	o->synced_seen = false;
-	xcb_change_property(o->world, XCB_PROP_MODE_REPLACE, o->screen->root, o->sync,
-			    XCB_ATOM_CARDINAL, 32, 1, &o->k);
-	xcb_flush(o->world);
-	uint64_t end = now_ns() + TIMEOUT_MS * 1000000ull;
-	for (;;) {
-		collect(o);
-		if (o->synced_seen) {
-			o->synced_seen = false;
-			if (read_counter(o, o->synced) == o->k)
-				return;
-			continue;
-		}
-		uint64_t t = now_ns();
-		if (t >= end)
-			die("visd-x11 did not answer the _VISD_X11_SYNC handshake (%u) in %d ms: is it "
-			    "running on this display?", o->k, TIMEOUT_MS);
-		wait_input(o, (int)((end - t) / 1000000u) + 1);
-	}
-}
-
-/* Reads events until none came for quiet_ms (at most QUIET_MAX_MS). */
-static void quiet(struct order *o)
-{
-	uint64_t end = now_ns() + QUIET_MAX_MS * 1000000ull;
-	for (;;) {
-		unsigned long before = o->n_events;
-		uint64_t until = now_ns() + (uint64_t)o->quiet_ms * 1000000u;
-		for (uint64_t t; (t = now_ns()) < until;) {
-			wait_input(o, (int)((until - t) / 1000000u) + 1);
-			collect(o);
-		}
-		if (o->n_events == before || now_ns() >= end)
-			return;
-	}
 }
 
 /* W's true state as the world set things: the brute force on the stack of mapped windows. */
@@ -348,12 +137,14 @@ static int truth(const struct order *o)
 			w = n;
 		rects[n++] = o->rect[j];
 	}
-	struct vis_stack s = { .rects = rects, .n = n, .has_screen = true,
+	struct vis_stack s = { .rects = rects,
+			       .n = n,
+			       .has_screen = true,
 			       .screen_w = o->screen->width_in_pixels,
 			       .screen_h = o->screen->height_in_pixels };
 	uint8_t states[N_WINS];
 	if (vis_compute(VIS_ENGINE_BRUTE, &s, states) < 0)
-		die("out of memory");
+		order_die("out of memory");
 	return states[w];
 }
 
@@ -413,7 +204,7 @@ static int check_state(struct order *o)
 	static const char *const names[] = { "unobscured", "partially-obscured", "fully-obscured" };
 	FILE *f = popen(o->check, "r");
 	if (f == NULL)
-		die("cannot run %s", o->check);
+		order_die("cannot run %s", o->check);
 	int state = VIS_NO_STATE;
 	char *line = NULL, word[32];
 	size_t cap = 0;
@@ -425,15 +216,15 @@ static int check_state(struct order *o)
 					state = s;
 	free(line);
 	if (pclose(f) != 0)
-		die("%s failed", o->check);
+		order_die("%s failed", o->check);
 	return state;
 }
 
 /* The order of a change's events as text ("Configure, X:PO, Expose×2, syn:PO"). */
 static void order_text(const struct order *o, char *buf, size_t size)
 {
-	static const char *const names[] = { "Configure", "Map", "Unmap", "Expose", "X", "syn",
-					      "other" };
+	static const char *const names[] = { "Configure", "Map", "Unmap", "Expose",
+					     "X",         "syn", "other" };
 	size_t len = 0;
 	buf[0] = '\0';
 	if (o->n_seen == 0)
@@ -464,9 +255,10 @@ static void order_text(const struct order *o, char *buf, size_t size)
 /* Prints a change's events with their times, for a stale last word or -v. */
 static void print_seen(FILE *f, const struct order *o)
 {
-	static const char *const names[] = { "ConfigureNotify", "MapNotify", "UnmapNotify",
-					      "Expose", "VisibilityNotify", "synthetic VisibilityNotify",
-					      "other event" };
+	static const char *const names[] = { "ConfigureNotify",  "MapNotify",
+					     "UnmapNotify",      "Expose",
+					     "VisibilityNotify", "synthetic VisibilityNotify",
+					     "other event" };
 	for (size_t i = 0; i < o->n_seen; i++) {
 		const struct seen *e = &o->seen[i];
 		fprintf(f, "    %8.1f µs  %s", (double)e->t / 1e3, names[e->what]);
@@ -476,6 +268,7 @@ static void print_seen(FILE *f, const struct order *o)
 	}
 }
 
+/* The figures of the kind of change called name, made on its first change. */
 static struct kind_stats *kind_of(const char *name)
 {
 	for (size_t i = 0; i < n_kinds; i++)
@@ -545,8 +338,9 @@ static void file_change(struct order *o, struct kind_stats *k, uint64_t done, un
 	}
 	if (stale) {
 		k->stale++;
-		fprintf(stderr, "x11-order: change %lu, %s: STALE: the client was told %s last, the "
-				"true state is %s; it got:\n",
+		fprintf(stderr,
+			"x11-order: change %lu, %s: STALE: the client was told %s last, the "
+			"true state is %s; it got:\n",
 			index, s->kind, o->told < 0 ? "nothing" : vis_state_name((uint8_t)o->told),
 			vis_state_name((uint8_t)want));
 		print_seen(stderr, o);
@@ -557,24 +351,81 @@ static void file_change(struct order *o, struct kind_stats *k, uint64_t done, un
 static void measure(struct order *o, const struct step *s, unsigned long index)
 {
 	struct kind_stats *k = kind_of(s->kind);
-	collect(o);
+	conn_collect(o);
 	o->n_seen = 0;
 	o->collecting = true;
 	world_request(o, s);
 	xcb_get_input_focus_cookie_t ck = xcb_get_input_focus(o->world);
-	o->t_req = now_ns();
+	o->t_req = conn_now_ns();
 	xcb_flush(o->world);
-	free(await_reply(o, o->world, ck.sequence, "the world's round trip"));
-	uint64_t done = now_ns() - o->t_req;
-	handshake(o);
-	round_trip(o, o->client, "the client's round trip");
+	free(conn_await_reply(o, o->world, ck.sequence, "the world's round trip"));
+	uint64_t done = conn_now_ns() - o->t_req;
+	conn_handshake(o);
+	conn_round_trip(o, o->client, "the client's round trip");
 	size_t mark = o->n_seen;
-	quiet(o);
+	conn_quiet(o);
 	o->collecting = false;
 	k->late += o->n_seen - mark;
 	if (o->n_seen == MAX_SEEN)
-		die("change %lu (%s): more than %d events", index, s->kind, MAX_SEEN);
+		order_die("change %lu (%s): more than %d events", index, s->kind, MAX_SEEN);
 	file_change(o, k, done, index, s);
+}
+
+/*
+ * Bursts: runs of 2 to 8 consecutive changes of the cycle, each sent 0 to 500 µs after the one
+ * before without waiting for anything, so that X's events about a change cross the bridge's
+ * synthetic events about the ones before; then the handshake, round trip and quiet as after one
+ * change. Only the last word counts: it must be the true state. Returns the stale last words.
+ */
+static unsigned long bursts(struct order *o, unsigned long n, unsigned long *changes)
+{
+	struct vis_rng rng = { 1 };
+	unsigned long stale = 0;
+	size_t pos = 0; /* the cycle is done: its first step comes next */
+	for (unsigned long i = 1; i <= n; i++) {
+		int len = (int)vis_rng_range(&rng, 2, 8);
+		conn_collect(o);
+		o->n_seen = 0;
+		o->collecting = true;
+		o->t_req = conn_now_ns();
+		for (int j = 0; j < len; j++) {
+			world_request(o, &cycle[pos]);
+			pos = (pos + 1) % N_STEPS;
+			xcb_flush(o->world);
+			long gap = (long)vis_rng_below(&rng, 501) * 1000;
+			if (gap)
+				nanosleep(&(struct timespec){ 0, gap }, NULL);
+		}
+		*changes += (unsigned long)len;
+		conn_round_trip(o, o->world, "the world's round trip");
+		conn_handshake(o);
+		conn_round_trip(o, o->client, "the client's round trip");
+		conn_quiet(o);
+		o->collecting = false;
+		int want = truth(o);
+		if (o->verbose) {
+			fprintf(stderr, "x11-order: burst %lu, %d changes up to %s (true: %s):\n",
+				i, len, cycle[(pos + N_STEPS - 1) % N_STEPS].kind,
+				short_state(want));
+			print_seen(stderr, o);
+		}
+		if (o->check != NULL && check_state(o) != want) {
+			stale++;
+			fprintf(stderr, "x11-order: burst %lu: %s differs from the geometry (%s)\n",
+				i, o->check, short_state(want));
+		}
+		if (want != VIS_NO_STATE && o->told != want) {
+			stale++;
+			fprintf(stderr,
+				"x11-order: burst %lu, %d changes up to %s: STALE: the client "
+				"was told %s last, the true state is %s; it got:\n",
+				i, len, cycle[(pos + N_STEPS - 1) % N_STEPS].kind,
+				o->told < 0 ? "nothing" : vis_state_name((uint8_t)o->told),
+				vis_state_name((uint8_t)want));
+			print_seen(stderr, o);
+		}
+	}
+	return stale;
 }
 
 /* Creates the windows: W on the client's connection, the others on the world's, above it. */
@@ -582,8 +433,10 @@ static void setup(struct order *o)
 {
 	for (int i = 0; i < N_WINS; i++) {
 		xcb_connection_t *c = i == WIN_W ? o->client : o->world;
-		uint32_t mask = XCB_CW_BACK_PIXEL | XCB_CW_OVERRIDE_REDIRECT, values[3] = {
-			i == WIN_W ? o->screen->white_pixel : o->screen->black_pixel, 1, 0 };
+		uint32_t mask = XCB_CW_BACK_PIXEL | XCB_CW_OVERRIDE_REDIRECT;
+		uint32_t values[3] = {
+			i == WIN_W ? o->screen->white_pixel : o->screen->black_pixel, 1, 0
+		};
 		if (i == WIN_W) {
 			mask |= XCB_CW_EVENT_MASK;
 			values[2] = XCB_EVENT_MASK_VISIBILITY_CHANGE | XCB_EVENT_MASK_EXPOSURE |
@@ -593,19 +446,20 @@ static void setup(struct order *o)
 		o->win[i] = xcb_generate_id(c);
 		xcb_create_window(c, XCB_COPY_FROM_PARENT, o->win[i], o->screen->root,
 				  (int16_t)r->x, (int16_t)r->y, (uint16_t)r->w, (uint16_t)r->h, 0,
-				  XCB_WINDOW_CLASS_INPUT_OUTPUT, XCB_COPY_FROM_PARENT, mask, values);
+				  XCB_WINDOW_CLASS_INPUT_OUTPUT, XCB_COPY_FROM_PARENT, mask,
+				  values);
 		o->rect[i] = *r;
 		o->stack[i] = i;
 		o->mapped[i] = i == WIN_W || i == WIN_FAR;
 		if (o->mapped[i])
 			xcb_map_window(c, o->win[i]);
 		if (i == WIN_W)
-			round_trip(o, o->client, "creating W"); /* W first: the bottom */
+			conn_round_trip(o, o->client, "creating W"); /* W first: the bottom */
 	}
-	round_trip(o, o->world, "creating the windows");
-	handshake(o);
-	round_trip(o, o->client, "the client's round trip");
-	quiet(o);
+	conn_round_trip(o, o->world, "creating the windows");
+	conn_handshake(o);
+	conn_round_trip(o, o->client, "the client's round trip");
+	conn_quiet(o);
 }
 
 /* Prints the table and the orders; returns the number of stale last words. */
@@ -623,7 +477,8 @@ static unsigned long report(const struct order *o, unsigned long repeat, bool cm
 		const struct kind_stats *k = &kinds[i];
 		char x[32] = "-", s[32] = "-", g[32] = "-";
 		if (k->x_first.n)
-			snprintf(x, sizeof x, "%.0f/%.0f", histogram_percentile(&k->x_first, 50) / 1e3,
+			snprintf(x, sizeof x, "%.0f/%.0f",
+				 histogram_percentile(&k->x_first, 50) / 1e3,
 				 histogram_percentile(&k->x_first, 99) / 1e3);
 		if (k->syn.n)
 			snprintf(s, sizeof s, "%.0f/%.0f", histogram_percentile(&k->syn, 50) / 1e3,
@@ -657,44 +512,16 @@ static unsigned long report(const struct order *o, unsigned long repeat, bool cm
 
 static void usage(FILE *f)
 {
-	fputs("usage: x11-order [--display D] [--repeat N] [--quiet-ms MS] [--check CMD]\n"
-	      "                 [--compositor] [-v]\n"
+	fputs("usage: x11-order [--display D] [--repeat N] [--bursts N] [--quiet-ms MS]\n"
+	      "                 [--check CMD] [--compositor] [-v]\n"
 	      "  --display D    the X server, where visd-x11 runs (default: $DISPLAY)\n"
 	      "  --repeat N     cycles of changes (default 100)\n"
+	      "  --bursts N     then N bursts of changes without waiting (default 0)\n"
 	      "  --quiet-ms MS  after each change, read events until none for MS (default 50)\n"
 	      "  --check CMD    also compare CMD's state of W (visctl -s SOCK states --x11)\n"
 	      "  --compositor   wait (5 s) for a compositing manager to own _NET_WM_CM_S0\n"
 	      "  -v             every change's events, timed\n",
 	      f);
-}
-
-/* The atom of name, through the world. */
-static xcb_atom_t intern(struct order *o, const char *name)
-{
-	xcb_intern_atom_reply_t *a = xcb_intern_atom_reply(
-		o->world, xcb_intern_atom(o->world, 0, (uint16_t)strlen(name), name), NULL);
-	if (a == NULL)
-		die("cannot intern %s", name);
-	xcb_atom_t atom = a->atom;
-	free(a);
-	return atom;
-}
-
-/* Whether someone owns the selection name; waits up to 5 s for one when wait is set. */
-static bool owned(struct order *o, const char *name, bool wait)
-{
-	xcb_atom_t atom = intern(o, name);
-	for (int waited = 0;; waited += 50) {
-		xcb_get_selection_owner_reply_t *r = xcb_get_selection_owner_reply(
-			o->world, xcb_get_selection_owner(o->world, atom), NULL);
-		bool yes = r != NULL && r->owner != XCB_NONE;
-		free(r);
-		if (yes || !wait)
-			return yes;
-		if (waited >= TIMEOUT_MS)
-			die("nobody owns %s after %d ms", name, TIMEOUT_MS);
-		nanosleep(&(struct timespec){ 0, 50000000 }, NULL);
-	}
 }
 
 int main(int argc, char **argv)
@@ -705,12 +532,13 @@ int main(int argc, char **argv)
 		{ "quiet-ms", required_argument, NULL, 'q' },
 		{ "check", required_argument, NULL, 'c' },
 		{ "compositor", no_argument, NULL, 'C' },
+		{ "bursts", required_argument, NULL, 'b' },
 		{ "help", no_argument, NULL, 'h' },
 		{ NULL, 0, NULL, 0 },
 	};
 	struct order o = { .quiet_ms = 50, .told = -1, .x_told = -1 };
 	const char *display = NULL;
-	unsigned long repeat = 100;
+	unsigned long repeat = 100, n_bursts = 0;
 	bool compositor = false;
 	char *end;
 	int opt;
@@ -727,6 +555,11 @@ int main(int argc, char **argv)
 		case 'q':
 			o.quiet_ms = (int)strtol(optarg, &end, 10);
 			if (*end || o.quiet_ms < 1 || o.quiet_ms > 1000)
+				goto bad;
+			break;
+		case 'b':
+			n_bursts = strtoul(optarg, &end, 10);
+			if (*end)
 				goto bad;
 			break;
 		case 'c':
@@ -750,33 +583,42 @@ bad:
 		usage(stderr);
 		return 2;
 	}
-	const char *name = display ? display : getenv("DISPLAY") ? getenv("DISPLAY") : "(no $DISPLAY)";
+	const char *name = display ? display : getenv("DISPLAY");
+	if (name == NULL || name[0] == '\0')
+		name = "(no $DISPLAY)";
 	int screen_no;
 	o.client = xcb_connect(display, &screen_no);
 	o.world = xcb_connect(display, NULL);
 	if (xcb_connection_has_error(o.client) || xcb_connection_has_error(o.world))
-		die("cannot connect to the X display %s", name);
+		order_die("cannot connect to the X display %s", name);
 	xcb_screen_iterator_t it = xcb_setup_roots_iterator(xcb_get_setup(o.client));
 	for (int i = 0; i < screen_no && it.rem; i++)
 		xcb_screen_next(&it);
 	o.screen = it.data;
 	if (o.screen->width_in_pixels < 960 || o.screen->height_in_pixels < 600)
-		die("the screen of %s is %ux%u: it needs 960x600 at least", name,
-		    o.screen->width_in_pixels, o.screen->height_in_pixels);
+		order_die("the screen of %s is %ux%u: it needs 960x600 at least", name,
+			  o.screen->width_in_pixels, o.screen->height_in_pixels);
 	char cm[32];
 	snprintf(cm, sizeof cm, "_NET_WM_CM_S%d", screen_no);
-	bool cm_running = owned(&o, cm, compositor);
-	o.sync = intern(&o, "_VISD_X11_SYNC");
-	o.synced = intern(&o, "_VISD_X11_SYNCED");
+	bool cm_running = conn_owned(&o, cm, compositor);
+	o.sync = conn_intern(&o, "_VISD_X11_SYNC");
+	o.synced = conn_intern(&o, "_VISD_X11_SYNCED");
 	uint32_t mask = XCB_EVENT_MASK_PROPERTY_CHANGE;
 	xcb_change_window_attributes(o.world, o.screen->root, XCB_CW_EVENT_MASK, &mask);
-	o.k = read_counter(&o, o.sync); /* a previous run's: the handshake goes on from it */
+	o.k = conn_read_counter(&o, o.sync); /* a previous run's: the handshake goes on from it */
 	setup(&o);
 	unsigned long index = 0;
 	for (unsigned long r = 0; r < repeat; r++)
 		for (size_t i = 0; i < N_STEPS; i++)
 			measure(&o, &cycle[i], ++index);
-	unsigned long bad = report(&o, repeat, cm_running);
+	unsigned long bad = report(&o, repeat, cm_running), changes = 0;
+	if (n_bursts) {
+		unsigned long stale = bursts(&o, n_bursts, &changes);
+		printf("x11-order: %lu bursts of 2 to 8 changes 0 to 500 µs apart (%lu changes): "
+		       "stale last or visd different: %lu\n",
+		       n_bursts, changes, stale);
+		bad += stale;
+	}
 	xcb_disconnect(o.client);
 	xcb_disconnect(o.world);
 	return bad ? 1 : 0;

@@ -16,6 +16,7 @@ shift || true
 runs=("$@")
 [ ${#runs[@]} -gt 0 ] || runs=(auto always cm-auto)
 repeat=${REPEAT:-100}
+bursts=${BURSTS:-200}
 for prog in "$build/bridge/x11/visd-x11" "$build/daemon/visd" "$build/client/visctl/visctl" \
 	"$build/tests/x11-order"; do
 	[ -x "$prog" ] || { echo "x11-order: $prog is not built" >&2; exit 1; }
@@ -85,7 +86,7 @@ for run in "${runs[@]}"; do
 		fail "visd-x11 did not start:" "$dir/bridge-$run.log"
 	echo
 	echo "== run $run: ${cm:+xcompmgr, }visd-x11 --send-events $mode"
-	"$build/tests/x11-order" --display "$display" --repeat "$repeat" $cm \
+	"$build/tests/x11-order" --display "$display" --repeat "$repeat" --bursts "$bursts" $cm \
 		--check "$build/client/visctl/visctl -s $sock states --x11" || status=1
 	kill -0 "$bpid" 2>/dev/null || { echo "x11-order: visd-x11 died" >&2; status=1; }
 	kill "$bpid"
