@@ -8,7 +8,9 @@
 # after the change, and how often the last word the client got was stale (which fails the run).
 # Usage: tools/x11-order.sh [BUILD-DIR] [RUN...]; BUILD-DIR default build-release; a RUN is auto,
 # always, never (no compositor) or cm-auto, cm-always, cm-never (xcompmgr), default auto always
-# cm-auto. REPEAT=N cycles of changes a run (default 100); KEEP=1 keeps the logs' directory.
+# cm-auto. REPEAT=N cycles of changes a run (default 100), BURSTS=N bursts of changes sent without
+# waiting, after which only the last word is checked (default 200); KEEP=1 keeps the logs'
+# directory, BRIDGE_VERBOSE=-vvv logs every event the bridge reads (default -v).
 # Exits 1 when a run fails (a stale last word, visd differing from the geometry, a program failing).
 set -u
 build=${1:-build-release}
@@ -78,10 +80,10 @@ for run in "${runs[@]}"; do
 		pids+=($!)
 		cm=--compositor
 	fi
-	"$build/bridge/x11/visd-x11" --display "$display" -s "$sock" ${BRIDGE_VERBOSE:--v} --send-events "$mode" \
-		2>"$dir/bridge-$run.log" &
+	"$build/bridge/x11/visd-x11" --display "$display" -s "$sock" "${BRIDGE_VERBOSE:--v}" \
+		--send-events "$mode" 2>"$dir/bridge-$run.log" &
 	bpid=$!
-	pids+=($bpid)
+	pids+=("$bpid")
 	wait_for grep -q mirrored "$dir/bridge-$run.log" ||
 		fail "visd-x11 did not start:" "$dir/bridge-$run.log"
 	echo
@@ -91,7 +93,7 @@ for run in "${runs[@]}"; do
 	kill -0 "$bpid" 2>/dev/null || { echo "x11-order: visd-x11 died" >&2; status=1; }
 	kill "$bpid"
 	wait "$bpid" 2>/dev/null
-	sed -n 's/^visd-x11: \(.*synthetic events sent\)$/visd-x11: \1/p' "$dir/bridge-$run.log"
+	grep 'synthetic events sent$' "$dir/bridge-$run.log"
 	stop
 done
 exit $status
