@@ -257,10 +257,9 @@ static void answer_sync(struct bridge *b)
 
 
 /* One turn: ev and every event already read, one visd batch, the answers. */
-static void turn(struct bridge *b, xcb_generic_event_t *ev, uint64_t arrival)
+/* Applies ev and every event X has sent since; 0, or -1 when X failed or memory ran out. */
+static int apply_events(struct bridge *b, xcb_generic_event_t *ev)
 {
-	uint64_t told_before = b->synthetic_sent;
-	b->turns++;
 	while (ev) {
 		/* Everything read so far, then the new windows' subtrees at once, then in order. */
 		size_t n = 0, n_new = 0;
@@ -277,7 +276,7 @@ static void turn(struct bridge *b, xcb_generic_event_t *ev, uint64_t arrival)
 					bridge_log(b, 0, "out of memory");
 					free(ev);
 					b->x_failed = true;
-					return;
+					return -1;
 				}
 				b->cap_events = cap;
 			}
@@ -296,7 +295,7 @@ static void turn(struct bridge *b, xcb_generic_event_t *ev, uint64_t arrival)
 	}
 	if (xcb_connection_has_error(b->x)) {
 		b->x_failed = true;
-		return;
+		return -1;
 	}
 	if (b->n_limbo || b->reread.n)
 		xread_pending(b);
@@ -307,8 +306,37 @@ static void turn(struct bridge *b, xcb_generic_event_t *ev, uint64_t arrival)
 		b->resyncs++;
 		xread_screen(b);
 	}
-	if (visd_end_turn(b) < 0)
-		return;
+	return 0;
+}
+
+static void turn(struct bridge *b, xcb_generic_event_t *ev, uint64_t arrival)
+{
+	uint64_t told_before = b->synthetic_sent;
+	b->turns++;
+	for (int pass = 0;; pass++) {
+		if (apply_events(b, ev) < 0)
+			return;
+		/*
+		 * X writes a change's first event to an idle client at once and the rest when the
+		 * requester's time slice ends: the bridge often wakes on a window's ConfigureNotify
+		 * alone, before X's own VisibilityNotify of the same change, which says what its
+		 * clients were told. A round trip to X alongside visd's brings every event X made
+		 * before it, so that auto does not repeat X's right word; one more pass only, so
+		 * that a busy X cannot hold the synthetic events back.
+		 */
+		bool fence = pass == 0 && b->send_events != SEND_NEVER && (b->batch_open || b->visd_sent);
+		xcb_get_input_focus_cookie_t cookie;
+		if (fence) {
+			cookie = xcb_get_input_focus(b->x);
+			xcb_flush(b->x);
+		}
+		if (visd_end_turn(b) < 0)
+			return;
+		if (fence)
+			free(xcb_get_input_focus_reply(b->x, cookie, NULL));
+		if (!fence || !(ev = xcb_poll_for_event(b->x)))
+			break;
+	}
 	/* The synthetic events first: a client that sees the answer has them already. */
 	notify_flush(b);
 	if (b->sync_asked)
