@@ -31,8 +31,11 @@
 #include "xorg-replay.h"
 
 #define NS UINT64_C(1000000000)
-/* Without a reply or an event from X for this long, the replay gives up rather than hang. */
+/* Without a reply or an event from X for this long, the replay gives up rather than hang: 30 s
+ * an operation; 10 minutes while setting up, since X maps n windows in O(n²) (MapSubwindows
+ * walks the siblings below each window it maps: about a minute at 100,000 windows). */
 #define STALL_NS (30 * NS)
+#define SETUP_STALL_NS (600 * NS)
 /* Requests sent before a round trip while setting up or reading back, so no queue grows without
  * bound. */
 #define CHUNK 4096
@@ -58,6 +61,7 @@ struct replay {
 	struct sub *subs;
 	struct pollfd *pfd;     /* the manager's, then each subscriber's */
 	uint64_t now, last_event, last_heard;
+	uint64_t stall;         /* STALL_NS or SETUP_STALL_NS */
 	bool failed;            /* an X error came */
 };
 
@@ -199,10 +203,10 @@ static int wait_io(struct replay *rp)
 		return -1;
 	}
 	if (n <= 0) {
-		if (rp->now - rp->last_heard <= STALL_NS)
+		if (rp->now - rp->last_heard <= rp->stall)
 			return 0;
 		fprintf(stderr, "xorg-replay: the X server has answered nothing for %llu s\n",
-			(unsigned long long)(STALL_NS / NS));
+			(unsigned long long)(rp->stall / NS));
 		return -1;
 	}
 	rp->last_heard = rp->now;
@@ -257,8 +261,20 @@ static xcb_connection_t *connect_x(const struct replay_options *o, int *screen)
 }
 
 /*
- * Checks the screen (the record's size) and that no window of another client is viewable on it,
- * which would take part in every state. 0, or -1 after saying why.
+ * X's count of a window's children: QueryTree's nChildren is 16 bits, so past 65,535 children it
+ * wraps, while the reply still lists every one; its length (in 4-byte units) counts them all.
+ */
+static uint32_t children(const xcb_query_tree_reply_t *t)
+{
+	return t->length > (uint32_t)xcb_query_tree_children_length(t)
+		       ? t->length
+		       : (uint32_t)xcb_query_tree_children_length(t);
+}
+
+/*
+ * Checks the screen (the record's size) and that it has no windows yet: others' would take part
+ * in every state, and the desktop is mapped at once with MapSubwindows on the root. 0, or -1
+ * after saying why.
  */
 static int check_server(struct replay *rp, int screen_num)
 {
@@ -282,18 +298,11 @@ static int check_server(struct replay *rp, int screen_num)
 		xcb_query_tree_reply(rp->mgr, xcb_query_tree(rp->mgr, rp->root), NULL);
 	if (!t)
 		return lost(rp, rp->mgr, "query-tree");
-	xcb_window_t *kids = xcb_query_tree_children(t);
-	int n = xcb_query_tree_children_length(t), viewable = 0;
-	for (int i = 0; i < n; i++) {
-		xcb_get_window_attributes_reply_t *a = xcb_get_window_attributes_reply(
-			rp->mgr, xcb_get_window_attributes(rp->mgr, kids[i]), NULL);
-		viewable += a && a->map_state == XCB_MAP_STATE_VIEWABLE;
-		free(a);
-	}
+	uint32_t n = children(t);
 	free(t);
-	if (viewable) {
-		fprintf(stderr, "xorg-replay: the X server shows %d windows already; the replay needs "
-				"a server of its own, without a window manager\n", viewable);
+	if (n) {
+		fprintf(stderr, "xorg-replay: the X server has %u windows already; the replay needs a "
+				"server of its own, without a window manager or other clients\n", n);
 		return -1;
 	}
 	return 0;
@@ -301,8 +310,9 @@ static int check_server(struct replay *rp, int screen_num)
 
 /*
  * Makes the desktop: the windows unmapped in the record's order (each new one on top), override-
- * redirect, border 0, InputOutput; the subscribers' selections; then every window mapped, top to
- * bottom, so that each subscriber hears each window's first state once. 0, or -1.
+ * redirect, border 0, InputOutput; the subscribers' selections; then every window mapped at once
+ * (MapSubwindows: one validation of the tree, where a MapWindow each costs X O(n) apiece), so
+ * that each subscriber hears each window's first state once. 0, or -1.
  */
 static int make_desktop(struct replay *rp)
 {
@@ -343,11 +353,7 @@ static int make_desktop(struct replay *rp)
 		if (roundtrip(rp, u->c, u) < 0 || rp->failed)
 			return -1;
 	}
-	for (uint32_t k = s->n; k-- > 0;) {
-		xcb_map_window(rp->mgr, rp->xid[k]);
-		if (k % CHUNK == 0 && roundtrip_all(rp) < 0)
-			return -1;
-	}
+	xcb_map_subwindows(rp->mgr, rp->root);
 	return roundtrip_all(rp);
 }
 
@@ -474,9 +480,8 @@ static int check_tree(struct replay *rp)
 	if (!t)
 		return lost(rp, rp->mgr, "query-tree");
 	xcb_window_t *kids = xcb_query_tree_children(t);
-	int nk = xcb_query_tree_children_length(t);
-	uint32_t at = 0;
-	for (int i = 0; i < nk; i++) {
+	uint32_t nk = children(t), at = 0;
+	for (uint32_t i = 0; i < nk; i++) {
 		uintptr_t slot = (uintptr_t)vis_idmap_get(&rp->by_xid, kids[i]);
 		if (!slot)
 			continue;
@@ -562,7 +567,7 @@ static void progress(struct replay *rp, uint64_t t0, uint64_t *last)
 int replay_x_run(const struct replay_options *o, const struct replay_script *s,
 		 struct replay_result *r)
 {
-	struct replay rp = { .o = o, .s = s, .r = r };
+	struct replay rp = { .o = o, .s = s, .r = r, .stall = SETUP_STALL_NS };
 	int ret = -1, screen;
 	memset(r, 0, sizeof(*r));
 	r->server_cpu = -1;
@@ -579,6 +584,8 @@ int replay_x_run(const struct replay_options *o, const struct replay_script *s,
 		goto out;
 	r->setup_seconds = (double)(now_ns() - t0) / 1e9;
 
+	r->notices = 0; /* the operations' alone, not the first states */
+	rp.stall = STALL_NS;
 	double cpu0 = server_cpu(o->pid);
 	uint64_t start = now_ns(), last_progress = start;
 	for (size_t i = 0; i < s->n_ops; i++) {
@@ -597,6 +604,13 @@ int replay_x_run(const struct replay_options *o, const struct replay_script *s,
 		fprintf(stderr, "xorg-replay: … and %llu more differences\n",
 			(unsigned long long)(r->mismatches - REPORT_LIMIT));
 	ret = 0;
+	/* Away in two requests: left to the disconnection, X would unmap the windows one by one,
+	 * each a validation of the tree, and keep the server busy for minutes at 100,000 windows. */
+	rp.stall = SETUP_STALL_NS;
+	xcb_unmap_subwindows(rp.mgr, rp.root);
+	xcb_destroy_subwindows(rp.mgr, rp.root);
+	if (roundtrip(&rp, rp.mgr, NULL) < 0)
+		ret = -1;
 out:
 	for (uint32_t i = 0; rp.subs && i < o->clients; i++) {
 		if (rp.subs[i].c)

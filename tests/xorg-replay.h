@@ -65,7 +65,7 @@ void replay_script_finish(struct replay_script *s);
 
 /* What one replay measured, as visctl stress measures a run. */
 struct replay_result {
-	uint64_t ops, notices, ops_without_notices;
+	uint64_t ops, notices, ops_without_notices; /* notices: the operations' VisibilityNotify */
 	uint64_t kind_ops[REPLAY_KINDS];
 	struct histogram latency, kind_latency[REPLAY_KINDS]; /* large: allocate the result */
 	double seconds;           /* from the first operation's start to the last confirmation */
