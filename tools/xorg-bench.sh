@@ -10,10 +10,11 @@
 #      on every window, each operation timed to the last VisibilityNotify it causes.
 # Both replays must end in the same states: visctl stress checks visd's against its model, whose
 # final states end the record, and xorg-replay checks X's against those.
-# Operations a cell (the mix move=40,resize=15,raise=15,lower=10,restack=5,map=10: no batches,
-# borders, shapes or opaque regions, which X cannot replay one request each): 2,000, or 1,000 with
-# 100 subscribers or at 10,000 windows, 200 at 100,000; the default matrix takes about 8 minutes
-# on a 2-core machine, --huge about 5 more.
+# The operations (the mix move=40,resize=15,raise=15,lower=10,restack=5,map=10: no batches,
+# borders, shapes or opaque regions, which X cannot replay one request each), a cell: 10,000, or
+# 5,000 with 100 subscribers, 3,000 at 10,000 windows, 200 at 100,000. The default matrix takes
+# about a minute on a 2-core machine; --huge adds about 8 (X takes 0.1-0.2 s an operation at
+# 100,000 windows, and minutes to map and unmap them).
 #   tools/xorg-bench.sh [--quick] [--huge] [--out DIR] [--build DIR]
 #   --quick      windows 100, 1,000 × subscribers 1, 10, 200 operations a cell: a smoke run
 #   --huge       adds 100,000 windows to the matrix
@@ -21,12 +22,12 @@
 #   --build DIR  the build whose visd, visctl and tests/xorg-replay run, as it is (default:
 #                build-release, installed and built first by tools/dev.sh release)
 # Exit status: 0 every cell's replays passed and ended in the same states, 1 otherwise (or Xvfb
-# or a program missing), 2 usage.
+# or tests/xorg-replay missing), 2 usage or a --build without visd and visctl.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 
 usage() {
-	sed -n '17,22s/^# \{0,1\}//p' "$0" >&2
+	sed -n '/^#   tools\/xorg-bench.sh \[/,/^#  *build-release/s/^# \{0,1\}//p' "$0" >&2
 	exit 2
 }
 
@@ -53,16 +54,16 @@ if [ -z "$bin" ]; then
 	"$root/tools/dev.sh" release
 	bin=$root/build-release
 fi
-[ -d "$bin" ] || { echo "xorg-bench: --build $bin: no such directory" >&2; exit 1; }
+[ -d "$bin" ] || { echo "xorg-bench: --build $bin: no such directory" >&2; exit 2; }
 bin=$(cd "$bin" && pwd)
 out=${out:-$bin}
 visd=$bin/daemon/visd
 visctl=$bin/client/visctl/visctl
 replay=$bin/tests/xorg-replay
 [ -x "$visd" ] && [ -x "$visctl" ] ||
-	{ echo "xorg-bench: no visd or visctl built in $bin (a meson build directory?)" >&2; exit 1; }
+	{ echo "xorg-bench: no visd or visctl built in $bin (a meson build directory?)" >&2; exit 2; }
 [ -x "$replay" ] || { echo "xorg-bench: no tests/xorg-replay built in $bin: it is built where" \
-	"xcb is found (install libxcb1-dev, then build again)" >&2; exit 1; }
+	"xcb and xcb-shape are found (install libxcb1-dev and libxcb-shape0-dev, then build again)" >&2; exit 1; }
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
 
@@ -82,8 +83,9 @@ fi
 count() {
 	if [ $quick = 1 ]; then echo 200
 	elif [ "$1" -ge 100000 ]; then echo 200
-	elif [ "$1" -ge 10000 ] || [ "$2" -ge 100 ]; then echo 1000
-	else echo 2000
+	elif [ "$1" -ge 10000 ]; then echo 3000
+	elif [ "$2" -ge 100 ]; then echo 5000
+	else echo 10000
 	fi
 }
 
@@ -94,14 +96,16 @@ x_pid=
 # Stops the server a cell started, if it runs: SIGTERM, then SIGKILL after 10 s (an X server
 # still busy with a client's windows reads its signal only when it is done).
 stop() {
-	local pid=$1
+	local pid=$1 state
 	[ -n "$pid" ] || return 0
 	kill "$pid" 2>/dev/null || true
-	(sleep 10 && kill -9 "$pid") >/dev/null 2>&1 &
-	local dog=$!
+	for _ in $(seq 100); do
+		state=$(ps -o stat= -p "$pid") || break
+		case $state in Z*) break ;; esac
+		sleep 0.1
+	done
+	kill -9 "$pid" 2>/dev/null || true
 	wait "$pid" 2>/dev/null || true
-	kill "$dog" 2>/dev/null || true
-	wait "$dog" 2>/dev/null || true
 }
 cleanup() {
 	stop "$visd_pid"
