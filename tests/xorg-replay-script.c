@@ -269,7 +269,9 @@ static int read_op(struct reader *rd, char **words, int nw)
 		long long lo = op.kind == REPLAY_MOVE ? INT32_MIN : 1;
 		if (parse_int(words[2], lo, INT32_MAX, &a) < 0 ||
 		    parse_int(words[3], lo, INT32_MAX, &b) < 0)
-			return bad(rd, "'%s' needs two numbers", words[0]);
+			return bad(rd, op.kind == REPLAY_MOVE ? "'%s' needs an x and a y"
+							: "'%s' needs a width and a height of 1 or more",
+				   words[0]);
 		op.a = (int32_t)a;
 		op.b = (int32_t)b;
 		if (op.kind == REPLAY_MOVE)
