@@ -14,7 +14,6 @@
  * an operation that causes no event counts until the manager's reply. An event "arrives" when
  * the poll loop sees its connection readable, as in visctl stress.
  */
-#include <dirent.h>
 #include <errno.h>
 #include <poll.h>
 #include <stdarg.h>
@@ -22,7 +21,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <unistd.h>
 #include <xcb/xcb.h>
 #include <xcb/xcbext.h>
 
@@ -70,50 +68,6 @@ static uint64_t now_ns(void)
 	struct timespec ts;
 	clock_gettime(CLOCK_MONOTONIC, &ts);
 	return (uint64_t)ts.tv_sec * NS + (uint64_t)ts.tv_nsec;
-}
-
-/*
- * The X server's CPU time in seconds, every thread's; < 0 when unreadable. From the threads'
- * /proc/PID/task/TID/schedstat, in nanoseconds, as visctl stress reads visd's, else from
- * /proc/PID/stat's utime and stime (10 ms ticks).
- */
-static double server_cpu(pid_t pid)
-{
-	char path[64], buf[1024];
-	double sum = 0;
-	bool any = false;
-	snprintf(path, sizeof(path), "/proc/%d/task", (int)pid);
-	DIR *d = pid > 0 ? opendir(path) : NULL;
-	for (struct dirent *e; d && (e = readdir(d));) {
-		unsigned long long ns;
-		if (e->d_name[0] == '.')
-			continue;
-		snprintf(buf, sizeof(buf), "/proc/%d/task/%.16s/schedstat", (int)pid, e->d_name);
-		FILE *f = fopen(buf, "r");
-		if (f && fscanf(f, "%llu", &ns) == 1) {
-			sum += (double)ns / 1e9;
-			any = true;
-		}
-		if (f)
-			fclose(f);
-	}
-	if (d)
-		closedir(d);
-	if (any)
-		return sum;
-	snprintf(path, sizeof(path), "/proc/%d/stat", (int)pid);
-	FILE *f = pid > 0 ? fopen(path, "r") : NULL;
-	if (!f)
-		return -1;
-	size_t n = fread(buf, 1, sizeof(buf) - 1, f);
-	fclose(f);
-	buf[n] = '\0';
-	const char *p = strrchr(buf, ')');
-	unsigned long long user, sys;
-	if (!p || sscanf(p + 1, " %*c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %llu %llu", &user,
-			 &sys) != 2)
-		return -1;
-	return (double)(user + sys) / (double)sysconf(_SC_CLK_TCK);
 }
 
 /* X's name for an error code of the core protocol. */
@@ -586,7 +540,7 @@ int replay_x_run(const struct replay_options *o, const struct replay_script *s,
 
 	r->notices = 0; /* the operations' alone, not the first states */
 	rp.stall = STALL_NS;
-	double cpu0 = server_cpu(o->pid);
+	double cpu0 = replay_server_cpu(o->pid);
 	uint64_t start = now_ns(), last_progress = start;
 	for (size_t i = 0; i < s->n_ops; i++) {
 		if (run_op(&rp, &s->ops[i]) < 0)
@@ -594,7 +548,7 @@ int replay_x_run(const struct replay_options *o, const struct replay_script *s,
 		progress(&rp, start, &last_progress);
 	}
 	r->seconds = (double)(now_ns() - start) / 1e9;
-	double cpu1 = server_cpu(o->pid);
+	double cpu1 = replay_server_cpu(o->pid);
 	if (cpu0 >= 0 && cpu1 >= 0)
 		r->server_cpu = cpu1 - cpu0;
 	if (check_tree(&rp) < 0)
