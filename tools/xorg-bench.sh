@@ -189,6 +189,7 @@ for n in "${windows[@]}"; do
 		# visd's CPU an operation from its share of the run (daemon_cpu_pct): daemon_cpu_s
 		# has two decimals, too coarse for runs of a fraction of a second.
 		vops=$(v ops)
+		ops=${vops:-$ops} # as run: --duration may have cut it short
 		vpct=$(v daemon_cpu_pct)
 		vsec=$(v seconds)
 		vcpu_op=
