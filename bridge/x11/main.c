@@ -321,10 +321,10 @@ static void turn(struct bridge *b, xcb_generic_event_t *ev, uint64_t arrival)
 		 * requester's time slice ends: the bridge often wakes on a window's ConfigureNotify
 		 * alone, before X's own VisibilityNotify of the same change, which says what its
 		 * clients were told. A round trip to X alongside visd's brings every event X made
-		 * before it, so that auto does not repeat X's right word; one more pass only, so
-		 * that a busy X cannot hold the synthetic events back.
+		 * before it, so that auto does not repeat X's right word (always tells every change
+		 * anyway); one more pass only, so that a busy X cannot hold the synthetic events back.
 		 */
-		bool fence = pass == 0 && b->send_events != SEND_NEVER && (b->batch_open || b->visd_sent);
+		bool fence = pass == 0 && b->send_events == SEND_AUTO && (b->batch_open || b->visd_sent);
 		xcb_get_input_focus_cookie_t cookie;
 		if (fence) {
 			cookie = xcb_get_input_focus(b->x);
