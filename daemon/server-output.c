@@ -4,8 +4,6 @@
  * exposures); one that falls further behind loses them for an overflow notice and a resync of
  * everything it subscribed to. Serials are given as notices are written, so they stay gapless.
  */
-#include <event2/buffer.h>
-#include <event2/bufferevent.h>
 #include <stdlib.h>
 
 #include "log.h"
@@ -45,7 +43,7 @@ void server_output_finish(struct client *c)
 
 size_t server_output_pending(const struct client *c)
 {
-	return evbuffer_get_length(bufferevent_get_output(c->bev));
+	return server_io_pending(c);
 }
 
 /* Past the bound: what is held goes, counted, and the connection waits for its resync. */

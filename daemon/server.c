@@ -2,7 +2,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <stdbool.h>
-#include <event2/bufferevent.h>
+#include <event2/event.h>
 #include <stdlib.h>
 #include <string.h>
 #include <stdio.h>
@@ -248,18 +248,23 @@ static pixman_region32_t *damage_region(struct server *server, struct damage *d)
 	return d->ok ? &d->region : NULL;
 }
 
-/* The deferred recompute: after every request read in this turn. */
-static void on_flush(evutil_socket_t fd, short what, void *data)
+/*
+ * The end of the turn, after every request read in it: the deferred recompute, then one write to
+ * each connection with output, its replies and notices together. Events activated while others
+ * run come after those the turn's epoll_wait and timers made ready, so this runs last.
+ */
+static void on_turn_end(evutil_socket_t fd, short what, void *data)
 {
 	(void)fd;
 	(void)what;
 	server_flush(data);
+	server_io_write_all(data);
 }
 
 void server_schedule_flush(struct server *server)
 {
 	if (server->dirty && !server->deferring)
-		event_active(server->flush_event, EV_TIMEOUT, 0);
+		event_active(server->turn_event, EV_TIMEOUT, 0);
 }
 
 int server_init(struct server *server, struct event_base *base, const struct server_options *opt)
@@ -272,13 +277,14 @@ int server_init(struct server *server, struct event_base *base, const struct ser
 	server->walk_left = UINT64_MAX;
 	take_reserve(server);
 	TAILQ_INIT(&server->clients);
+	TAILQ_INIT(&server->to_write);
 	vis_idmap_init(&server->clients_by_id);
 	vis_idmap_init(&server->quotas);
 	vis_buf_init(&server->scratch);
 	vis_wtree_init(&server->tree, opt->screen_width, opt->screen_height);
 	server->listener_retry = evtimer_new(base, on_listener_retry, server);
-	server->flush_event = event_new(base, -1, 0, on_flush, server);
-	if (!server->listener_retry || !server->flush_event)
+	server->turn_event = event_new(base, -1, 0, on_turn_end, server);
+	if (!server->listener_retry || !server->turn_event)
 		return -1;
 	server->listener = opt->socket_fd >= 0
 				   ? listen_passed(server, opt->socket_fd, opt->socket_path)
@@ -327,8 +333,8 @@ void server_finish(struct server *server)
 		evconnlistener_free(server->restricted_listener);
 	if (server->listener_retry)
 		event_free(server->listener_retry);
-	if (server->flush_event)
-		event_free(server->flush_event);
+	if (server->turn_event)
+		event_free(server->turn_event);
 	vis_wtree_finish(&server->tree);
 	vis_idmap_finish(&server->clients_by_id);
 	server_quota_finish(server);
