@@ -389,10 +389,11 @@ void server_track(struct vis_window *w, struct server *server)
 /* Sends the visibility notice of w to every connection subscribed to it. */
 static void notify_visibility(struct server *server, struct vis_window *w)
 {
+	struct server_notice once = { 0 };
 	struct client *c;
 	TAILQ_FOREACH(c, &server->clients, link)
 		if (!c->closing && server_client_sub_for(c, w, VIS_NOTICE_VISIBILITY))
-			server_notice_visibility(c, w);
+			server_notice_visibility(c, w, &once);
 }
 
 uint32_t *server_region_words(pixman_region32_t *region, uint32_t *count)
@@ -421,12 +422,14 @@ static void notify_exposure(struct server *server, struct vis_window *w, pixman_
 		log_error("out of memory for an exposure notice");
 		return;
 	}
+	struct server_exposure once = { .exposed = exposed, .words = words, .n = n };
 	struct client *c;
 	TAILQ_FOREACH(c, &server->clients, link) {
 		const struct sub *s;
 		if (!c->closing && (s = server_client_sub_for(c, w, VIS_NOTICE_EXPOSURE)))
-			server_notice_exposure(c, s, w, exposed, words, n);
+			server_notice_exposure(c, s, w, &once);
 	}
+	server_exposure_finish(&once);
 	free(words);
 }
 
@@ -530,6 +533,7 @@ uint32_t server_look_flags(const struct vis_window *w)
 void server_notify_stack(struct server *server, struct vis_window *w, uint32_t change)
 {
 	uint32_t shared[SERVER_STACK_WORDS], own[SERVER_STACK_WORDS];
+	struct server_notice once = { 0 };
 	bool made = false;
 	struct client *c;
 	TAILQ_FOREACH(c, &server->clients, link) {
@@ -537,13 +541,13 @@ void server_notify_stack(struct server *server, struct vis_window *w, uint32_t c
 			continue;
 		if (c->role == VIS_ROLE_CLIENT) {
 			server_stack_words(c, w, change, own);
-			server_notice_stack(c, own);
+			server_notice_stack(c, own, NULL);
 			continue;
 		}
 		if (!made)
 			server_stack_words(NULL, w, change, shared);
 		made = true;
-		server_notice_stack(c, shared);
+		server_notice_stack(c, shared, &once);
 	}
 }
 

@@ -361,18 +361,40 @@ bool server_batch_no_effect(uint32_t op);
  */
 void server_batch_commit(struct client *c);
 
-/* Notices and the bound on pending output (server-output.c). */
+/*
+ * Notices and the bound on pending output (server-output.c). The fan-out encodes a notice once
+ * for every connection it goes to, and each copy gets the connection's own serial (bytes 8 to 15
+ * of the message).
+ */
+/* A visibility or stack notice as the fan-out encodes it, on first use. */
+struct server_notice {
+	uint32_t size; /* 0: not encoded yet */
+	uint8_t bytes[VIS_MSG_HEADER + 8 + 4 * SERVER_STACK_WORDS];
+};
+/* A window's exposure, and its notice as the fan-out encodes it, on first use: [0] with the
+ * rectangles, [1] collapsed to their bounding box (past a subscription's rect_limit). */
+struct server_exposure {
+	pixman_region32_t *exposed; /* window coordinates */
+	const uint32_t *words;      /* its rectangles as x, y, width, height */
+	uint32_t n;
+	struct vis_buf encoded[2];
+};
+/* Frees what the fan-out encoded of an exposure. */
+void server_exposure_finish(struct server_exposure *e);
 void server_output_init(struct client *c);
 void server_output_finish(struct client *c);
 /* Bytes waiting to be written to c. */
 size_t server_output_pending(const struct client *c);
-/* Sends, holds or drops (after an overflow) a notice to c. */
-void server_notice_visibility(struct client *c, const struct vis_window *w);
+/* Sends, holds or drops (after an overflow) a notice to c; once is shared by one fan-out. */
+void server_notice_visibility(struct client *c, const struct vis_window *w,
+			      struct server_notice *once);
 /* The first visibility notice of a new subscription: w's state, previous VIS_VISIBILITY_INITIAL. */
 void server_notice_initial(struct client *c, const struct vis_window *w);
 void server_notice_exposure(struct client *c, const struct sub *s, const struct vis_window *w,
-			    pixman_region32_t *exposed, const uint32_t *words, uint32_t n);
-void server_notice_stack(struct client *c, const uint32_t words[SERVER_STACK_WORDS]);
+			    struct server_exposure *once);
+/* once: NULL for words that are c's alone (a client's view of the stack). */
+void server_notice_stack(struct client *c, const uint32_t words[SERVER_STACK_WORDS],
+			 struct server_notice *once);
 /* Sends what is held for c (and the resync after an overflow); before replies and on drain. */
 void server_output_release(struct client *c);
 
