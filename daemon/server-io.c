@@ -73,11 +73,17 @@ void server_io_consume(struct client *c, size_t n)
 	c->io.in_used += n;
 }
 
+/*
+ * Reading stops once the bound is read ahead and starts again when half of that has run: a
+ * connection that pipelines faster than its turns serve it is read in large reads, not in one
+ * small read (and two epoll_ctl) a turn.
+ */
 void server_io_update(struct client *c)
 {
 	struct conn *io = &c->io;
+	size_t unread = io->in.len - io->in_used, bound = read_bound(c->server);
 	bool want = !c->hung_up && !c->closing && !c->read_blocked &&
-		    io->in.len - io->in_used < read_bound(c->server);
+		    (io->reading ? unread < bound : unread <= bound / 2);
 	if (want == io->reading)
 		return;
 	io->reading = want;

@@ -107,10 +107,10 @@ struct output {
  * A connection's socket and its bytes on their way in and out (server-io.c). Invariants:
  * in.data[in_used, in.len) was read and has not run yet, no more than the read bound (a maximum
  * request and 64 KiB); out.data[out_sent, out.len) waits to be written; reading (the read event is
- * added) exactly while the connection is read from: not hung up, closing or blocked, and under
- * the read bound; writing (the write event is added) only while something waits that the kernel
- * refused; listed (on the server's list of connections to write at the end of the turn) only
- * while not writing.
+ * added) only while the connection is not hung up, closing or blocked, and under the read bound
+ * (once it stopped there, from when half of that has run); writing (the write event is added)
+ * only while something waits that the kernel refused; listed (on the server's list of
+ * connections to write at the end of the turn) only while not writing.
  */
 struct conn {
 	int fd;
