@@ -350,8 +350,7 @@ void server_notice_stack(struct client *c, const uint32_t words[SERVER_STACK_WOR
 		o->stack = more;
 		o->cap_stack = cap;
 	}
-	for (int i = 0; i < 9; i++)
-		o->stack[o->n_stack].words[i] = words[i];
+	memcpy(o->stack[o->n_stack].words, words, sizeof o->stack[o->n_stack].words);
 	o->n_stack++;
 	o->held_bytes += STACK_BYTES;
 	check_bound(c);
