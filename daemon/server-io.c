@@ -213,7 +213,7 @@ void server_io_list(struct client *c)
 		return; /* a writable socket's callback writes it */
 	io->listed = true;
 	TAILQ_INSERT_TAIL(&c->server->to_write, c, io.link);
-	event_active(c->server->turn_event, EV_TIMEOUT, 0);
+	server_schedule_turn_end(c->server);
 }
 
 uint8_t *server_io_reserve(struct client *c, size_t len)

@@ -257,14 +257,25 @@ static void on_turn_end(evutil_socket_t fd, short what, void *data)
 {
 	(void)fd;
 	(void)what;
-	server_flush(data);
-	server_io_write_all(data);
+	struct server *server = data;
+	server->turn_due = false;
+	server_flush(server);
+	server_io_write_all(server);
+}
+
+void server_schedule_turn_end(struct server *server)
+{
+	/* Once a turn: the fan-out would otherwise ask libevent for it once per subscriber. */
+	if (!server->turn_due) {
+		server->turn_due = true;
+		event_active(server->turn_event, EV_TIMEOUT, 0);
+	}
 }
 
 void server_schedule_flush(struct server *server)
 {
 	if (server->dirty && !server->deferring)
-		event_active(server->turn_event, EV_TIMEOUT, 0);
+		server_schedule_turn_end(server);
 }
 
 int server_init(struct server *server, struct event_base *base, const struct server_options *opt)

@@ -202,6 +202,7 @@ struct server {
 	/* The end of the turn of the event loop: the recompute after this turn's requests, then one
 	 * write to each connection that has output. */
 	struct event *turn_event;
+	bool turn_due; /* turn_event is active: it runs before the loop waits again */
 	struct vis_buf scratch;
 };
 
@@ -223,6 +224,8 @@ void server_flush(struct server *server);
 void server_damage(struct server *server, const struct vis_window *w);
 /* Recomputes once every request read in this turn of the event loop has run. */
 void server_schedule_flush(struct server *server);
+/* Makes the end of this turn of the event loop (the recompute, the writes) come. */
+void server_schedule_turn_end(struct server *server);
 
 /*
  * A window's ID as viewer may know it: 0 for NULL, the screen, or a window viewer may not see,
