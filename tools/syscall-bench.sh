@@ -175,8 +175,8 @@ END {
 		cpu = median(b SUBSEP "plain" SUBSEP "cpu"); ops = median(b SUBSEP "plain" SUBSEP "ops")
 		if (b == 0) ref = cpu / ops
 		printf "%-4s", "[" b + 1 "]"
-		for (s = 1; s <= 7; s++) printf (s < 6 ? " %8d" : s == 6 ? " %9d" : " %10d"), median(b SUBSEP "strace" SUBSEP shown[s])
-		printf " %6d %9d %9.2f | %9.2f %8.3f %7.1f %7.1f\n", other, total,
+		for (s = 1; s <= 7; s++) printf (s < 6 ? " %8.0f" : s == 6 ? " %9.0f" : " %10.0f"), median(b SUBSEP "strace" SUBSEP shown[s])
+		printf " %6.0f %9.0f %9.2f | %9.2f %8.3f %7.1f %7.1f\n", other, total,
 			writes ? total / writes : 0, cpu, 1000 * cpu / ops, median(b SUBSEP "plain" SUBSEP "p50"),
 			median(b SUBSEP "plain" SUBSEP "p99")
 	}
@@ -186,10 +186,10 @@ END {
 			"writev", "epoll_ctl", "epoll_wait", "total", "per write"
 		for (b = 0; b < nb; b++) {
 			printf "%-4s", "[" b + 1 "]"
-			for (s = 1; s <= 7; s++) printf (s < 6 ? " %8d" : s == 6 ? " %9d" : " %10d"), median(b SUBSEP "perf" SUBSEP shown[s])
+			for (s = 1; s <= 7; s++) printf (s < 6 ? " %8.0f" : s == 6 ? " %9.0f" : " %10.0f"), median(b SUBSEP "perf" SUBSEP shown[s])
 			w = median(b SUBSEP "perf" SUBSEP "write") + median(b SUBSEP "perf" SUBSEP "writev")
 			t = median(b SUBSEP "perf" SUBSEP "all")
-			printf " %9d %9.2f\n", t, w ? t / w : 0
+			printf " %9.0f %9.2f\n", t, w ? t / w : 0
 		}
 	}
 	printf "\n"
@@ -211,12 +211,20 @@ if [ $profile = 1 ]; then
 		wait "$tracer_pid" || true
 		tracer_pid=
 		stop_visd
+		# perf's cpu-clock event counts nanoseconds on the CPU.
+		ns=$(perf report -i "$out/perf-$i.data" --stdio 2>/dev/null |
+			awk '/^# Event count/ { n = $NF } END { printf "%.0f\n", n }')
+		ops=$(awk -F, 'NR == 1 { for (k = 1; k <= NF; k++) col[$k] = k; next }
+			{ print $col["ops"] }' "$out/profiled-$i.csv")
 		echo
-		echo "[$((i + 1))] $b: where visd's time goes (perf record), by object, then the top symbols"
+		echo "[$((i + 1))] $b: where visd's time goes (perf record): $((ns / 1000000)) ms on the" \
+			"CPU for $ops operations; by object (µs an operation), then the top symbols"
+		# awk reads to the end: an early exit would fail the pipeline (pipefail).
 		perf report -i "$out/perf-$i.data" --no-children --sort dso --stdio 2>/dev/null |
-			grep -v '^#' | grep -v '^$' | head -5
+			awk -v ns="$ns" -v ops="${ops:-1}" '!/^#/ && NF && n++ < 5 {
+				p = $1; sub(/%/, "", p); printf "%s  %7.1f\n", $0, p / 100 * ns / 1000 / ops }'
 		perf report -i "$out/perf-$i.data" --no-children --sort dso,sym --stdio 2>/dev/null |
-			grep -v '^#' | grep -v '^$' | head -20
+			awk '!/^#/ && NF && n++ < 20'
 	done
 fi
 exit $failed
