@@ -284,8 +284,8 @@ static void fit_descriptors(struct server_options *opt)
 }
 
 /*
- * The event loop. With epoll's change list, a write event enabled and disabled again within one
- * turn (every subscriber's, for every recompute's notices) costs no epoll_ctl calls.
+ * The event loop. With epoll's change list, an event disabled and enabled again within one turn
+ * (reading stopped and resumed, write interest armed and dropped) costs no epoll_ctl calls.
  */
 static struct event_base *new_event_base(void)
 {

@@ -1,7 +1,7 @@
 /* One connection: reading requests, holding batches, queueing replies and notices, closing. */
 #include <errno.h>
 #include <event2/buffer.h>
-#include <event2/bufferevent.h>
+#include <event2/event.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,9 +14,6 @@
 #include "vis/protocol.h"
 #include "wire.h"
 
-static void on_read(struct bufferevent *bev, void *data);
-static void on_write(struct bufferevent *bev, void *data);
-static void on_event(struct bufferevent *bev, short what, void *data);
 static void on_resume(evutil_socket_t fd, short what, void *data);
 
 void server_refuse(struct server *server, int fd, const char *fmt, ...)
@@ -67,18 +64,22 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 	if (!server_quota_admit(server, fd, cred.uid, restricted))
 		return;
 	struct client *c = calloc(1, sizeof *c);
-	struct bufferevent *bev = bufferevent_socket_new(server->base, fd, BEV_OPT_CLOSE_ON_FREE);
 	struct evbuffer *batch = evbuffer_new(), *answers = evbuffer_new();
 	struct event *resume = evtimer_new(server->base, on_resume, c);
 	struct event *hello_timer = evtimer_new(server->base, on_hello_timeout, c);
-	if (!c || !bev || !batch || !answers || !resume || !hello_timer) {
+	bool io = false;
+	if (c) {
+		c->server = server;
+		io = server_io_init(c, fd) == 0;
+	}
+	if (!io || !batch || !answers || !resume || !hello_timer) {
 		log_error("refusing a connection: out of memory");
 		server_quota_leave(server, cred.uid, restricted);
-		free(c);
-		if (bev)
-			bufferevent_free(bev);
+		if (io)
+			server_io_finish(c); /* closes fd */
 		else
 			close(fd);
+		free(c);
 		if (batch)
 			evbuffer_free(batch);
 		if (answers)
@@ -91,8 +92,6 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 	}
 	c->resume = resume;
 	c->hello_timer = hello_timer;
-	c->server = server;
-	c->bev = bev;
 	c->batch = batch;
 	c->answers = answers;
 	c->uid = cred.uid;
@@ -103,7 +102,7 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 	if (vis_idmap_put(&server->clients_by_id, c->id, c) < 0) {
 		log_error("refusing a connection: out of memory");
 		server_quota_leave(server, cred.uid, restricted);
-		bufferevent_free(bev);
+		server_io_finish(c);
 		evbuffer_free(batch);
 		evbuffer_free(answers);
 		event_free(resume);
@@ -114,15 +113,7 @@ void server_client_accept(struct server *server, int fd, bool restricted)
 	server_output_init(c);
 	TAILQ_INSERT_TAIL(&server->clients, c, link);
 	server->n_clients++;
-	bufferevent_setcb(bev, on_read, on_write, on_event, c);
-	/*
-	 * Input stops being read past a request or two (the budget may leave some unread); the write
-	 * callback runs once the output is down to a quarter of the bound, to release what waits.
-	 */
-	uint32_t max = server->opt.max_request;
-	bufferevent_setwatermark(bev, EV_READ, 0, (max < 65536 ? 65536 : max) + 65536);
-	bufferevent_setwatermark(bev, EV_WRITE, server->opt.max_pending / 4, 0);
-	bufferevent_enable(bev, EV_READ | EV_WRITE);
+	server_io_update(c); /* reading starts */
 	evtimer_add(hello_timer, &(struct timeval){ .tv_sec = server->opt.hello_timeout });
 	log_debug("client %u connected (uid %u, pid %d%s)", c->id, (unsigned)cred.uid,
 		  (int)cred.pid, restricted ? ", restricted socket" : "");
@@ -177,7 +168,7 @@ void server_client_free(struct client *c)
 	vis_idmap_remove(&server->clients_by_id, c->id);
 	log_debug("client %u gone", c->id);
 	server_output_finish(c);
-	bufferevent_free(c->bev);
+	server_io_finish(c);
 	evbuffer_free(c->batch);
 	evbuffer_free(c->answers);
 	event_free(c->resume);
@@ -191,7 +182,8 @@ void server_client_free(struct client *c)
 void server_client_close(struct client *c)
 {
 	c->closing = true;
-	bufferevent_disable(c->bev, EV_READ);
+	server_io_update(c);
+	server_io_list(c); /* the end of the turn frees it once its output is out */
 }
 
 void server_client_send(struct client *c, uint32_t opcode, const union vis_arg *args)
@@ -228,12 +220,9 @@ void server_client_write(struct client *c, uint32_t opcode, const union vis_arg 
 
 void server_client_queue(struct client *c, const void *data, size_t len)
 {
-	if (c->write_failed)
-		return;
-	if (bufferevent_write(c->bev, data, len) < 0) {
-		log_error("client %u: cannot queue %zu bytes: %s", c->id, len, strerror(errno));
-		server_client_close(c);
-	}
+	uint8_t *p = server_io_reserve(c, len);
+	if (p)
+		memcpy(p, data, len);
 }
 
 void server_client_error(struct client *c, uint32_t seq, uint32_t opcode, uint32_t code,
@@ -332,15 +321,14 @@ static void resume_next_turn(struct client *c)
 static void block_reading(struct client *c)
 {
 	c->read_blocked = true;
-	bufferevent_disable(c->bev, EV_READ);
+	server_io_update(c);
 }
 
 /* Reads from c again, and serves what waits, next turn. */
 static void unblock_reading(struct client *c)
 {
 	c->read_blocked = false;
-	if (!c->hung_up && !c->closing)
-		bufferevent_enable(c->bev, EV_READ);
+	server_io_update(c);
 	resume_next_turn(c);
 }
 
@@ -445,7 +433,8 @@ static bool run_answers(struct client *c, struct turn *t)
 /* The peer hung up and everything it sent has run: say what could not, and close. */
 static void finish_hangup(struct client *c)
 {
-	size_t left = evbuffer_get_length(bufferevent_get_input(c->bev));
+	size_t left;
+	server_io_input(c, &left);
 	if (left)
 		log_info("client %u hung up in the middle of a request: %zu bytes dropped", c->id,
 			 left);
@@ -464,12 +453,12 @@ static void finish_hangup(struct client *c)
 static void serve(struct client *c)
 {
 	struct server *server = c->server;
-	struct evbuffer *in = bufferevent_get_input(c->bev);
 	uint32_t max = server->opt.max_request;
 	struct turn t = { SERVER_REQUEST_BUDGET, server->recomputes, server->work };
 	bool starved = false; /* stopped for want of a whole request */
 	while (run_answers(c, &t)) {
-		size_t avail = evbuffer_get_length(in);
+		size_t avail;
+		const uint8_t *p = server_io_input(c, &avail);
 		if (avail < VIS_MSG_HEADER) {
 			starved = true;
 			break;
@@ -478,7 +467,6 @@ static void serve(struct client *c)
 			block_reading(c);
 			break;
 		}
-		const uint8_t *p = evbuffer_pullup(in, VIS_MSG_HEADER);
 		uint32_t size;
 		char why[200];
 		struct vis_msg m;
@@ -489,7 +477,6 @@ static void serve(struct client *c)
 			}
 			if (!turn_left(c, &t))
 				break;
-			p = evbuffer_pullup(in, size);
 		}
 		enum vis_decode r = vis_msg_decode(p, avail, max, 1, &m, why, sizeof why);
 		if (r == VIS_DECODE_OK && wait_for_recompute(c, &m)) {
@@ -508,8 +495,9 @@ static void serve(struct client *c)
 			break;
 		}
 		handle(c, seq, &m, p);
-		evbuffer_drain(in, size);
+		server_io_consume(c, size);
 	}
+	server_io_update(c); /* what ran made room to read more */
 	server_schedule_flush(server);
 	if (c->hung_up && starved && !c->closing)
 		finish_hangup(c);
@@ -517,10 +505,9 @@ static void serve(struct client *c)
 		server_client_free(c);
 }
 
-static void on_read(struct bufferevent *bev, void *data)
+void server_client_input(struct client *c)
 {
-	(void)bev;
-	serve(data);
+	serve(c);
 }
 
 /* The budget left requests unread: their turn has come. */
@@ -535,10 +522,8 @@ static void on_resume(evutil_socket_t fd, short what, void *data)
  * The output is down to a quarter of the bound (or empty): send what was held, read again if
  * reading stopped, and free a closing connection once its last message is out.
  */
-static void on_write(struct bufferevent *bev, void *data)
+void server_client_drained(struct client *c)
 {
-	(void)bev;
-	struct client *c = data;
 	if (!c->closing)
 		server_output_release(c);
 	if (c->read_blocked && server_output_pending(c) < c->server->opt.max_pending / 2)
@@ -548,32 +533,31 @@ static void on_write(struct bufferevent *bev, void *data)
 }
 
 /*
- * The peer hung up or the socket failed. What the peer sent before still runs, in order, as if it
- * had stayed (a client may create retained windows and exit at once); after a half-close every
+ * The peer hung up, or writing to it failed. What the peer sent before still runs, in order, as if
+ * it had stayed (a client may create retained windows and exit at once); after a half-close every
  * reply is delivered first. Once writing fails, what it would be sent is dropped instead.
  */
-static void on_event(struct bufferevent *bev, short what, void *data)
+static void peer_gone(struct client *c)
 {
-	struct client *c = data;
-	if (!(what & (BEV_EVENT_EOF | BEV_EVENT_ERROR)))
-		return;
-	if (what & BEV_EVENT_ERROR)
-		log_debug("client %u: %s while %s", c->id, strerror(EVUTIL_SOCKET_ERROR()),
-			  what & BEV_EVENT_WRITING ? "writing" : "reading");
-	if (what & BEV_EVENT_WRITING) {
-		struct evbuffer *out = bufferevent_get_output(bev);
-		c->write_failed = true;
-		evbuffer_drain(out, evbuffer_get_length(out));
-		if (c->read_blocked)
-			unblock_reading(c);
-	} else {
-		c->hung_up = true;
-	}
 	if (c->closing) {
 		if (c->write_failed || !server_output_pending(c))
 			server_client_free(c);
 		return;
 	}
 	if (!c->read_blocked)
-		serve(c); /* else on_write or the resume does */
+		serve(c); /* else server_client_drained() or the resume does */
+}
+
+void server_client_hangup(struct client *c)
+{
+	peer_gone(c);
+}
+
+void server_client_write_failed(struct client *c)
+{
+	c->write_failed = true;
+	server_io_discard(c);
+	if (c->read_blocked)
+		unblock_reading(c);
+	peer_gone(c);
 }

@@ -4,9 +4,8 @@
  * exposures); one that falls further behind loses them for an overflow notice and a resync of
  * everything it subscribed to. Serials are given as notices are written, so they stay gapless.
  */
-#include <event2/buffer.h>
-#include <event2/bufferevent.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "log.h"
 #include "server.h"
@@ -45,7 +44,7 @@ void server_output_finish(struct client *c)
 
 size_t server_output_pending(const struct client *c)
 {
-	return evbuffer_get_length(bufferevent_get_output(c->bev));
+	return server_io_pending(c);
 }
 
 /* Past the bound: what is held goes, counted, and the connection waits for its resync. */
@@ -131,23 +130,43 @@ static struct held *held_entry(struct client *c, uint32_t window)
 }
 
 /*
- * Writes a notice of fixed words after the serial, laid out by hand: the fan-out's hot path, where
- * the generic encoder's walk of the signature cost a third of the daemon's time. Every suite that
- * talks to visd decodes what this writes with the generic decoder.
+ * Lays out a notice of n fixed words after the serial at p, by hand, and returns its size: the
+ * fan-out's hot path, where the generic encoder's walk of the signature cost a third of the
+ * daemon's time. Every suite that talks to visd decodes what this writes with the generic decoder.
  */
+static uint32_t encode_words(uint8_t *p, uint32_t opcode, uint64_t serial, const uint32_t *words,
+			     size_t n)
+{
+	uint32_t size = VIS_MSG_HEADER + 8 + 4 * (uint32_t)n;
+	vis_wire_put_u32(p, size);
+	vis_wire_put_u16(p + 4, (uint16_t)opcode);
+	vis_wire_put_u16(p + 6, 0);
+	vis_wire_put_u64(p + 8, serial);
+	for (size_t i = 0; i < n; i++)
+		vis_wire_put_u32(p + 16 + 4 * i, words[i]);
+	return size;
+}
+
+/* Writes a notice of fixed words after the serial to c alone. */
 static void write_words(struct client *c, uint32_t opcode, const uint32_t *words, size_t n)
 {
-	uint8_t b[VIS_MSG_HEADER + 8 + 4 * SERVER_STACK_WORDS]; /* the longest: stack notices */
-	size_t size = VIS_MSG_HEADER + 8 + 4 * n;
-	if (c->closing)
+	uint8_t *p;
+	if (!c->closing && (p = server_io_reserve(c, VIS_MSG_HEADER + 8 + 4 * n)))
+		encode_words(p, opcode, ++c->serial, words, n);
+}
+
+/*
+ * Writes a copy of a notice encoded once for the fan-out, with c's own serial: the rest is the
+ * same for every connection, and copying 32 to 68 bytes costs less than laying them out again
+ * (or than sharing one buffer among the connections' output, reference-counted).
+ */
+static void write_copy(struct client *c, const uint8_t *bytes, size_t size)
+{
+	uint8_t *p;
+	if (c->closing || !(p = server_io_reserve(c, size)))
 		return;
-	vis_wire_put_u32(b, (uint32_t)size);
-	vis_wire_put_u16(b + 4, (uint16_t)opcode);
-	vis_wire_put_u16(b + 6, 0);
-	vis_wire_put_u64(b + 8, ++c->serial);
-	for (size_t i = 0; i < n; i++)
-		vis_wire_put_u32(b + 16 + 4 * i, words[i]);
-	server_client_queue(c, b, size);
+	memcpy(p, bytes, size);
+	vis_wire_put_u64(p + 8, ++c->serial);
 }
 
 static void write_visibility(struct client *c, uint32_t window, uint32_t state, uint32_t previous,
@@ -157,24 +176,43 @@ static void write_visibility(struct client *c, uint32_t window, uint32_t state, 
 	write_words(c, VIS_OP_VISIBILITY, words, 4);
 }
 
-/* Writes one exposure notice now: the rectangles, or their bounding box past the limit. */
-static void write_exposure(struct client *c, uint32_t window, uint32_t rect_limit,
+/*
+ * Encodes an exposure notice (serial 0) into out: the rectangles, or their bounding box when
+ * collapse. 0, or -1 when memory ran out.
+ */
+static int encode_exposure(struct vis_buf *out, uint32_t window, bool collapse,
 			   pixman_region32_t *exposed, const uint32_t *words, uint32_t n,
 			   uint32_t coalesced)
 {
 	const pixman_box32_t *e = pixman_region32_extents(exposed);
 	const uint32_t extents[4] = { (uint32_t)e->x1, (uint32_t)e->y1, (uint32_t)(e->x2 - e->x1),
 				      (uint32_t)(e->y2 - e->y1) };
-	bool collapse = n > rect_limit;
 	union vis_arg a[5];
-	a[0].q = ++c->serial;
+	a[0].q = 0;
 	a[1].u = window;
 	a[2].u = collapse ? VIS_EXPOSURE_COLLAPSED : 0;
 	a[3].u = coalesced;
 	a[4].a.words = collapse ? extents : words;
 	a[4].a.n = collapse ? 1 : n;
 	a[4].a.raw = NULL;
-	server_client_write(c, VIS_OP_EXPOSURE, a);
+	return vis_msg_encode(out, VIS_OP_EXPOSURE, a);
+}
+
+/* Writes one exposure notice now: the rectangles, or their bounding box past the limit. */
+static void write_exposure(struct client *c, uint32_t window, uint32_t rect_limit,
+			   pixman_region32_t *exposed, const uint32_t *words, uint32_t n,
+			   uint32_t coalesced)
+{
+	struct vis_buf *b = &c->server->scratch;
+	b->len = 0;
+	if (c->closing)
+		return;
+	if (encode_exposure(b, window, n > rect_limit, exposed, words, n, coalesced) < 0) {
+		log_error("client %u: cannot encode an exposure notice", c->id);
+		server_client_close(c);
+		return;
+	}
+	write_copy(c, b->data, b->len);
 }
 
 /* As write_exposure(), for a region not yet in words. */
@@ -197,10 +235,15 @@ static void write_stack(struct client *c, const uint32_t words[SERVER_STACK_WORD
 	write_words(c, VIS_OP_STACK, words, SERVER_STACK_WORDS);
 }
 
-void server_notice_visibility(struct client *c, const struct vis_window *w)
+void server_notice_visibility(struct client *c, const struct vis_window *w,
+			      struct server_notice *once)
 {
 	if (!must_hold(c)) {
-		write_visibility(c, w->id, w->state, w->old_state, 0);
+		if (!once->size) {
+			const uint32_t words[4] = { w->id, w->state, w->old_state, 0 };
+			once->size = encode_words(once->bytes, VIS_OP_VISIBILITY, 0, words, 4);
+		}
+		write_copy(c, once->bytes, once->size);
 		return;
 	}
 	struct held *h = held_entry(c, w->id);
@@ -243,11 +286,26 @@ static size_t exposure_bytes(pixman_region32_t *r)
 	return EXPOSURE_BYTES + 16u * (size_t)pixman_region32_n_rects(r);
 }
 
-void server_notice_exposure(struct client *c, const struct sub *s, const struct vis_window *w,
-			    pixman_region32_t *exposed, const uint32_t *words, uint32_t n)
+void server_exposure_finish(struct server_exposure *e)
 {
+	vis_buf_finish(&e->encoded[0]);
+	vis_buf_finish(&e->encoded[1]);
+}
+
+void server_notice_exposure(struct client *c, const struct sub *s, const struct vis_window *w,
+			    struct server_exposure *once)
+{
+	pixman_region32_t *exposed = once->exposed;
 	if (!must_hold(c)) {
-		write_exposure(c, w->id, s->rect_limit, exposed, words, n, 0);
+		bool collapse = once->n > s->rect_limit;
+		struct vis_buf *b = &once->encoded[collapse];
+		if (!b->len && encode_exposure(b, w->id, collapse, exposed, once->words, once->n,
+					       0) < 0) {
+			log_error("client %u: cannot encode an exposure notice", c->id);
+			server_client_close(c);
+			return;
+		}
+		write_copy(c, b->data, b->len);
 		return;
 	}
 	struct held *h = held_entry(c, w->id);
@@ -265,10 +323,18 @@ void server_notice_exposure(struct client *c, const struct sub *s, const struct 
 	check_bound(c);
 }
 
-void server_notice_stack(struct client *c, const uint32_t words[SERVER_STACK_WORDS])
+void server_notice_stack(struct client *c, const uint32_t words[SERVER_STACK_WORDS],
+			 struct server_notice *once)
 {
 	if (!must_hold(c)) {
-		write_stack(c, words);
+		if (!once) {
+			write_stack(c, words);
+			return;
+		}
+		if (!once->size)
+			once->size = encode_words(once->bytes, VIS_OP_STACK, 0, words,
+						  SERVER_STACK_WORDS);
+		write_copy(c, once->bytes, once->size);
 		return;
 	}
 	struct output *o = &c->out;
@@ -284,8 +350,7 @@ void server_notice_stack(struct client *c, const uint32_t words[SERVER_STACK_WOR
 		o->stack = more;
 		o->cap_stack = cap;
 	}
-	for (int i = 0; i < 9; i++)
-		o->stack[o->n_stack].words[i] = words[i];
+	memcpy(o->stack[o->n_stack].words, words, sizeof o->stack[o->n_stack].words);
 	o->n_stack++;
 	o->held_bytes += STACK_BYTES;
 	check_bound(c);

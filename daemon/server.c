@@ -2,7 +2,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <stdbool.h>
-#include <event2/bufferevent.h>
+#include <event2/event.h>
 #include <stdlib.h>
 #include <string.h>
 #include <stdio.h>
@@ -248,18 +248,34 @@ static pixman_region32_t *damage_region(struct server *server, struct damage *d)
 	return d->ok ? &d->region : NULL;
 }
 
-/* The deferred recompute: after every request read in this turn. */
-static void on_flush(evutil_socket_t fd, short what, void *data)
+/*
+ * The end of the turn, after every request read in it: the deferred recompute, then one write to
+ * each connection with output, its replies and notices together. Events activated while others
+ * run come after those the turn's epoll_wait and timers made ready, so this runs last.
+ */
+static void on_turn_end(evutil_socket_t fd, short what, void *data)
 {
 	(void)fd;
 	(void)what;
-	server_flush(data);
+	struct server *server = data;
+	server->turn_due = false;
+	server_flush(server);
+	server_io_write_all(server);
+}
+
+void server_schedule_turn_end(struct server *server)
+{
+	/* Once a turn: the fan-out would otherwise ask libevent for it once per subscriber. */
+	if (!server->turn_due) {
+		server->turn_due = true;
+		event_active(server->turn_event, EV_TIMEOUT, 0);
+	}
 }
 
 void server_schedule_flush(struct server *server)
 {
 	if (server->dirty && !server->deferring)
-		event_active(server->flush_event, EV_TIMEOUT, 0);
+		server_schedule_turn_end(server);
 }
 
 int server_init(struct server *server, struct event_base *base, const struct server_options *opt)
@@ -272,13 +288,14 @@ int server_init(struct server *server, struct event_base *base, const struct ser
 	server->walk_left = UINT64_MAX;
 	take_reserve(server);
 	TAILQ_INIT(&server->clients);
+	TAILQ_INIT(&server->to_write);
 	vis_idmap_init(&server->clients_by_id);
 	vis_idmap_init(&server->quotas);
 	vis_buf_init(&server->scratch);
 	vis_wtree_init(&server->tree, opt->screen_width, opt->screen_height);
 	server->listener_retry = evtimer_new(base, on_listener_retry, server);
-	server->flush_event = event_new(base, -1, 0, on_flush, server);
-	if (!server->listener_retry || !server->flush_event)
+	server->turn_event = event_new(base, -1, 0, on_turn_end, server);
+	if (!server->listener_retry || !server->turn_event)
 		return -1;
 	server->listener = opt->socket_fd >= 0
 				   ? listen_passed(server, opt->socket_fd, opt->socket_path)
@@ -327,8 +344,8 @@ void server_finish(struct server *server)
 		evconnlistener_free(server->restricted_listener);
 	if (server->listener_retry)
 		event_free(server->listener_retry);
-	if (server->flush_event)
-		event_free(server->flush_event);
+	if (server->turn_event)
+		event_free(server->turn_event);
 	vis_wtree_finish(&server->tree);
 	vis_idmap_finish(&server->clients_by_id);
 	server_quota_finish(server);
@@ -383,10 +400,11 @@ void server_track(struct vis_window *w, struct server *server)
 /* Sends the visibility notice of w to every connection subscribed to it. */
 static void notify_visibility(struct server *server, struct vis_window *w)
 {
+	struct server_notice once = { 0 };
 	struct client *c;
 	TAILQ_FOREACH(c, &server->clients, link)
 		if (!c->closing && server_client_sub_for(c, w, VIS_NOTICE_VISIBILITY))
-			server_notice_visibility(c, w);
+			server_notice_visibility(c, w, &once);
 }
 
 uint32_t *server_region_words(pixman_region32_t *region, uint32_t *count)
@@ -415,12 +433,14 @@ static void notify_exposure(struct server *server, struct vis_window *w, pixman_
 		log_error("out of memory for an exposure notice");
 		return;
 	}
+	struct server_exposure once = { .exposed = exposed, .words = words, .n = n };
 	struct client *c;
 	TAILQ_FOREACH(c, &server->clients, link) {
 		const struct sub *s;
 		if (!c->closing && (s = server_client_sub_for(c, w, VIS_NOTICE_EXPOSURE)))
-			server_notice_exposure(c, s, w, exposed, words, n);
+			server_notice_exposure(c, s, w, &once);
 	}
+	server_exposure_finish(&once);
 	free(words);
 }
 
@@ -524,6 +544,7 @@ uint32_t server_look_flags(const struct vis_window *w)
 void server_notify_stack(struct server *server, struct vis_window *w, uint32_t change)
 {
 	uint32_t shared[SERVER_STACK_WORDS], own[SERVER_STACK_WORDS];
+	struct server_notice once = { 0 };
 	bool made = false;
 	struct client *c;
 	TAILQ_FOREACH(c, &server->clients, link) {
@@ -531,13 +552,13 @@ void server_notify_stack(struct server *server, struct vis_window *w, uint32_t c
 			continue;
 		if (c->role == VIS_ROLE_CLIENT) {
 			server_stack_words(c, w, change, own);
-			server_notice_stack(c, own);
+			server_notice_stack(c, own, NULL);
 			continue;
 		}
 		if (!made)
 			server_stack_words(NULL, w, change, shared);
 		made = true;
-		server_notice_stack(c, shared);
+		server_notice_stack(c, shared, &once);
 	}
 }
 

@@ -104,6 +104,25 @@ struct output {
 };
 
 /*
+ * A connection's socket and its bytes on their way in and out (server-io.c). Invariants:
+ * in.data[in_used, in.len) was read and has not run yet, no more than the read bound (a maximum
+ * request and 64 KiB); out.data[out_sent, out.len) waits to be written; reading (the read event is
+ * added) only while the connection is not hung up, closing or blocked, and under the read bound
+ * (once it stopped there, from when half of that has run); writing (the write event is added)
+ * only while something waits that the kernel refused; listed (on the server's list of
+ * connections to write at the end of the turn) only while not writing.
+ */
+struct conn {
+	int fd;
+	struct event *read_ev, *write_ev;
+	struct vis_buf in, out;
+	size_t in_used, out_sent;
+	bool reading, writing, listed;
+	bool filled; /* the last read took all the room it had: the input buffer may grow */
+	TAILQ_ENTRY(client) link; /* on the server's list to write */
+};
+
+/*
  * One connection. Invariants: requests are numbered from 1 in arrival order (seq is the last one
  * received); serial is the last notice's number; while in_batch, requests wait in batch, each
  * prefixed with its number, until batch-commit; after a commit, answers holds, in request order,
@@ -115,7 +134,7 @@ struct output {
  */
 struct client {
 	struct server *server;
-	struct bufferevent *bev;
+	struct conn io;
 	TAILQ_ENTRY(client) link;
 	uint32_t id;
 	uid_t uid;
@@ -160,6 +179,7 @@ struct server {
 	int reserve_fd; /* spent to refuse connections when descriptors run out */
 	struct vis_wtree tree;
 	struct client_list clients;
+	struct client_list to_write; /* connections with output queued in this turn (conn.listed) */
 	uint32_t n_clients;
 	uint32_t n_restricted; /* connections on the restricted socket */
 	uint32_t n_retained;   /* retained windows */
@@ -179,7 +199,10 @@ struct server {
 	bool deferring; /* replaying a batch: recompute once at its end */
 	uint64_t work;  /* windows walked by requests so far (see SERVER_TURN_WORK) */
 	uint64_t walk_left; /* windows the batch being committed may still walk */
-	struct event *flush_event; /* the recompute after this turn's requests */
+	/* The end of the turn of the event loop: the recompute after this turn's requests, then one
+	 * write to each connection that has output. */
+	struct event *turn_event;
+	bool turn_due; /* turn_event is active: it runs before the loop waits again */
 	struct vis_buf scratch;
 };
 
@@ -201,6 +224,8 @@ void server_flush(struct server *server);
 void server_damage(struct server *server, const struct vis_window *w);
 /* Recomputes once every request read in this turn of the event loop has run. */
 void server_schedule_flush(struct server *server);
+/* Makes the end of this turn of the event loop (the recompute, the writes) come. */
+void server_schedule_turn_end(struct server *server);
 
 /*
  * A window's ID as viewer may know it: 0 for NULL, the screen, or a window viewer may not see,
@@ -235,6 +260,31 @@ void server_track(struct vis_window *w, struct server *server);
 /* Destroys w and its subtree, with notices. */
 void server_destroy_window(struct server *server, struct vis_window *w);
 
+/* A connection's socket (server-io.c). */
+/* Sets up c's socket fd, not yet read from; 0, or -1 when memory runs out (fd stays open). */
+int server_io_init(struct client *c, int fd);
+/* Frees c's events and buffers and closes its socket. */
+void server_io_finish(struct client *c);
+/* The bytes read from c that have not run yet; *len of them. */
+const uint8_t *server_io_input(const struct client *c, size_t *len);
+/* Takes n bytes from the start of c's input, once they ran. */
+void server_io_consume(struct client *c, size_t n);
+/* Reads from c's socket, or stops, as its state says (hung up, closing, blocked, input full). */
+void server_io_update(struct client *c);
+/*
+ * Appends len bytes to c's output, for the caller to fill at once, written at the end of the turn;
+ * NULL when nothing can reach the peer any more, or when memory ran out (c is then closed).
+ */
+uint8_t *server_io_reserve(struct client *c, size_t len);
+/* Bytes waiting to be written to c. */
+size_t server_io_pending(const struct client *c);
+/* Drops what waits to be written to c (its peer can read no more). */
+void server_io_discard(struct client *c);
+/* Makes c's end of turn come even with nothing to write: a closing connection is freed there. */
+void server_io_list(struct client *c);
+/* Writes once to each connection with output queued this turn (the end of the turn). */
+void server_io_write_all(struct server *server);
+
 /* Connections: accepting, dispatch and replies (server-client.c). */
 void server_client_accept(struct server *server, int fd, bool restricted);
 /* Answers a connection's hello in advance with a limit error and closes it. */
@@ -249,6 +299,13 @@ void server_client_write(struct client *c, uint32_t opcode, const union vis_arg 
 void server_client_queue(struct client *c, const void *data, size_t len);
 /* Ends the connection once what is queued has been written. */
 void server_client_close(struct client *c);
+/* What server-io.c tells a connection: requests read; the peer hung up (end of file or a read
+ * error); a write failed (the peer can read no more); the output is down to a quarter of the bound
+ * after a write. Each may free c. */
+void server_client_input(struct client *c);
+void server_client_hangup(struct client *c);
+void server_client_write_failed(struct client *c);
+void server_client_drained(struct client *c);
 /* Sends an error reply; fatal ones close the connection once the error is written. */
 void server_client_error(struct client *c, uint32_t seq, uint32_t opcode, uint32_t code,
 			 const char *fmt, ...) __attribute__((format(printf, 5, 6)));
@@ -307,18 +364,40 @@ bool server_batch_no_effect(uint32_t op);
  */
 void server_batch_commit(struct client *c);
 
-/* Notices and the bound on pending output (server-output.c). */
+/*
+ * Notices and the bound on pending output (server-output.c). The fan-out encodes a notice once
+ * for every connection it goes to, and each copy gets the connection's own serial (bytes 8 to 15
+ * of the message).
+ */
+/* A visibility or stack notice as the fan-out encodes it, on first use. */
+struct server_notice {
+	uint32_t size; /* 0: not encoded yet */
+	uint8_t bytes[VIS_MSG_HEADER + 8 + 4 * SERVER_STACK_WORDS];
+};
+/* A window's exposure, and its notice as the fan-out encodes it, on first use: [0] with the
+ * rectangles, [1] collapsed to their bounding box (past a subscription's rect_limit). */
+struct server_exposure {
+	pixman_region32_t *exposed; /* window coordinates */
+	const uint32_t *words;      /* its rectangles as x, y, width, height */
+	uint32_t n;
+	struct vis_buf encoded[2];
+};
+/* Frees what the fan-out encoded of an exposure. */
+void server_exposure_finish(struct server_exposure *e);
 void server_output_init(struct client *c);
 void server_output_finish(struct client *c);
 /* Bytes waiting to be written to c. */
 size_t server_output_pending(const struct client *c);
-/* Sends, holds or drops (after an overflow) a notice to c. */
-void server_notice_visibility(struct client *c, const struct vis_window *w);
+/* Sends, holds or drops (after an overflow) a notice to c; once is shared by one fan-out. */
+void server_notice_visibility(struct client *c, const struct vis_window *w,
+			      struct server_notice *once);
 /* The first visibility notice of a new subscription: w's state, previous VIS_VISIBILITY_INITIAL. */
 void server_notice_initial(struct client *c, const struct vis_window *w);
 void server_notice_exposure(struct client *c, const struct sub *s, const struct vis_window *w,
-			    pixman_region32_t *exposed, const uint32_t *words, uint32_t n);
-void server_notice_stack(struct client *c, const uint32_t words[SERVER_STACK_WORDS]);
+			    struct server_exposure *once);
+/* once: NULL for words that are c's alone (a client's view of the stack). */
+void server_notice_stack(struct client *c, const uint32_t words[SERVER_STACK_WORDS],
+			 struct server_notice *once);
 /* Sends what is held for c (and the resync after an overflow); before replies and on drain. */
 void server_output_release(struct client *c);
 

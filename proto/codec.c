@@ -301,7 +301,7 @@ void vis_buf_consume(struct vis_buf *buf, size_t n)
 	buf->len -= n;
 }
 
-int vis_buf_append(struct vis_buf *buf, const void *p, size_t n)
+int vis_buf_reserve(struct vis_buf *buf, size_t n)
 {
 	if (n > SIZE_MAX - buf->len) {
 		errno = ENOMEM;
@@ -317,6 +317,13 @@ int vis_buf_append(struct vis_buf *buf, const void *p, size_t n)
 		buf->data = data;
 		buf->cap = cap;
 	}
+	return 0;
+}
+
+int vis_buf_append(struct vis_buf *buf, const void *p, size_t n)
+{
+	if (vis_buf_reserve(buf, n) < 0)
+		return -1;
 	if (p)
 		memcpy(buf->data + buf->len, p, n);
 	buf->len += n;

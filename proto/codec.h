@@ -101,7 +101,10 @@ void vis_buf_init(struct vis_buf *buf);
 void vis_buf_finish(struct vis_buf *buf);
 /* Removes the first n bytes. O(len). */
 void vis_buf_consume(struct vis_buf *buf, size_t n);
-/* Appends n bytes; 0, or -1 with ENOMEM. Amortized O(n). */
+/* Makes room for n bytes after the len there are (cap >= len + n), appending nothing; 0, or -1
+ * with ENOMEM. The capacity doubles, from 256 bytes. */
+int vis_buf_reserve(struct vis_buf *buf, size_t n);
+/* Appends n bytes (left as they are when p is NULL); 0, or -1 with ENOMEM. Amortized O(n). */
 int vis_buf_append(struct vis_buf *buf, const void *p, size_t n);
 
 #endif

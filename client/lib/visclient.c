@@ -53,12 +53,9 @@ static int read_some(struct vis_client *c)
 			 sizeof(why)) == VIS_DECODE_OK && size > c->in.len + want)
 		want = size - c->in.len;
 	size_t len = c->in.len;
-	if (c->in.cap - len < want) {
-		if (vis_buf_append(&c->in, NULL, want) < 0) {
-			vis_client_fail(c, ENOMEM, "out of memory reading from the daemon");
-			return -1;
-		}
-		c->in.len = len;
+	if (vis_buf_reserve(&c->in, want) < 0) {
+		vis_client_fail(c, ENOMEM, "out of memory reading from the daemon");
+		return -1;
 	}
 	for (;;) {
 		ssize_t r = recv(c->fd, c->in.data + len, c->in.cap - len, MSG_DONTWAIT);
