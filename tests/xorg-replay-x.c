@@ -26,6 +26,7 @@
 
 #include "idmap.h"
 #include "vis/visclient.h"
+#include "proc-cpu.h"
 #include "xorg-replay.h"
 
 #define NS UINT64_C(1000000000)
@@ -540,7 +541,7 @@ int replay_x_run(const struct replay_options *o, const struct replay_script *s,
 
 	r->notices = 0; /* the operations' alone, not the first states */
 	rp.stall = STALL_NS;
-	double cpu0 = replay_server_cpu(o->pid);
+	double cpu0 = proc_cpu_seconds(o->pid);
 	uint64_t start = now_ns(), last_progress = start;
 	for (size_t i = 0; i < s->n_ops; i++) {
 		if (run_op(&rp, &s->ops[i]) < 0)
@@ -548,7 +549,7 @@ int replay_x_run(const struct replay_options *o, const struct replay_script *s,
 		progress(&rp, start, &last_progress);
 	}
 	r->seconds = (double)(now_ns() - start) / 1e9;
-	double cpu1 = replay_server_cpu(o->pid);
+	double cpu1 = proc_cpu_seconds(o->pid);
 	if (cpu0 >= 0 && cpu1 >= 0)
 		r->server_cpu = cpu1 - cpu0;
 	if (check_tree(&rp) < 0)

@@ -23,7 +23,6 @@
  * the server gone, a record that cannot be read), 2 usage or a record that is not one (or does
  * not fit X's 16-bit coordinates).
  */
-#include <dirent.h>
 #include <getopt.h>
 #include <signal.h>
 #include <stdio.h>
@@ -91,50 +90,6 @@ static int check_pid(pid_t pid)
 		return -1;
 	}
 	return 0;
-}
-
-/*
- * The X server's CPU time in seconds, every thread's; < 0 when unreadable. From the threads'
- * /proc/PID/task/TID/schedstat, in nanoseconds, as visctl stress reads visd's, else from
- * /proc/PID/stat's utime and stime (10 ms ticks).
- */
-double replay_server_cpu(pid_t pid)
-{
-	char path[64], buf[1024];
-	double sum = 0;
-	bool any = false;
-	snprintf(path, sizeof(path), "/proc/%d/task", (int)pid);
-	DIR *d = pid > 0 ? opendir(path) : NULL;
-	for (struct dirent *e; d && (e = readdir(d));) {
-		unsigned long long ns;
-		if (e->d_name[0] == '.')
-			continue;
-		snprintf(buf, sizeof(buf), "/proc/%d/task/%.16s/schedstat", (int)pid, e->d_name);
-		FILE *f = fopen(buf, "r");
-		if (f && fscanf(f, "%llu", &ns) == 1) {
-			sum += (double)ns / 1e9;
-			any = true;
-		}
-		if (f)
-			fclose(f);
-	}
-	if (d)
-		closedir(d);
-	if (any)
-		return sum;
-	snprintf(path, sizeof(path), "/proc/%d/stat", (int)pid);
-	FILE *f = pid > 0 ? fopen(path, "r") : NULL;
-	if (!f)
-		return -1;
-	size_t n = fread(buf, 1, sizeof(buf) - 1, f);
-	fclose(f);
-	buf[n] = '\0';
-	const char *p = strrchr(buf, ')');
-	unsigned long long user, sys;
-	if (!p || sscanf(p + 1, " %*c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %llu %llu", &user,
-			 &sys) != 2)
-		return -1;
-	return (double)(user + sys) / (double)sysconf(_SC_CLK_TCK);
 }
 
 static double us(const struct histogram *h, double p)

@@ -74,12 +74,6 @@ struct replay_result {
 	uint64_t mismatches;
 };
 
-/*
- * The server's CPU time in seconds, every thread's, from /proc (xorg-replay.c); < 0 when it
- * cannot be read.
- */
-double replay_server_cpu(pid_t pid);
-
 struct replay_options {
 	const char *display; /* NULL: $DISPLAY */
 	uint32_t clients;    /* subscribers */

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "gen.h"
+#include "proc-cpu.h"
 #include "stress.h"
 #include "visctl.h"
 
@@ -27,40 +28,6 @@ int stress_run_lost(struct vis_client *c, const char *who)
 {
 	fprintf(stderr, "visctl stress: %s: %s\n", who, vis_client_error_message(c));
 	return -1;
-}
-
-/*
- * visd's CPU time in seconds; < 0 when unreadable. From /proc/PID/schedstat, in nanoseconds, when
- * the kernel has it: /proc/PID/stat counts clock ticks (10 ms), too coarse for short runs (a
- * 0.2 s run could read 120% of a core). visd is single-threaded, so its main thread's time is
- * the process's.
- */
-static double daemon_cpu(pid_t pid)
-{
-	char path[64], buf[1024];
-	unsigned long long ns;
-	snprintf(path, sizeof(path), "/proc/%d/schedstat", (int)pid);
-	FILE *f = pid > 0 ? fopen(path, "r") : NULL;
-	if (f) {
-		int got = fscanf(f, "%llu", &ns);
-		fclose(f);
-		if (got == 1)
-			return (double)ns / 1e9;
-	}
-	snprintf(path, sizeof(path), "/proc/%d/stat", (int)pid);
-	f = pid > 0 ? fopen(path, "r") : NULL;
-	if (!f)
-		return -1;
-	size_t n = fread(buf, 1, sizeof(buf) - 1, f);
-	fclose(f);
-	buf[n] = '\0';
-	/* The command name may hold spaces and parentheses: the fields start after the last ')'. */
-	const char *p = strrchr(buf, ')');
-	unsigned long long user, sys;
-	if (!p || sscanf(p + 1, " %*c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %llu %llu", &user,
-			 &sys) != 2)
-		return -1;
-	return (double)(user + sys) / (double)sysconf(_SC_CLK_TCK);
 }
 
 /* visd's resident memory now and at its peak, in KiB, from /proc/PID/status (-1: unreadable). */
@@ -408,12 +375,12 @@ int stress_run(const struct stress_options *o, struct stress_result *r)
 	if (create_windows(&s, &scene) < 0 || connect_subscribers(&s) < 0)
 		goto out;
 
-	double cpu0 = daemon_cpu(r->daemon_pid), self0 = self_cpu();
+	double cpu0 = proc_cpu_seconds(r->daemon_pid), self0 = self_cpu();
 	s.t0 = stress_loop_now();
 	if (stress_loop_run(&s) < 0)
 		goto out;
 	r->seconds = (double)(s.now - s.t0) / 1e9;
-	double cpu1 = daemon_cpu(r->daemon_pid);
+	double cpu1 = proc_cpu_seconds(r->daemon_pid);
 	if (cpu0 >= 0 && cpu1 >= 0)
 		r->daemon_cpu = cpu1 - cpu0;
 	daemon_memory(r->daemon_pid, &r->daemon_rss_kb, &r->daemon_hwm_kb);
