@@ -57,25 +57,12 @@ wait_for() {
 	return 1
 }
 
-# A server that said its display number but takes no connection (seen once in a while with other
-# X servers starting and stopping beside it) is replaced, up to three times.
-x_answers() { DISPLAY=$display xprop -root >/dev/null 2>&1; }
-for try in 1 2 3; do
-	: >"$dir/display"
-	exec 3>"$dir/display"
-	Xvfb -displayfd 3 -screen 0 ${width}x${height}x24 -nolisten tcp >"$dir/xvfb.log" 2>&1 &
-	xpid=$!
-	exec 3>&-
-	wait_for test -s "$dir/display" || fail "Xvfb did not start:" "$dir/xvfb.log"
-	display=:$(head -n 1 "$dir/display")
-	x_answers && break
-	sleep 0.5
-	x_answers && break
-	echo "test-x11: Xvfb on $display takes no connection (try $try)"
-	kill "$xpid"
-	wait "$xpid" 2>/dev/null
-	[ $try = 3 ] && fail "Xvfb took no connection:" "$dir/xvfb.log"
-done
+exec 3>"$dir/display"
+Xvfb -displayfd 3 -screen 0 ${width}x${height}x24 -nolisten tcp >"$dir/xvfb.log" 2>&1 &
+xpid=$!
+exec 3>&-
+wait_for test -s "$dir/display" || fail "Xvfb did not start:" "$dir/xvfb.log"
+display=:$(head -n 1 "$dir/display")
 
 # openbox sets _NET_SUPPORTING_WM_CHECK once it owns WM_S0 (and x11-desk waits for the owner).
 DISPLAY=$display openbox --sm-disable >"$dir/openbox.log" 2>&1 &
@@ -83,7 +70,7 @@ wpid=$!
 wm_ready() {
 	DISPLAY=$display xprop -root _NET_SUPPORTING_WM_CHECK 2>/dev/null | grep -q 'window id'
 }
-wait_for wm_ready || { cat "$dir/xvfb.log"; fail "openbox did not take the screen:" "$dir/openbox.log"; }
+wait_for wm_ready || fail "openbox did not take the screen:" "$dir/openbox.log"
 
 # visd's screen is X's, so that what lies past the root is off the screen for both. Each visd
 # (N: 1, 2, …) gets a bridge of its own, started with the arguments given.
