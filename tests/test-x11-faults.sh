@@ -42,9 +42,11 @@ wait_for() {
 	return 1
 }
 
+# -noreset: X resets when its last client leaves, and a client that connects meanwhile fails
+# ("Failed to open the display": xprop, then openbox at once, raced it).
 start_x() {
 	exec 3>"$dir/display"
-	Xvfb -displayfd 3 -screen 0 800x600x24 -nolisten tcp >"$dir/xvfb.log" 2>&1 &
+	Xvfb -displayfd 3 -screen 0 800x600x24 -nolisten tcp -noreset >"$dir/xvfb.log" 2>&1 &
 	xpid=$!
 	exec 3>&-
 	wait_for test -s "$dir/display" || fail "Xvfb did not start" "$dir/xvfb.log"
@@ -58,7 +60,7 @@ start_wm() {
 	xprop -root -remove _NET_SUPPORTING_WM_CHECK 2>/dev/null
 	openbox --sm-disable "$@" >>"$dir/openbox.log" 2>&1 &
 	wpid=$!
-	wait_for wm_check || fail "openbox did not take the screen" "$dir/openbox.log"
+	wait_for wm_check || { cat "$dir/xvfb.log"; fail "openbox did not take the screen" "$dir/openbox.log"; }
 }
 
 start_visd() {

@@ -57,8 +57,10 @@ wait_for() {
 	return 1
 }
 
+# -noreset: X resets when its last client leaves, and a client that connects meanwhile fails
+# ("Failed to open the display": xprop, then openbox at once, raced it).
 exec 3>"$dir/display"
-Xvfb -displayfd 3 -screen 0 ${width}x${height}x24 -nolisten tcp >"$dir/xvfb.log" 2>&1 &
+Xvfb -displayfd 3 -screen 0 ${width}x${height}x24 -nolisten tcp -noreset >"$dir/xvfb.log" 2>&1 &
 xpid=$!
 exec 3>&-
 wait_for test -s "$dir/display" || fail "Xvfb did not start:" "$dir/xvfb.log"
@@ -70,7 +72,7 @@ wpid=$!
 wm_ready() {
 	DISPLAY=$display xprop -root _NET_SUPPORTING_WM_CHECK 2>/dev/null | grep -q 'window id'
 }
-wait_for wm_ready || fail "openbox did not take the screen:" "$dir/openbox.log"
+wait_for wm_ready || { cat "$dir/xvfb.log"; fail "openbox did not take the screen:" "$dir/openbox.log"; }
 
 # visd's screen is X's, so that what lies past the root is off the screen for both. Each visd
 # (N: 1, 2, …) gets a bridge of its own, started with the arguments given.

@@ -6,7 +6,7 @@ visd=${2:-}
 command -v Xvfb >/dev/null 2>&1 || { echo "Xvfb not installed: skipped"; exit 77; }
 dir=$(mktemp -d) || exit 1
 exec 3>"$dir/display"
-Xvfb -displayfd 3 -screen 0 48x32x24 -nolisten tcp >"$dir/log" 2>&1 &
+Xvfb -displayfd 3 -screen 0 48x32x24 -nolisten tcp -noreset >"$dir/log" 2>&1 &
 xpid=$!
 vpid=
 trap 'kill $xpid $vpid 2>/dev/null; wait $xpid $vpid 2>/dev/null; rm -rf "$dir"' EXIT

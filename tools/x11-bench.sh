@@ -34,7 +34,7 @@ printf '%-8s %-5s %12s %8s %10s %10s %10s %10s\n' windows moves start-up/ms turn
 for n in "${sizes[@]}"; do
 for kind in drag jump; do
 	exec 3>"$dir/display"
-	Xvfb -displayfd 3 -screen 0 1920x1080x24 -nolisten tcp >/dev/null 2>&1 &
+	Xvfb -displayfd 3 -screen 0 1920x1080x24 -nolisten tcp -noreset >/dev/null 2>&1 &
 	xpid=$!
 	exec 3>&-
 	wait_for test -s "$dir/display" || { echo "x11-bench: Xvfb did not start" >&2; exit 1; }

@@ -64,7 +64,7 @@ echo "x11-order: $(date -u +%F), $(nproc) cores, $(sed -n 's/^model name[[:space
 for run in "${runs[@]}"; do
 	mode=${run#cm-}
 	exec 3>"$dir/display"
-	Xvfb -displayfd 3 -screen 0 1280x720x24 -nolisten tcp >"$dir/xvfb-$run.log" 2>&1 &
+	Xvfb -displayfd 3 -screen 0 1280x720x24 -nolisten tcp -noreset >"$dir/xvfb-$run.log" 2>&1 &
 	pids=($!)
 	exec 3>&-
 	wait_for test -s "$dir/display" || fail "Xvfb did not start:" "$dir/xvfb-$run.log"

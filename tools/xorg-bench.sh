@@ -129,7 +129,7 @@ start_visd() {
 start_x() {
 	: >"$tmp/display"
 	exec 3>"$tmp/display"
-	Xvfb -displayfd 3 -screen 0 "${screen}x24" -nolisten tcp -s 0 -background none \
+	Xvfb -displayfd 3 -screen 0 "${screen}x24" -nolisten tcp -noreset -s 0 -background none \
 		>"$tmp/x.log" 2>&1 &
 	x_pid=$!
 	exec 3>&-
