@@ -33,6 +33,23 @@ static void on_signal(int sig)
 }
 
 /*
+ * The end of a turn's reads: where the windows in limbo went, and the children lists to read
+ * again; then whether the mirror drifted, said and counted. Returns whether it did (the caller
+ * reads the whole tree).
+ */
+static bool settle(struct bridge *b)
+{
+	if (b->n_limbo || b->reread.n)
+		xread_pending(b);
+	if (!b->resync_needed)
+		return false;
+	bridge_log(b, 0, "resynchronizing from a fresh read of the tree: %s", b->resync_reason);
+	b->resync_needed = false;
+	b->resyncs++;
+	return true;
+}
+
+/*
  * SIGUSR1: reads the whole tree again and applies it. The mirror was exact when that changes
  * nothing, since every mirror function sends visd only differences. Under one server grab, every
  * event X generated before it is applied first, then the tree is read: nothing can change in
@@ -50,14 +67,7 @@ static void check_mirror(struct bridge *b)
 		events_handle(b, ev);
 		free(ev);
 	}
-	if (b->n_limbo || b->reread.n)
-		xread_pending(b);
-	if (b->resync_needed) {
-		bridge_log(b, 0, "resynchronizing from a fresh read of the tree: %s",
-			   b->resync_reason);
-		b->resync_needed = false;
-		b->resyncs++;
-	}
+	settle(b); /* the whole tree is read next, resynchronization or not */
 	uint64_t before = 0;
 	int rc = visd_end_turn(b);
 	if (rc == 0) {
@@ -297,15 +307,8 @@ static int apply_events(struct bridge *b, xcb_generic_event_t *ev)
 		b->x_failed = true;
 		return -1;
 	}
-	if (b->n_limbo || b->reread.n)
-		xread_pending(b);
-	if (b->resync_needed) {
-		bridge_log(b, 0, "resynchronizing from a fresh read of the tree: %s",
-			   b->resync_reason);
-		b->resync_needed = false;
-		b->resyncs++;
+	if (settle(b))
 		xread_screen(b);
-	}
 	return 0;
 }
 
