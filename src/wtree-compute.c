@@ -3,7 +3,7 @@
 #include <stdlib.h>
 
 #include "engine.h"
-#include "wtree-work.h"
+#include "wtree-live.h"
 
 /*
  * How many windows the lookups of SCAN windows may visit in all, per viewable window, before the
@@ -105,10 +105,12 @@ static int flatten(struct vis_wtree *tree, struct vis_wtree_work *wk)
 	wk->n_hidden = 0;
 	for (struct vis_window *w = tree->root.bottom; w; w = next_viewable(w)) {
 		if (!w->mapped) {
-			for (struct vis_window *v = w; v; v = vis_wtree_next_within(v, w))
+			for (struct vis_window *v = w; v; v = vis_wtree_next_within(v, w)) {
+				v->key = 0;
 				if (v->state != VIS_WTREE_STATE_NONE ||
 				    v->old_state != VIS_WTREE_STATE_NONE)
 					wk->hidden[wk->n_hidden++] = v;
+			}
 			continue;
 		}
 		const struct vis_window *p = w->parent;
@@ -125,6 +127,7 @@ static int flatten(struct vis_wtree *tree, struct vis_wtree_work *wk)
 		w->clip = clip;
 		w->inner = clip;
 		w->pos = n;
+		w->key = wtree_key_of(n, tree->count);
 		wk->old[n] = w->old_state;
 		w->old_state = last;
 		wk->last[n] = last;
@@ -489,6 +492,7 @@ static int compute(struct vis_wtree *tree, const struct vis_box *damage, size_t 
 	struct vis_wtree_work *wk = tree->work;
 	if (wtree_work_reserve(wk, tree->count) < 0)
 		return -1;
+	wtree_live_invalidate(tree); /* the boxes it indexes are about to move */
 	struct vis_box screen = tree->root.clip, bounds = { 0, 0, 0, 0 };
 	if (tree->stale) {
 		damage = NULL; /* the last states do not go with the boxes */
@@ -523,6 +527,7 @@ static int compute(struct vis_wtree *tree, const struct vis_box *damage, size_t 
 			tree->order[i]->state = s;
 	}
 	tree->stale = false;
+	wtree_live_computed(tree, wk);
 	return 0;
 }
 

@@ -3,7 +3,7 @@
 #include <pixman.h>
 #include <stdlib.h>
 
-#include "wtree-work.h"
+#include "wtree-live.h"
 
 /*
  * Initializes region with the union of the pieces numbered num (only the opaque ones, with
@@ -39,6 +39,8 @@ int vis_wtree_visible_region(const struct vis_wtree *tree, const struct vis_wind
 	if (window->state == VIS_WTREE_STATE_NONE || window->state == VIS_FULLY_OBSCURED ||
 	    vis_box_empty(clip))
 		return 0;
+	if (wtree_live_order_stale(tree))
+		return wtree_live_region(tree, window, region);
 	/* Its own pixels, numbered 0, and the later windows' inside its clip, numbered 1. The boxes
 	 * lie in the clip, so in window coordinates in [0, INT32_MAX) (the box's sides' range). */
 	struct vis_wtree_work wk = { 0 };
@@ -69,26 +71,58 @@ out:
 	return rc;
 }
 
+/*
+ * The viewable windows with pixels in pre-order, for a tree whose order is stale (its last
+ * recompute was a live one, so that no window has a look; input-only ones, which show nothing,
+ * are left out): into a new array, *n of them. NULL without memory.
+ */
+static struct vis_window **live_order(const struct vis_wtree *tree, size_t *n)
+{
+	struct vis_window **order = malloc((tree->count ? tree->count : 1) * sizeof *order);
+	*n = 0;
+	if (!order)
+		return NULL;
+	for (struct vis_window *w = tree->root.bottom; w;) {
+		if (w->mapped) {
+			if (!w->look.input_only)
+				order[(*n)++] = w;
+			w = vis_wtree_next(w);
+			continue;
+		}
+		/* An unmapped subtree shows nothing: on past it. */
+		for (; w->parent && !w->above; w = w->parent)
+			;
+		w = w->parent ? w->above : NULL;
+	}
+	return order;
+}
+
 long vis_wtree_repaint(const struct vis_wtree *tree, struct vis_box damage,
 		       struct vis_window **out)
 {
 	size_t n = tree->n_order;
+	struct vis_window **order = tree->order;
+	if (wtree_live_order_stale(tree) && !(order = live_order(tree, &n)))
+		return -1;
 	struct vis_wtree_work wk = { 0 };
 	bool pieces = false;
+	long count = -1;
 	if (wtree_work_reserve(&wk, n) < 0)
-		return -1;
+		goto out;
 	for (size_t i = 0; i < n; i++) {
-		const struct vis_window *w = tree->order[i];
+		const struct vis_window *w = order[i];
 		wk.clips[i] = w ? w->clip : (struct vis_box){ 0, 0, 0, 0 };
 		pieces |= w && wtree_work_look_clear(&w->look);
 	}
-	long count = -1;
 	if (wtree_work_sweep(tree, &wk, pieces, 0, n, 0, damage, wk.raw) == 0) {
 		count = 0;
 		for (size_t i = 0; i < n; i++)
 			if (wk.raw[i] != VIS_FULLY_OBSCURED)
-				out[count++] = tree->order[i];
+				out[count++] = order[i];
 	}
+out:
 	wtree_work_finish(&wk);
+	if (order != tree->order)
+		free(order);
 	return count;
 }

@@ -3,7 +3,7 @@
 #include <errno.h>
 #include <stdlib.h>
 
-#include "wtree.h"
+#include "wtree-live.h"
 
 void vis_wtree_init(struct vis_wtree *tree, int32_t width, int32_t height)
 {
@@ -26,6 +26,7 @@ void vis_wtree_finish(struct vis_wtree *tree)
 	vis_idmap_finish(&tree->externals);
 	free(tree->order);
 	vis_wtree_work_destroy(tree->work);
+	vis_wtree_live_destroy(tree->live);
 }
 
 struct vis_window *vis_wtree_find(const struct vis_wtree *tree, uint32_t id)
@@ -176,6 +177,7 @@ void vis_wtree_destroy(struct vis_wtree *tree, struct vis_window *window,
 		/* Until the next compute, the order may be read (queries in a batch): drop w from it. */
 		if (w->pos < tree->n_order && tree->order[w->pos] == w)
 			tree->order[w->pos] = NULL;
+		wtree_live_forget(tree, w);
 		vis_idmap_remove(&tree->ids, w->id);
 		if (w->ext_namespace)
 			forget_external(tree, w);

@@ -46,12 +46,21 @@ struct vis_window {
 	 * recomputes cut such windows by the shapes above them (UNDER, wtree-work.h). */
 	struct vis_box box, clip, inner;
 	size_t pos; /* index in the tree's order, for viewable windows */
+	/* Grows with pre-order among the viewable windows after any recompute (0 for the others),
+	 * so that "is a below b" is a comparison: positions are not kept by vis_wtree_update(). */
+	uint64_t key;
+	/* vis_wtree_update()'s (wtree-live.c): slots in its lists (1-based, 0: in none), a mark for
+	 * the windows it has taken, whether it indexed the clip and counted the window as having a
+	 * look, and whether the window is viewable (while it works). */
+	uint32_t live_seen, live_dirty, live_changed, live_mark;
+	bool live_indexed, live_viewable;
 	void *data; /* the daemon's */
 };
 
 #define VIS_WTREE_STATE_NONE 3
 
 struct vis_wtree_work;
+struct vis_wtree_live;
 
 /*
  * The external IDs of a tree's windows are indexed by a hash of (namespace, tag), never 0, in an
@@ -75,6 +84,7 @@ struct vis_wtree {
 	 * so the next recompute must be a full one. */
 	bool stale;
 	struct vis_wtree_work *work; /* the recomputes' scratch (wtree-work.h), or NULL */
+	struct vis_wtree_live *live; /* vis_wtree_update()'s structures (wtree-live.c), or NULL */
 };
 
 /* Sets up an empty tree over a screen of width × height (≥ 1). O(1). */
@@ -242,6 +252,67 @@ int vis_wtree_compute(struct vis_wtree *tree);
  */
 int vis_wtree_compute_damaged(struct vis_wtree *tree, const struct vis_box *damage,
 			      size_t n_damage);
+
+/*
+ * Notes that window is about to change or has changed, for vis_wtree_update(): call it for every
+ * change the damage of vis_wtree_compute_damaged() is recorded for, at the same times (before and
+ * after a move, a resize or a reparent, before a destruction, after the others). O(1) amortized;
+ * without memory the next update recomputes everything.
+ */
+void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
+
+/*
+ * Recomputes the states after the changes noted since the last recompute, with the result of
+ * vis_wtree_compute(), at a cost that follows the windows the changes can affect, not the tree.
+ *
+ * It keeps, from one recompute to the next, every viewable window's key (growing in pre-order,
+ * keys spaced so that a change renumbers only its own subtree), a grid of the windows' clips in
+ * key order (zgrid.h), and the viewable windows that are not fully obscured with what they saw:
+ * their seen region (the clip less the clips of the windows after their subtree), as up to four
+ * boxes or a box holding it. A window's state follows from its seen region: none, fully
+ * obscured; its whole box, unobscured; else partially obscured.
+ *
+ * The rule: let the changed subtrees be those of the noted windows (a change of a window moves
+ * or re-stacks its subtree with it). Recomputed are (1) the windows of the changed subtrees;
+ * (2) the windows whose last seen region meets the new clip of a changed subtree's root; (3) for
+ * each window of the changed subtrees (and each one destroyed) that saw pixels, walking the grid
+ * down from its old key, the windows whose clip meets what is left of those pixels, and their
+ * ancestors, each one's clip taken off what is left. Every other window keeps its state and seen
+ * region. It is exact: a window w outside the changed subtrees keeps its clip and its place among
+ * the others. If it sees fewer pixels, the pixel p it lost is now hidden by a window after w's
+ * subtree; were that window unchanged it would have hidden p before, so it is in a changed
+ * subtree, which lies in its root's new clip: p is in w's last seen region and in that clip, (2).
+ * If w sees more, the pixel p it gained was hidden by windows after its subtree; the highest of
+ * them, h, is in a changed subtree or destroyed, or it would still hide p. Nothing after h covered
+ * p, so h saw p, and w's subtree lies below h's old key. Walking down from that key, the windows
+ * whose clips hold p before w or its descendants are reached hide w at p now, unless they are
+ * w's descendants: so p is still left when w or a descendant is reached, and w is taken, (3).
+ * The recomputed windows get their seen regions exactly, by walking the grid over the windows
+ * after their subtree from both ends of that range, until their pixels are all hidden or the
+ * walks meet. The unit test holds the result to vis_wtree_compute()'s after every batch of edits
+ * on random trees, and the structures to their invariants.
+ *
+ * Where the live structures do not apply, it recomputes through the tree instead, with the same
+ * result: the first time, after a failed recompute, with more than 64 noted boxes, more changed
+ * windows than 64 + n / 32, keys used up where a subtree goes, or a viewable window with a look
+ * (a shape, an opaque region other than all); vis_wtree_compute_damaged() with the notes' boxes
+ * when it can, else vis_wtree_compute(). Positions (order, pos) are kept only by the recomputes
+ * through the tree: n_order is 0 after a live one.
+ *
+ * Returns 0, or -1 with errno ENOMEM (states are then unchanged, and the next recompute is full).
+ * Cost, live: O(r · log n) per window recomputed, r the clips its walks pass over (those in the
+ * grid cells its pixels meet, between its key and the highest that hides them), plus the subtrees
+ * changed and the windows that see pixels (scanned once).
+ */
+int vis_wtree_update(struct vis_wtree *tree);
+
+/*
+ * After a recompute, the windows whose state or visible region it may have changed (every one
+ * whose state differs from old_state among them): true with them in *windows[0 … *n), or false
+ * when that may be any window (the recompute went through the tree).
+ */
+bool vis_wtree_changes(const struct vis_wtree *tree, struct vis_window *const **windows,
+		       size_t *n);
 
 /*
  * The window's own visible pixels (its shape inside its clip, not covered by an opaque pixel of

@@ -1,12 +1,16 @@
 /*
- * The cost of one recompute of the window tree after a single move, as the daemon pays it after
- * a client's move: a generated scene as top-level windows on the 3840×2160 screen, then random
- * moves, each followed by a recompute that is timed alone, in full (vis_wtree_compute) and from
- * the move's damage (vis_wtree_compute_damaged, the window's box before and after). The shaped
- * and translucent kinds keep their looks (borders, shapes, opaque regions). Prints the
- * median, the 99th percentile and the mean per move. Not a test: run it from a release build,
- *   build-release/tests/bench-wtree [--kinds K,…] [--sizes N,…] [--moves M] [--seed S]
- * or `meson test -C build-release --benchmark`.
+ * The cost of one recompute of the window tree after a single change, as the daemon pays it after
+ * a client's request: a generated scene as top-level windows on the 3840×2160 screen, then random
+ * changes of one kind (a move of up to 64 pixels each way, a raise, a lower, an unmap, a map),
+ * each followed by a recompute that is timed alone: in full (vis_wtree_compute), from the
+ * change's damage (vis_wtree_compute_damaged, the window's box before and after) and live from
+ * the notes (vis_wtree_update). The changed window is any window, or the top one (a drag). The
+ * shaped and translucent kinds keep their looks (borders, shapes, opaque regions). Prints the
+ * median, the 99th percentile and the mean per change. Not a test: run it from a release build,
+ *   build-release/tests/bench-wtree [--kinds K,…] [--sizes N,…] [--ops O,…] [--engines E,…]
+ *                                   [--moves M] [--seed S]
+ * (ops: move, raise, lower, unmap, map; engines: full, damaged, live) or
+ * `meson test -C build-release --benchmark`.
  */
 #include <stdbool.h>
 #include <stdio.h>
@@ -18,8 +22,14 @@
 #include "rng.h"
 #include "wtree.h"
 
-/* Which windows move: any window, or the top one (a drag). */
+/* Which windows change: any window, or the top one (a drag). */
 enum who { ANY, TOP };
+
+/* The changes, and the recomputes. */
+enum op { MOVE, RAISE, LOWER, UNMAP, MAP, OP_COUNT };
+static const char *const op_names[] = { "move", "raise", "lower", "unmap", "map" };
+enum engine { FULL, DAMAGED, LIVE, ENGINE_COUNT };
+static const char *const engine_names[] = { "full", "damaged", "live" };
 
 static double now_us(void)
 {
@@ -34,9 +44,51 @@ static int cmp_double(const void *a, const void *b)
 	return x < y ? -1 : x > y;
 }
 
-/* Times `moves` recomputes, each after one move; fills the sorted times (µs). */
-static int run(const struct vis_scene *scene, enum who who, bool damaged, size_t moves,
-	       uint64_t seed, double *us)
+/* Recomputes the tree with the engine, from the damage (n boxes) or the notes. */
+static int recompute(struct vis_wtree *tree, enum engine engine, const struct vis_box *damage,
+		     size_t n)
+{
+	switch (engine) {
+	case FULL:
+		return vis_wtree_compute(tree);
+	case DAMAGED:
+		return vis_wtree_compute_damaged(tree, damage, n);
+	default:
+		return vis_wtree_update(tree);
+	}
+}
+
+/* Makes one change of window w, noted and with its damage in damage[*n]. */
+static void change(struct vis_wtree *tree, struct vis_window *w, enum op op, struct vis_rng *rng,
+		   struct vis_box *damage, size_t *n)
+{
+	*n = 0;
+	if (op == MOVE) {
+		int32_t dx = (int32_t)vis_rng_below(rng, 129) - 64;
+		int32_t dy = (int32_t)vis_rng_below(rng, 129) - 64;
+		/* Stay inside the 32-bit range: generated windows may sit at its edge. */
+		if ((dx > 0 && w->x > INT32_MAX - dx) || (dx < 0 && w->x < INT32_MIN - dx))
+			dx = -dx;
+		if ((dy > 0 && w->y > INT32_MAX - dy) || (dy < 0 && w->y < INT32_MIN - dy))
+			dy = -dy;
+		damage[(*n)++] = vis_wtree_box(w);
+		vis_wtree_note(tree, w);
+		w->x += dx;
+		w->y += dy;
+	} else if (op == RAISE) {
+		vis_wtree_raise(w);
+	} else if (op == LOWER) {
+		vis_wtree_lower(w);
+	} else {
+		w->mapped = op == MAP;
+	}
+	damage[(*n)++] = vis_wtree_box(w);
+	vis_wtree_note(tree, w);
+}
+
+/* Times `moves` recomputes, each after one change; fills the sorted times (µs). */
+static int run(const struct vis_scene *scene, enum who who, enum op op, enum engine engine,
+	       size_t moves, uint64_t seed, double *us)
 {
 	struct vis_wtree tree;
 	vis_wtree_init(&tree, VIS_GEN_SCREEN_W, VIS_GEN_SCREEN_H);
@@ -59,35 +111,52 @@ static int run(const struct vis_scene *scene, enum who who, bool damaged, size_t
 						    l->opaque_rects, l->n_opaque) < 0))
 			return -1;
 	}
-	if (vis_wtree_compute(&tree) < 0)
+	/* The first update goes through the tree and builds the live structures. */
+	if (vis_wtree_compute(&tree) < 0 || vis_wtree_update(&tree) < 0)
 		return -1;
 	struct vis_rng rng = { seed };
+	struct vis_box damage[2];
+	size_t n;
 	for (size_t k = 0; k < moves; k++) {
 		struct vis_window *w = who == TOP ? tree.root.top
 						  : wins[vis_rng_below(&rng, scene->n)];
-		int32_t dx = (int32_t)vis_rng_below(&rng, 129) - 64;
-		int32_t dy = (int32_t)vis_rng_below(&rng, 129) - 64;
-		/* Stay inside the 32-bit range: generated windows may sit at its edge. */
-		if ((dx > 0 && w->x > INT32_MAX - dx) || (dx < 0 && w->x < INT32_MIN - dx))
-			dx = -dx;
-		if ((dy > 0 && w->y > INT32_MAX - dy) || (dy < 0 && w->y < INT32_MIN - dy))
-			dy = -dy;
-		struct vis_box damage[2];
-		damage[0] = vis_wtree_box(w);
-		w->x += dx;
-		w->y += dy;
-		damage[1] = vis_wtree_box(w);
+		/* A map needs an unmapped window, an unmap a mapped one: the other, untimed. */
+		if (op == MAP || op == UNMAP) {
+			change(&tree, w, op == MAP ? UNMAP : MAP, &rng, damage, &n);
+			if (recompute(&tree, engine, damage, n) < 0)
+				return -1;
+		}
+		change(&tree, w, op, &rng, damage, &n);
 		double t0 = now_us();
-		int rc = damaged ? vis_wtree_compute_damaged(&tree, damage, 2)
-				 : vis_wtree_compute(&tree);
+		int rc = recompute(&tree, engine, damage, n);
 		us[k] = now_us() - t0;
 		if (rc < 0)
 			return -1;
+		if (op == UNMAP) {
+			change(&tree, w, MAP, &rng, damage, &n);
+			if (recompute(&tree, engine, damage, n) < 0)
+				return -1;
+		}
 	}
 	vis_wtree_finish(&tree);
 	free(wins);
 	qsort(us, moves, sizeof *us, cmp_double);
 	return 0;
+}
+
+/* Parses a comma-separated list of names into a set of bits; -1 for an unknown name. */
+static int parse_set(char *list, const char *const *names, int count)
+{
+	int set = 0;
+	for (char *item = strtok(list, ","); item; item = strtok(NULL, ",")) {
+		int k = 0;
+		while (k < count && strcmp(item, names[k]) != 0)
+			k++;
+		if (k == count)
+			return -1;
+		set |= 1 << k;
+	}
+	return set;
 }
 
 /* The next item of a comma-separated list, or NULL at its end. */
@@ -106,7 +175,9 @@ static char *next_item(char **list)
 int main(int argc, char **argv)
 {
 	char kinds_default[] = "random,cascade,tiles", sizes_default[] = "1000,10000";
-	char *kinds = kinds_default, *sizes = sizes_default;
+	char ops_default[] = "move", engines_default[] = "full,damaged,live";
+	char *kinds = kinds_default, *sizes = sizes_default, *ops = ops_default;
+	char *engines = engines_default;
 	size_t moves = 2000;
 	uint64_t seed = 1;
 	for (int i = 1; i + 1 < argc; i += 2) {
@@ -114,6 +185,10 @@ int main(int argc, char **argv)
 			kinds = argv[i + 1];
 		else if (strcmp(argv[i], "--sizes") == 0)
 			sizes = argv[i + 1];
+		else if (strcmp(argv[i], "--ops") == 0)
+			ops = argv[i + 1];
+		else if (strcmp(argv[i], "--engines") == 0)
+			engines = argv[i + 1];
 		else if (strcmp(argv[i], "--moves") == 0)
 			moves = strtoul(argv[i + 1], NULL, 10);
 		else if (strcmp(argv[i], "--seed") == 0)
@@ -121,17 +196,24 @@ int main(int argc, char **argv)
 		else
 			break;
 	}
-	if (argc % 2 == 0 || moves == 0) {
-		fprintf(stderr, "usage: bench-wtree [--kinds K,…] [--sizes N,…] [--moves M] "
-				"[--seed S]\n");
+	int op_set = parse_set(ops, op_names, OP_COUNT);
+	int engine_set = parse_set(engines, engine_names, ENGINE_COUNT);
+	if (argc % 2 == 0 || moves == 0 || op_set <= 0 || engine_set <= 0) {
+		fprintf(stderr, "usage: bench-wtree [--kinds K,…] [--sizes N,…] [--ops O,…] "
+				"[--engines E,…] [--moves M] [--seed S]\n"
+				"  ops: move, raise, lower, unmap, map; engines: full, damaged, live\n");
 		return 2;
 	}
 	double *us = malloc(moves * sizeof *us);
 	if (!us)
 		return 1;
-	printf("one recompute after one move (µs): median / p99 / mean; seed %llu, %zu moves\n",
+	printf("one recompute after one change (µs): median / p99 / mean; seed %llu, %zu changes\n",
 	       (unsigned long long)seed, moves);
-	printf("%-8s %7s  %-4s  %26s  %26s\n", "kind", "n", "move", "full", "damaged");
+	printf("%-8s %7s  %-5s %-4s", "kind", "n", "op", "who");
+	for (int e = 0; e < ENGINE_COUNT; e++)
+		if (engine_set & 1 << e)
+			printf("  %26s", engine_names[e]);
+	printf("\n");
 	for (char *k; (k = next_item(&kinds));) {
 		enum vis_gen_kind kind;
 		if (vis_gen_kind_from_name(k, &kind) < 0) {
@@ -147,18 +229,28 @@ int main(int argc, char **argv)
 			vis_scene_init(&scene);
 			if (n == 0 || vis_gen(&scene, kind, n, seed, 0, 0) < 0)
 				return 1;
-			for (int who = ANY; who <= TOP; who++) {
-				printf("%-8s %7zu  %-4s", k, n, who == TOP ? "top" : "any");
-				for (int damaged = 0; damaged <= 1; damaged++) {
-					if (run(&scene, (enum who)who, damaged, moves, seed, us) < 0)
-						return 1;
-					double sum = 0;
-					for (size_t i = 0; i < moves; i++)
-						sum += us[i];
-					printf("  %8.1f / %6.1f / %6.1f", us[moves / 2],
-					       us[moves * 99 / 100], sum / (double)moves);
+			for (int op = 0; op < OP_COUNT; op++) {
+				if (!(op_set & 1 << op))
+					continue;
+				for (int who = ANY; who <= TOP; who++) {
+					printf("%-8s %7zu  %-5s %-4s", k, n, op_names[op],
+					       who == TOP ? "top" : "any");
+					fflush(stdout);
+					for (int e = 0; e < ENGINE_COUNT; e++) {
+						if (!(engine_set & 1 << e))
+							continue;
+						if (run(&scene, (enum who)who, (enum op)op, (enum engine)e,
+							moves, seed, us) < 0)
+							return 1;
+						double sum = 0;
+						for (size_t i = 0; i < moves; i++)
+							sum += us[i];
+						printf("  %8.1f / %6.1f / %6.1f", us[moves / 2],
+						       us[moves * 99 / 100], sum / (double)moves);
+						fflush(stdout);
+					}
+					printf("\n");
 				}
-				printf("\n");
 			}
 			vis_scene_finish(&scene);
 		}

@@ -12,7 +12,7 @@
 #include "oracle.h"
 #include "rng.h"
 #include "stack.h"
-#include "wtree.h"
+#include "wtree-live.h"
 
 #define SW 16
 #define SH 12
@@ -148,7 +148,13 @@ static struct vis_window *twins[CAP];
 static struct vis_box damage[64];
 static size_t n_damage;
 static bool damage_all; /* past 64 boxes, as the daemon: a full recompute */
-static uint64_t incremental_runs, affected_states;
+static uint64_t incremental_runs, affected_states, live_runs;
+
+/*
+ * How the twin is recomputed: vis_wtree_compute_damaged(), or vis_wtree_update() from the notes
+ * (which goes live while no viewable window has a look), with looks or with borders only.
+ */
+static enum engine { DAMAGED, LIVE, LIVE_PLAIN } engine;
 
 /*
  * The kinds of random trees: small ones on a small screen, checked pixel by pixel against X's
@@ -159,9 +165,11 @@ static uint64_t incremental_runs, affected_states;
 static enum family { SMALL, EXTREME, CROWD } family;
 static const char *const family_names[] = { "", " (extreme)", " (crowd)" };
 
-/* The daemon's damage: the window's box in screen coordinates, before and after each change. */
-static void damage_of(const struct vis_window *w)
+/* The daemon's damage: the window's box in screen coordinates, before and after each change;
+ * the same times are the notes of the live recompute. */
+static void damage_of(struct vis_window *w)
 {
+	vis_wtree_note(&twin, w);
 	if (n_damage == sizeof damage / sizeof *damage)
 		damage_all = true;
 	else
@@ -190,6 +198,22 @@ static void fail_recompute(void)
 	twin.stale = true;
 }
 
+static int index_of(const struct vis_window *w);
+
+/* Whether window i has the same visible region in both trees (the twin's live, maybe). */
+static bool same_region(int i)
+{
+	pixman_region32_t a, b;
+	pixman_region32_init(&a);
+	pixman_region32_init(&b);
+	assert(vis_wtree_visible_region(&tree, wins[i], &a) == 0);
+	assert(vis_wtree_visible_region(&twin, twins[i], &b) == 0);
+	bool same = pixman_region32_equal(&a, &b);
+	pixman_region32_fini(&a);
+	pixman_region32_fini(&b);
+	return same;
+}
+
 /*
  * Recomputes the twin from the damage and compares every window and the order with the tree's;
  * now and then after a failed recompute.
@@ -198,16 +222,49 @@ static void compare(uint64_t seed, const char *what)
 {
 	if (incremental_runs % 13 == 5 && !damage_all)
 		fail_recompute();
-	if (damage_all)
+	if (engine != DAMAGED)
+		assert(vis_wtree_update(&twin) == 0);
+	else if (damage_all)
 		assert(vis_wtree_compute(&twin) == 0);
 	else
 		assert(vis_wtree_compute_damaged(&twin, damage, n_damage) == 0);
 	incremental_runs += !damage_all;
 	n_damage = 0;
 	damage_all = false;
-	assert(twin.n_order == tree.n_order);
-	for (size_t i = 0; i < tree.n_order; i++)
-		assert(twin.order[i]->id == tree.order[i]->id && twin.order[i]->pos == i);
+	struct vis_window *const *changed;
+	size_t n_changed;
+	bool live = engine != DAMAGED && vis_wtree_changes(&twin, &changed, &n_changed);
+	live_runs += live;
+	const char *broken = wtree_live_check(&twin);
+	if (broken) {
+		fprintf(stderr, "seed %llu%s, after %s: the live structures are broken: %s\n",
+			(unsigned long long)seed, family_names[family], what, broken);
+		exit(1);
+	}
+	if (live) {
+		/* The list holds every window whose state changed. */
+		for (int i = 0; i < nwins; i++)
+			if (twins[i] && twins[i]->state != twins[i]->old_state) {
+				size_t k = 0;
+				while (k < n_changed && changed[k] != twins[i])
+					k++;
+				assert(k < n_changed);
+			}
+	} else {
+		assert(twin.n_order == tree.n_order);
+		for (size_t i = 0; i < tree.n_order; i++)
+			assert(twin.order[i]->id == tree.order[i]->id && twin.order[i]->pos == i);
+	}
+	if (family == SMALL)
+		for (int i = 0; i < nwins; i++)
+			if (wins[i] && !same_region(i)) {
+				fprintf(stderr, "seed %llu, after %s: window %u's visible region differs\n",
+					(unsigned long long)seed, what, wins[i]->id);
+				exit(1);
+			}
+	/* Keys grow with the order, whichever recompute made them. */
+	for (size_t i = 1; i < tree.n_order; i++)
+		assert(twins[index_of(tree.order[i - 1])]->key < twins[index_of(tree.order[i])]->key);
 	for (int i = 0; i < nwins; i++) {
 		const struct vis_window *a = wins[i], *b = twins[i];
 		assert(!a == !b);
@@ -365,6 +422,8 @@ static const char *const look_names[] = { "border", "shape", "opaque" };
 static const char *change_look(struct vis_rng *r, enum look_op op, int i)
 {
 	struct vis_window *a = wins[i], *b = twins[i];
+	if (engine == LIVE_PLAIN)
+		op = BORDER; /* the live structures hold */
 	struct vis_rect q[4];
 	damage_of(b);
 	switch (op) {
@@ -555,6 +614,7 @@ static int random_trees(uint64_t first, uint64_t count, int batches)
 {
 	for (uint64_t seed = first; seed < first + count; seed++) {
 		struct vis_rng r = { seed };
+		engine = (enum engine)(seed % 3);
 		int32_t sw = family == CROWD ? 64 : SW, sh = family == CROWD ? 48 : SH;
 		if (family == EXTREME) {
 			static const int32_t sides[] = { 1, 3, SW, INT32_MAX - 1, INT32_MAX };
@@ -899,8 +959,10 @@ int main(int argc, char **argv)
 		}
 		*(strcmp(argv[i], "--scale") ? &first : &scale) = v;
 	}
-	scripted();
-	scripted_looks();
+	for (engine = DAMAGED; engine <= LIVE; engine++) {
+		scripted();
+		scripted_looks();
+	}
 	externals();
 	int scenes = random_trees(first, 10000 * scale, 10);
 	family = EXTREME;
@@ -920,9 +982,10 @@ int main(int argc, char **argv)
 	assert(a->state == 1 && b->state == 1 && c->state == 0 && d->state == 2 && e->state == 2);
 	vis_wtree_finish(&tree);
 	printf("wtree: the scripted cases and %d random trees with 10 batches of edits each agree "
-	       "with X's rules, and the incremental recompute with the full one there, on %d trees "
-	       "with extreme coordinates and on %d crowds (%llu recomputes, %llu states changed)\n",
+	       "with X's rules, and the incremental recomputes with the full one there, on %d trees "
+	       "with extreme coordinates and on %d crowds (%llu recomputes, %llu of them live, "
+	       "%llu states changed)\n",
 	       scenes, extremes, crowds, (unsigned long long)incremental_runs,
-	       (unsigned long long)affected_states);
+	       (unsigned long long)live_runs, (unsigned long long)affected_states);
 	return 0;
 }

@@ -1,0 +1,867 @@
+/*
+ * The live recompute: the states kept up to date from the changes noted, at the cost of the
+ * windows a change can affect rather than of the tree (see vis_wtree_update() for the rule).
+ */
+#include <errno.h>
+#include <pixman.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "wtree-live.h"
+#include "zgrid.h"
+
+/* Keys stay in [KEY_LOW, KEY_HIGH]; windows new at either end of the order are KEY_GAP apart. */
+#define KEY_LOW ((uint64_t)1 << 40)
+#define KEY_HIGH (UINT64_MAX - KEY_LOW)
+#define KEY_GAP ((uint64_t)1 << 32)
+
+/* The damage boxes kept for a recompute that does not go live; past them, a full one. */
+#define LIVE_DAMAGE 64
+
+/* A seen region is kept as up to SEEN_BOXES boxes, or as its extents (n = SEEN_EXTENTS). */
+#define SEEN_BOXES 4
+#define SEEN_EXTENTS 0xff
+
+/* A state not known yet, for a window taken to be recomputed. */
+#define STATE_UNKNOWN 0xff
+
+/* Pixels that a window (or a destroyed one) saw: its seen region, or a box holding it. */
+struct seen {
+	uint8_t n;
+	struct vis_box boxes[SEEN_BOXES];
+};
+
+/* A viewable window that is not fully obscured, with what it saw at the last recompute. */
+struct seen_window {
+	struct vis_window *w;
+	struct seen seen;
+};
+
+/* Pixels that windows saw until a change: the windows below key may see them now. */
+struct exposure {
+	uint64_t key;
+	struct seen seen;
+};
+
+/* A window whose state the update recomputes, with the result until it commits. */
+struct candidate {
+	struct vis_window *w;
+	uint8_t state;
+	struct seen seen;
+};
+
+/*
+ * The invariants, while valid: every viewable window has a key, growing in pre-order (the others
+ * 0); the grid holds the clip of every viewable window with pixels (not input-only), under its
+ * key, flagged live_indexed; seen lists every viewable window that is not fully obscured, with a
+ * region holding the pixels it saw at the last recompute (exact, or its clip when not known);
+ * no viewable window has a look (its pixels are its clip, all opaque). Whatever the validity, dirty
+ * lists the windows noted since the last recompute, changed those the last one may have changed
+ * (state ≠ old_state only among them), exposures what windows destroyed since saw.
+ */
+struct vis_wtree_live {
+	bool valid;
+	struct vis_zgrid grid;
+	struct seen_window *seen;
+	size_t n_seen, cap_seen;
+	struct vis_window **dirty;
+	size_t n_dirty, cap_dirty;
+	struct vis_window **changed;
+	size_t n_changed, cap_changed;
+	bool changed_all;
+	struct exposure *exposures;
+	size_t n_exposures, cap_exposures;
+	struct candidate *cands;
+	size_t n_cands, cap_cands;
+	struct vis_box *reach; /* the new clips of the changed subtrees */
+	size_t n_reach, cap_reach;
+	struct vis_box damage[LIVE_DAMAGE];
+	size_t n_damage;
+	bool damage_all;
+	bool changed_lost; /* changed could not list them all: the next recompute goes through all */
+	uint32_t mark;
+};
+
+/* Makes room for one more element in a growing array. 0, or -1 with ENOMEM. */
+static int grow(void *array, size_t *cap, size_t n, size_t size)
+{
+	void **a = array;
+	if (n < *cap)
+		return 0;
+	size_t c = *cap ? 2 * *cap : 16;
+	void *b = c <= SIZE_MAX / size ? realloc(*a, c * size) : NULL;
+	if (!b) {
+		errno = ENOMEM;
+		return -1;
+	}
+	*a = b;
+	*cap = c;
+	return 0;
+}
+
+/* The tree's live structures, made on first use; NULL without memory. */
+static struct vis_wtree_live *live_of(struct vis_wtree *tree)
+{
+	if (!tree->live)
+		tree->live = calloc(1, sizeof *tree->live);
+	return tree->live;
+}
+
+void vis_wtree_live_destroy(struct vis_wtree_live *lv)
+{
+	if (!lv)
+		return;
+	if (lv->grid.cells)
+		vis_zgrid_finish(&lv->grid);
+	free(lv->seen);
+	free(lv->dirty);
+	free(lv->changed);
+	free(lv->exposures);
+	free(lv->cands);
+	free(lv->reach);
+	free(lv);
+}
+
+/* Whether the window's pixels are other than its clip, all opaque (input-only ones have none). */
+static bool has_look(const struct vis_window *w)
+{
+	return !w->look.input_only && (w->look.shaped || w->look.opaque != VIS_OPAQUE_ALL);
+}
+
+/* Removes slot (1-based) from a list of windows whose slot field is at offset off. */
+#define REMOVE_SLOT(list, n, w, field)                                   \
+	do {                                                              \
+		size_t at_ = (w)->field - 1;                              \
+		(list)[at_] = (list)[--(n)];                              \
+		if (at_ < (n))                                            \
+			(list)[at_]->field = (uint32_t)(at_ + 1);         \
+		(w)->field = 0;                                           \
+	} while (0)
+
+static void seen_remove(struct vis_wtree_live *lv, struct vis_window *w)
+{
+	size_t at = w->live_seen - 1;
+	lv->seen[at] = lv->seen[--lv->n_seen];
+	if (at < lv->n_seen)
+		lv->seen[at].w->live_seen = (uint32_t)(at + 1);
+	w->live_seen = 0;
+}
+
+void vis_wtree_note(struct vis_wtree *tree, struct vis_window *w)
+{
+	struct vis_wtree_live *lv = live_of(tree);
+	if (!lv) {
+		tree->stale = true; /* the change is not known: recompute everything */
+		return;
+	}
+	if (lv->n_damage == LIVE_DAMAGE)
+		lv->damage_all = true;
+	else if (!lv->damage_all)
+		lv->damage[lv->n_damage++] = vis_wtree_box(w);
+	if (w->live_dirty)
+		return;
+	if (grow(&lv->dirty, &lv->cap_dirty, lv->n_dirty, sizeof *lv->dirty) < 0) {
+		lv->damage_all = true;
+		lv->valid = false;
+		return;
+	}
+	lv->dirty[lv->n_dirty++] = w;
+	w->live_dirty = (uint32_t)lv->n_dirty;
+}
+
+/* Keeps what a window saw as an exposure for the next update. */
+static void expose(struct vis_wtree_live *lv, uint64_t key, const struct seen *seen)
+{
+	if (grow(&lv->exposures, &lv->cap_exposures, lv->n_exposures, sizeof *lv->exposures) < 0) {
+		lv->valid = false;
+		return;
+	}
+	lv->exposures[lv->n_exposures++] = (struct exposure){ key, *seen };
+}
+
+void wtree_live_forget(struct vis_wtree *tree, struct vis_window *w)
+{
+	struct vis_wtree_live *lv = tree->live;
+	if (!lv)
+		return;
+	if (w->live_dirty)
+		REMOVE_SLOT(lv->dirty, lv->n_dirty, w, live_dirty);
+	if (w->live_changed)
+		REMOVE_SLOT(lv->changed, lv->n_changed, w, live_changed);
+	if (!lv->valid)
+		return;
+	if (w->live_indexed)
+		vis_zgrid_remove(&lv->grid, w->clip, w->key);
+	if (w->live_seen) {
+		expose(lv, w->key, &lv->seen[w->live_seen - 1].seen);
+		seen_remove(lv, w);
+	}
+}
+
+/*
+ * Empties the changed list, first making each one's old state its state (reset) as a recompute
+ * moves every state to old_state; a recompute through the tree has done so already.
+ */
+static void reset_changed(struct vis_wtree_live *lv, bool reset)
+{
+	for (size_t i = 0; i < lv->n_changed; i++) {
+		if (reset)
+			lv->changed[i]->old_state = lv->changed[i]->state;
+		lv->changed[i]->live_changed = 0;
+	}
+	lv->n_changed = 0;
+	lv->changed_all = lv->changed_lost = false;
+}
+
+/* Lists a window as changed; a full list is a flag that every window may have. */
+static void list_changed(struct vis_wtree_live *lv, struct vis_window *w)
+{
+	if (w->live_changed)
+		return;
+	if (grow(&lv->changed, &lv->cap_changed, lv->n_changed, sizeof *lv->changed) < 0) {
+		lv->changed_lost = lv->changed_all = true;
+		return;
+	}
+	lv->changed[lv->n_changed++] = w;
+	w->live_changed = (uint32_t)lv->n_changed;
+}
+
+/* Forgets the notes: the recompute that used them succeeded. */
+static void clear_notes(struct vis_wtree_live *lv)
+{
+	for (size_t i = 0; i < lv->n_dirty; i++)
+		lv->dirty[i]->live_dirty = 0;
+	lv->n_dirty = 0;
+	lv->n_damage = 0;
+	lv->damage_all = false;
+	lv->n_exposures = 0;
+}
+
+void wtree_live_invalidate(struct vis_wtree *tree)
+{
+	if (tree->live)
+		tree->live->valid = false;
+}
+
+void wtree_live_computed(struct vis_wtree *tree, const struct vis_wtree_work *wk)
+{
+	struct vis_wtree_live *lv = live_of(tree);
+	if (!lv)
+		return;
+	lv->valid = false;
+	reset_changed(lv, false);
+	for (size_t i = 0; i < tree->n_order; i++)
+		if (tree->order[i]->state != tree->order[i]->old_state)
+			list_changed(lv, tree->order[i]);
+	for (size_t i = 0; i < wk->n_hidden; i++)
+		if (wk->hidden[i]->state != wk->hidden[i]->old_state)
+			list_changed(lv, wk->hidden[i]);
+	lv->changed_all = true;
+}
+
+/*
+ * Builds the live structures from a tree just computed through the order, unless a viewable
+ * window has a look: the grid from the order, the seen list from the states (the regions not
+ * known: their clips). 0, or -1 (ENOMEM, or a look: the structures are then not valid).
+ */
+static int rebuild(struct vis_wtree *tree, struct vis_wtree_live *lv)
+{
+	for (size_t i = 0; i < tree->n_order; i++)
+		if (has_look(tree->order[i]))
+			return -1;
+	if (lv->grid.cells)
+		vis_zgrid_finish(&lv->grid);
+	lv->n_seen = 0;
+	for (struct vis_window *w = tree->root.bottom; w; w = vis_wtree_next(w)) {
+		w->live_seen = 0;
+		w->live_indexed = false;
+	}
+	if (vis_zgrid_init(&lv->grid, tree->root.clip) < 0)
+		return -1;
+	for (size_t i = 0; i < tree->n_order; i++) {
+		struct vis_window *w = tree->order[i];
+		if (w->look.input_only || vis_box_empty(w->clip))
+			continue;
+		if (vis_zgrid_insert(&lv->grid, w->clip, w->key, w) < 0)
+			return -1;
+		w->live_indexed = true;
+		if (w->state == VIS_FULLY_OBSCURED)
+			continue;
+		if (grow(&lv->seen, &lv->cap_seen, lv->n_seen, sizeof *lv->seen) < 0)
+			return -1;
+		lv->seen[lv->n_seen++] = (struct seen_window){ w, { SEEN_EXTENTS, { w->clip } } };
+		w->live_seen = (uint32_t)lv->n_seen;
+	}
+	lv->valid = true;
+	return 0;
+}
+
+/* The previous viewable window in pre-order, or NULL before the first. O(siblings + depth). */
+static struct vis_window *prev_viewable(const struct vis_window *w)
+{
+	struct vis_window *s = w->below;
+	while (s && !s->mapped)
+		s = s->below;
+	if (!s)
+		return w->parent->parent ? w->parent : NULL;
+	for (;;) {
+		struct vis_window *c = s->top;
+		while (c && !c->mapped)
+			c = c->below;
+		if (!c)
+			return s;
+		s = c;
+	}
+}
+
+/* The next viewable window in pre-order past w's subtree, or NULL after the last. */
+static struct vis_window *next_past(const struct vis_window *w)
+{
+	for (; w->parent; w = w->parent) {
+		struct vis_window *s = w->above;
+		while (s && !s->mapped)
+			s = s->above;
+		if (s)
+			return s;
+	}
+	return NULL;
+}
+
+/* The next viewable window in pre-order after viewable w, or NULL. */
+static struct vis_window *next_viewable(const struct vis_window *w)
+{
+	struct vis_window *c = w->bottom;
+	while (c && !c->mapped)
+		c = c->above;
+	return c ? c : next_past(w);
+}
+
+/* The key of the last viewable window of w's subtree (w's own without viewable descendants). */
+static uint64_t subtree_end(const struct vis_window *w)
+{
+	for (;;) {
+		const struct vis_window *c = w->top;
+		while (c && !c->mapped)
+			c = c->below;
+		if (!c)
+			return w->key;
+		w = c;
+	}
+}
+
+/*
+ * Gives the k viewable windows of d's subtree keys in pre-order between the nearest keyed
+ * windows before and after it (windows of changed subtrees have none yet). false when the keys
+ * there are used up: the order is then numbered afresh by a full recompute.
+ */
+static bool give_keys(struct vis_window *d, size_t k)
+{
+	const struct vis_window *p = prev_viewable(d), *s = next_past(d);
+	while (p && !p->key)
+		p = prev_viewable(p);
+	while (s && !s->key)
+		s = next_viewable(s);
+	uint64_t span = (uint64_t)(k + 1) * KEY_GAP;
+	uint64_t lo = p ? p->key : 0, hi = s ? s->key : 0;
+	if (!lo && !hi)
+		lo = WTREE_KEY_BASE;
+	if (!hi)
+		hi = lo < KEY_HIGH - span ? lo + span : KEY_HIGH;
+	if (!lo)
+		lo = hi > KEY_LOW + span ? hi - span : KEY_LOW;
+	if (hi <= lo || (hi - lo) / (k + 1) == 0)
+		return false;
+	uint64_t step = (hi - lo) / (k + 1), key = lo;
+	for (struct vis_window *v = d; v; v = vis_wtree_next_within(v, d))
+		if (v->live_viewable)
+			v->key = key += step;
+	return true;
+}
+
+/* Sets a viewable window's boxes from its parent's, as flattening does (wtree-compute.c). */
+static void place(struct vis_window *w)
+{
+	const struct vis_window *p = w->parent;
+	int64_t b = w->look.border;
+	struct vis_box box = { p->box.x1 + p->look.border + w->x, p->box.y1 + p->look.border + w->y,
+			       0, 0 };
+	box.x2 = box.x1 + w->width + 2 * b;
+	box.y2 = box.y1 + w->height + 2 * b;
+	struct vis_box in = { box.x1 + b, box.y1 + b, box.x2 - b, box.y2 - b };
+	w->box = box;
+	w->clip = vis_box_intersect(box, p->inner);
+	w->inner = vis_box_intersect(in, w->clip);
+}
+
+/* Takes a window to recompute (once), its state given or STATE_UNKNOWN. 0, or -1 (ENOMEM). */
+static int take(struct vis_wtree_live *lv, struct vis_window *w, uint8_t state)
+{
+	if (w->live_mark == lv->mark || w->look.input_only)
+		return 0;
+	if (grow(&lv->cands, &lv->cap_cands, lv->n_cands, sizeof *lv->cands) < 0)
+		return -1;
+	w->live_mark = lv->mark;
+	lv->cands[lv->n_cands++] = (struct candidate){ .w = w, .state = state };
+	return 0;
+}
+
+static bool meets(struct vis_box a, struct vis_box b)
+{
+	return !vis_box_empty(vis_box_intersect(a, b));
+}
+
+static bool seen_meets(const struct seen *s, struct vis_box b)
+{
+	if (s->n == SEEN_EXTENTS)
+		return meets(s->boxes[0], b);
+	for (uint8_t i = 0; i < s->n; i++)
+		if (meets(s->boxes[i], b))
+			return true;
+	return false;
+}
+
+static pixman_box32_t pbox(struct vis_box b)
+{
+	/* Clips lie in the screen, inside 32 bits. */
+	return (pixman_box32_t){ (int32_t)b.x1, (int32_t)b.y1, (int32_t)b.x2, (int32_t)b.y2 };
+}
+
+static struct vis_box vbox(const pixman_box32_t *b)
+{
+	return (struct vis_box){ b->x1, b->y1, b->x2, b->y2 };
+}
+
+/* Whether window v's clip covers pixels of u (whose extents are ext); if so, takes them off. */
+static bool cut(pixman_region32_t *u, const struct vis_window *v, bool *ok)
+{
+	pixman_box32_t b = pbox(v->clip);
+	if (pixman_region32_contains_rectangle(u, &b) == PIXMAN_REGION_OUT)
+		return false;
+	pixman_region32_t r;
+	pixman_region32_init_rect(&r, b.x1, b.y1, (unsigned)(b.x2 - b.x1), (unsigned)(b.y2 - b.y1));
+	*ok &= pixman_region32_subtract(u, u, &r);
+	pixman_region32_fini(&r);
+	return true;
+}
+
+/* Narrows a walk to what is left of u. */
+static void narrow(struct vis_zgrid_walk *walk, pixman_region32_t *u)
+{
+	vis_zgrid_walk_narrow(walk, vbox(pixman_region32_extents(u)));
+}
+
+/*
+ * Takes off u every pixel of a viewable window whose key is above end (after w's subtree in
+ * pre-order: the windows that can hide w), walking the grid from both ends of that range at
+ * once, so that what hides u is found early whether it lies just above w (a cascade) or at the
+ * top (a maximized window). Stops once u is empty. Sets *hit when some pixel was taken off.
+ * 0, or -1 (ENOMEM).
+ */
+static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t *u, bool *hit)
+{
+	struct vis_zgrid_walk up, down;
+	struct vis_box ext = vbox(pixman_region32_extents(u));
+	bool ok = true;
+	*hit = false;
+	if (vis_zgrid_walk_init(&up, &lv->grid, ext, end, true) < 0)
+		return -1;
+	if (vis_zgrid_walk_init(&down, &lv->grid, ext, UINT64_MAX, false) < 0) {
+		vis_zgrid_walk_finish(&up);
+		return -1;
+	}
+	uint64_t lo = end, hi = UINT64_MAX;
+	bool go_up = true, go_down = true;
+	while ((go_up || go_down) && pixman_region32_not_empty(u) && ok) {
+		for (int side = 0; side < 2; side++) {
+			bool *go = side ? &go_down : &go_up;
+			uint64_t key;
+			void *item;
+			if (!*go)
+				continue;
+			if (!vis_zgrid_walk_next(side ? &down : &up, &key, &item) ||
+			    (side ? key <= lo : key >= hi)) {
+				*go = false; /* the two walks met: every key between was seen */
+				continue;
+			}
+			*(side ? &hi : &lo) = key;
+			if (cut(u, item, &ok)) {
+				*hit = true;
+				if (!pixman_region32_not_empty(u))
+					break;
+				narrow(&up, u);
+				narrow(&down, u);
+			}
+		}
+	}
+	vis_zgrid_walk_finish(&up);
+	vis_zgrid_walk_finish(&down);
+	if (!ok)
+		errno = ENOMEM;
+	return ok ? 0 : -1;
+}
+
+/* Keeps a region as a seen: its boxes when few, else its extents. */
+static void keep_seen(pixman_region32_t *u, struct seen *s)
+{
+	int n;
+	const pixman_box32_t *b = pixman_region32_rectangles(u, &n);
+	if (n > SEEN_BOXES) {
+		s->n = SEEN_EXTENTS;
+		s->boxes[0] = vbox(pixman_region32_extents(u));
+		return;
+	}
+	s->n = (uint8_t)n;
+	for (int i = 0; i < n; i++)
+		s->boxes[i] = vbox(&b[i]);
+}
+
+/*
+ * A viewable window's state, by X's rule over its pixels (its clip), and what it sees: its clip
+ * less the clips of the windows after its subtree. 0, or -1 (ENOMEM).
+ */
+static int query(const struct vis_wtree_live *lv, struct candidate *c)
+{
+	const struct vis_window *w = c->w;
+	c->seen.n = 0;
+	c->state = VIS_FULLY_OBSCURED;
+	if (vis_box_empty(w->clip))
+		return 0;
+	pixman_region32_t u;
+	pixman_box32_t b = pbox(w->clip);
+	pixman_region32_init_rect(&u, b.x1, b.y1, (unsigned)(b.x2 - b.x1), (unsigned)(b.y2 - b.y1));
+	bool hit;
+	int rc = hide(lv, subtree_end(w), &u, &hit);
+	if (rc == 0 && pixman_region32_not_empty(&u)) {
+		bool whole = !hit && w->clip.x1 == w->box.x1 && w->clip.y1 == w->box.y1 &&
+			     w->clip.x2 == w->box.x2 && w->clip.y2 == w->box.y2;
+		c->state = whole ? VIS_UNOBSCURED : VIS_PARTIALLY_OBSCURED;
+		keep_seen(&u, &c->seen);
+	}
+	pixman_region32_fini(&u);
+	return rc;
+}
+
+int wtree_live_region(const struct vis_wtree *tree, const struct vis_window *w, void *out)
+{
+	pixman_region32_t *region = out;
+	pixman_region32_clear(region);
+	if (vis_box_empty(w->clip) || w->look.input_only)
+		return 0;
+	pixman_box32_t b = pbox(w->clip);
+	pixman_region32_t u;
+	pixman_region32_init_rect(&u, b.x1, b.y1, (unsigned)(b.x2 - b.x1), (unsigned)(b.y2 - b.y1));
+	bool hit;
+	/* As X's clip list, its descendants hide it here: every window after it. */
+	int rc = hide(tree->live, w->key, &u, &hit);
+	if (rc == 0 && pixman_region32_not_empty(&u)) {
+		pixman_region32_translate(&u, (int)-w->box.x1, (int)-w->box.y1);
+		if (!pixman_region32_copy(region, &u)) {
+			errno = ENOMEM;
+			rc = -1;
+		}
+	}
+	pixman_region32_fini(&u);
+	return rc;
+}
+
+bool wtree_live_order_stale(const struct vis_wtree *tree)
+{
+	return tree->live && tree->live->valid && tree->n_order == 0 && tree->count > 0;
+}
+
+/*
+ * Takes the windows that may see pixels an exposure's windows saw: walking down from its key,
+ * the windows whose clips meet what is left of its pixels, each with its ancestors (whom their
+ * descendants never hid), taking their clips off, until nothing is left. 0, or -1 (ENOMEM).
+ */
+static int uncover(struct vis_wtree *tree, struct vis_wtree_live *lv, const struct exposure *e)
+{
+	pixman_region32_t u;
+	pixman_box32_t boxes[SEEN_BOXES];
+	int n = e->seen.n == SEEN_EXTENTS ? 1 : e->seen.n;
+	for (int i = 0; i < n; i++)
+		boxes[i] = pbox(vis_box_intersect(e->seen.boxes[i], tree->root.clip));
+	if (!pixman_region32_init_rects(&u, boxes, n)) {
+		errno = ENOMEM;
+		return -1;
+	}
+	struct vis_zgrid_walk walk;
+	int rc = vis_zgrid_walk_init(&walk, &lv->grid, vbox(pixman_region32_extents(&u)), e->key,
+				     false);
+	bool ok = rc == 0;
+	uint64_t key;
+	void *item;
+	while (ok && pixman_region32_not_empty(&u) && vis_zgrid_walk_next(&walk, &key, &item)) {
+		struct vis_window *v = item;
+		if (!cut(&u, v, &ok))
+			continue;
+		for (; ok && v->parent; v = v->parent)
+			ok = take(lv, v, STATE_UNKNOWN) == 0;
+		narrow(&walk, &u);
+	}
+	vis_zgrid_walk_finish(&walk);
+	pixman_region32_fini(&u);
+	if (!ok)
+		errno = ENOMEM;
+	return ok ? 0 : -1;
+}
+
+/* Whether some ancestor of w was noted too: its change takes w's in. */
+static bool under_dirty(const struct vis_window *w)
+{
+	for (const struct vis_window *a = w->parent; a; a = a->parent)
+		if (a->live_dirty)
+			return true;
+	return false;
+}
+
+/* The result of a live update that cannot go live: the caller recomputes through the tree. */
+#define NOT_LIVE 1
+
+/*
+ * Finds the changed subtrees' roots (moved to the front of dirty; returns how many) and marks
+ * their windows viewable or not; -1 when the changes would leave a viewable window with a look
+ * (the live structures know no looks), or take more windows than a budget, past which a
+ * recompute through the tree costs less.
+ */
+static long roots_of(struct vis_wtree *tree, struct vis_wtree_live *lv)
+{
+	size_t roots = 0, windows = 0, budget = 64 + tree->count / 32;
+	bool look = false;
+	for (size_t i = 0; i < lv->n_dirty; i++) {
+		struct vis_window *d = lv->dirty[i];
+		if (under_dirty(d))
+			continue;
+		lv->dirty[i] = lv->dirty[roots];
+		lv->dirty[roots++] = d;
+		for (struct vis_window *v = d; v; v = vis_wtree_next_within(v, d)) {
+			v->live_viewable = v->mapped &&
+					   (v == d ? vis_wtree_viewable(v->parent) : v->parent->live_viewable);
+			look |= v->live_viewable && has_look(v);
+			windows++;
+		}
+	}
+	/* The slots of the moved entries: clear_notes() zeroes them all at the end. */
+	for (size_t i = 0; i < lv->n_dirty; i++)
+		lv->dirty[i]->live_dirty = (uint32_t)(i + 1);
+	if (look || windows > budget)
+		return -1;
+	return (long)roots;
+}
+
+/*
+ * Takes the changed subtrees out of the grid, keeping what each of their windows saw as an
+ * exposure under its old key.
+ */
+static void unindex(struct vis_wtree_live *lv, size_t roots)
+{
+	for (size_t r = 0; r < roots; r++) {
+		struct vis_window *d = lv->dirty[r];
+		for (struct vis_window *v = d; v; v = vis_wtree_next_within(v, d)) {
+			if (v->live_seen)
+				expose(lv, v->key, &lv->seen[v->live_seen - 1].seen);
+			if (v->live_indexed)
+				vis_zgrid_remove(&lv->grid, v->clip, v->key);
+			v->live_indexed = false;
+			v->key = 0;
+		}
+	}
+}
+
+/* Places the changed subtrees' viewable windows, indexes them, and takes every window there. */
+static int reindex(struct vis_wtree_live *lv, size_t roots)
+{
+	lv->n_reach = 0;
+	for (size_t r = 0; r < roots; r++) {
+		struct vis_window *d = lv->dirty[r];
+		for (struct vis_window *v = d; v; v = vis_wtree_next_within(v, d)) {
+			if (!v->live_viewable) {
+				if (v->state != VIS_WTREE_STATE_NONE &&
+				    take(lv, v, VIS_WTREE_STATE_NONE) < 0)
+					return -1;
+				continue;
+			}
+			place(v);
+			if (v->look.input_only)
+				continue;
+			if (!vis_box_empty(v->clip)) {
+				if (vis_zgrid_insert(&lv->grid, v->clip, v->key, v) < 0)
+					return -1;
+				v->live_indexed = true;
+			}
+			if (take(lv, v, STATE_UNKNOWN) < 0)
+				return -1;
+		}
+		if (d->live_viewable && !vis_box_empty(d->clip)) {
+			if (grow(&lv->reach, &lv->cap_reach, lv->n_reach, sizeof *lv->reach) < 0)
+				return -1;
+			lv->reach[lv->n_reach++] = d->clip;
+		}
+	}
+	return 0;
+}
+
+/* Takes the windows that saw pixels where a changed subtree now lies: they may see fewer. */
+static int take_covered(struct vis_wtree_live *lv)
+{
+	if (!lv->n_reach)
+		return 0;
+	struct vis_box hull = lv->reach[0];
+	for (size_t i = 1; i < lv->n_reach; i++) {
+		struct vis_box b = lv->reach[i];
+		hull = (struct vis_box){ b.x1 < hull.x1 ? b.x1 : hull.x1, b.y1 < hull.y1 ? b.y1 : hull.y1,
+					 b.x2 > hull.x2 ? b.x2 : hull.x2, b.y2 > hull.y2 ? b.y2 : hull.y2 };
+	}
+	for (size_t s = 0; s < lv->n_seen; s++) {
+		const struct seen *seen = &lv->seen[s].seen;
+		if (!seen_meets(seen, hull))
+			continue;
+		for (size_t i = 0; i < lv->n_reach; i++)
+			if (seen_meets(seen, lv->reach[i])) {
+				if (take(lv, lv->seen[s].w, STATE_UNKNOWN) < 0)
+					return -1;
+				break;
+			}
+	}
+	return 0;
+}
+
+/* Makes the candidates' states and seen regions the tree's: cannot fail (room is made first). */
+static int commit(struct vis_wtree_live *lv)
+{
+	size_t seen_room = lv->n_seen + lv->n_cands, changed_room = lv->n_changed + lv->n_cands;
+	while (lv->cap_seen < seen_room)
+		if (grow(&lv->seen, &lv->cap_seen, lv->cap_seen, sizeof *lv->seen) < 0)
+			return -1;
+	while (lv->cap_changed < changed_room)
+		if (grow(&lv->changed, &lv->cap_changed, lv->cap_changed, sizeof *lv->changed) < 0)
+			return -1;
+	for (size_t i = 0; i < lv->n_cands; i++) {
+		struct candidate *c = &lv->cands[i];
+		struct vis_window *w = c->w;
+		bool sees = c->state == VIS_UNOBSCURED || c->state == VIS_PARTIALLY_OBSCURED;
+		if (sees && !w->live_seen) {
+			lv->seen[lv->n_seen++].w = w;
+			w->live_seen = (uint32_t)lv->n_seen;
+		} else if (!sees && w->live_seen) {
+			seen_remove(lv, w);
+		}
+		if (sees)
+			lv->seen[w->live_seen - 1].seen = c->seen;
+		w->old_state = w->state;
+		w->state = c->state;
+		list_changed(lv, w);
+	}
+	return 0;
+}
+
+/* The live update proper: 0, NOT_LIVE, or -1 (ENOMEM, the structures then no longer valid). */
+static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
+{
+	long roots = roots_of(tree, lv);
+	if (roots < 0)
+		return NOT_LIVE;
+	if (++lv->mark == 0) {
+		for (struct vis_window *w = tree->root.bottom; w; w = vis_wtree_next(w))
+			w->live_mark = 0;
+		lv->mark = 1;
+	}
+	lv->n_cands = 0;
+	unindex(lv, (size_t)roots);
+	for (long r = 0; r < roots; r++) {
+		struct vis_window *d = lv->dirty[r];
+		size_t k = 0;
+		for (struct vis_window *v = d; v; v = vis_wtree_next_within(v, d))
+			k += v->live_viewable;
+		if (k && !give_keys(d, k))
+			return NOT_LIVE;
+	}
+	tree->stale = true; /* the boxes move on: until the states go with them */
+	if (reindex(lv, (size_t)roots) < 0 || take_covered(lv) < 0)
+		return -1;
+	for (size_t e = 0; e < lv->n_exposures; e++)
+		if (uncover(tree, lv, &lv->exposures[e]) < 0)
+			return -1;
+	for (size_t i = 0; i < lv->n_cands; i++)
+		if (lv->cands[i].state == STATE_UNKNOWN && query(lv, &lv->cands[i]) < 0)
+			return -1;
+	reset_changed(lv, true);
+	if (commit(lv) < 0)
+		return -1;
+	tree->stale = false;
+	tree->n_order = 0; /* positions are not kept: keys order the windows */
+	return 0;
+}
+
+int vis_wtree_update(struct vis_wtree *tree)
+{
+	struct vis_wtree_live *lv = live_of(tree);
+	if (!lv)
+		return vis_wtree_compute(tree);
+	if (lv->valid && !tree->stale && !lv->damage_all && !lv->changed_lost) {
+		int rc = update(tree, lv);
+		if (rc == 0) {
+			clear_notes(lv);
+			return 0;
+		}
+		lv->valid = false;
+		if (rc < 0) {
+			tree->stale = true;
+			return -1;
+		}
+	}
+	/* Through the tree: everything when the notes or the last states cannot be trusted. */
+	bool full = tree->stale || lv->damage_all || lv->changed_lost;
+	int rc = full ? vis_wtree_compute(tree)
+		      : vis_wtree_compute_damaged(tree, lv->damage, lv->n_damage);
+	if (rc < 0)
+		return -1;
+	clear_notes(lv);
+	if (rebuild(tree, lv) < 0)
+		lv->valid = false; /* the states are right; the next update goes through the tree */
+	return 0;
+}
+
+bool vis_wtree_changes(const struct vis_wtree *tree, struct vis_window *const **windows, size_t *n)
+{
+	const struct vis_wtree_live *lv = tree->live;
+	if (!lv || lv->changed_all)
+		return false;
+	*windows = lv->changed;
+	*n = lv->n_changed;
+	return true;
+}
+
+const char *wtree_live_check(const struct vis_wtree *tree)
+{
+	const struct vis_wtree_live *lv = tree->live;
+	if (!lv || !lv->valid)
+		return NULL;
+	uint64_t last = 0;
+	size_t cells = 0;
+	for (const struct vis_window *w = tree->root.bottom; w; w = vis_wtree_next(w)) {
+		bool viewable = vis_wtree_viewable(w);
+		if (!viewable) {
+			if (w->key || w->live_indexed || w->live_seen)
+				return "an unviewable window has a key, an entry or a seen slot";
+			continue;
+		}
+		if (w->key <= last)
+			return "keys do not grow in pre-order";
+		last = w->key;
+		bool pixels = !w->look.input_only && !vis_box_empty(w->clip);
+		if (w->live_indexed != pixels)
+			return "a window with pixels is not indexed, or one without is";
+		size_t k;
+		if (pixels && !vis_zgrid_holds(&lv->grid, w->clip, w->key, &k))
+			return "a window is missing from a cell its clip meets";
+		cells += pixels ? k : 0;
+		bool sees = w->state == VIS_UNOBSCURED || w->state == VIS_PARTIALLY_OBSCURED;
+		if (sees != (w->live_seen != 0) ||
+		    (sees && (w->live_seen > lv->n_seen || lv->seen[w->live_seen - 1].w != w)))
+			return "the seen list does not match the states";
+	}
+	if (vis_zgrid_size(&lv->grid) != cells)
+		return "the grid holds stale entries, or a cell is out of order";
+	return NULL;
+}
