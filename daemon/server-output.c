@@ -358,15 +358,15 @@ void server_notice_stack(struct client *c, const uint32_t words[SERVER_STACK_WOR
 
 /* The stacking position of a held window, for sending in stacking order; destroyed ones last. */
 struct held_order {
-	size_t pos;
+	uint64_t key;
 	struct held *h;
 };
 
 static int by_position(const void *a, const void *b)
 {
 	const struct held_order *x = a, *y = b;
-	if (x->pos != y->pos)
-		return x->pos < y->pos ? -1 : 1;
+	if (x->key != y->key)
+		return x->key < y->key ? -1 : 1;
 	return x->h->window < y->h->window ? -1 : x->h->window > y->h->window;
 }
 
@@ -384,7 +384,7 @@ static void release_held(struct client *c)
 	}
 	for (size_t i = 0; i < o->n_held; i++) {
 		struct vis_window *w = vis_wtree_find(&server->tree, o->held[i].window);
-		order[i].pos = w && w->state != VIS_WTREE_STATE_NONE ? w->pos : SIZE_MAX;
+		order[i].key = w && w->state != VIS_WTREE_STATE_NONE ? w->key : UINT64_MAX;
 		order[i].h = &o->held[i];
 	}
 	qsort(order, o->n_held, sizeof *order, by_position);

@@ -513,19 +513,19 @@ static void do_get_states(struct client *c, uint32_t seq)
 {
 	struct vis_wtree *tree = &c->server->tree;
 	size_t n = 0;
-	uint64_t *keys = malloc((tree->n_order ? tree->n_order : 1) * sizeof *keys);
-	uint32_t *vals = malloc((tree->n_order ? tree->n_order : 1) * sizeof *vals);
-	uint32_t *words = malloc((tree->n_order ? tree->n_order : 1) * 2 * sizeof *words);
+	uint64_t *keys = malloc((tree->count ? tree->count : 1) * sizeof *keys);
+	uint32_t *vals = malloc((tree->count ? tree->count : 1) * sizeof *vals);
+	uint32_t *words = malloc((tree->count ? tree->count : 1) * 2 * sizeof *words);
 	if (!keys || !vals || !words) {
 		server_client_error(c, seq, VIS_OP_GET_STATES, VIS_ERROR_LIMIT, "out of memory");
 		goto out;
 	}
-	for (size_t i = 0; i < tree->n_order; i++)
+	for (struct vis_window *w = vis_wtree_next_viewable(tree, NULL); w;
+	     w = vis_wtree_next_viewable(tree, w))
 		/* Input-only windows are viewable but have no state: none is listed. */
-		if (tree->order[i] && tree->order[i]->state != VIS_WTREE_STATE_NONE &&
-		    server_may_see(c, tree->order[i])) {
-			keys[n] = tree->order[i]->id;
-			vals[n++] = tree->order[i]->state;
+		if (w->state != VIS_WTREE_STATE_NONE && server_may_see(c, w)) {
+			keys[n] = w->id;
+			vals[n++] = w->state;
 		}
 	if (vis_radix_sort(keys, vals, n) < 0) {
 		server_client_error(c, seq, VIS_OP_GET_STATES, VIS_ERROR_LIMIT, "out of memory");
@@ -664,8 +664,8 @@ static void do_get_repaint(struct client *c, uint32_t seq, const union vis_arg *
 	struct vis_wtree *tree = &c->server->tree;
 	struct vis_box damage = { a[0].i, a[1].i, (int64_t)a[0].i + a[2].u,
 				  (int64_t)a[1].i + a[3].u };
-	struct vis_window **out = malloc((tree->n_order ? tree->n_order : 1) * sizeof *out);
-	uint32_t *ids = malloc((tree->n_order ? tree->n_order : 1) * sizeof *ids);
+	struct vis_window **out = malloc((tree->count ? tree->count : 1) * sizeof *out);
+	uint32_t *ids = malloc((tree->count ? tree->count : 1) * sizeof *ids);
 	long k = out && ids ? vis_wtree_repaint(tree, damage, out) : -1;
 	if (k < 0) {
 		server_client_error(c, seq, VIS_OP_GET_REPAINT, VIS_ERROR_LIMIT, "out of memory");

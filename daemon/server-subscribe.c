@@ -36,10 +36,11 @@ static void track_covered(struct client *c, const struct sub *s)
 		server_track(vis_wtree_find(&server->tree, s->window), server);
 		return;
 	}
-	server->work += server->tree.n_order;
-	for (size_t i = 0; i < server->tree.n_order; i++)
-		if (server->tree.order[i] && server_may_see(c, server->tree.order[i]))
-			server_track(server->tree.order[i], server);
+	server->work += server->tree.count;
+	for (struct vis_window *w = vis_wtree_next_viewable(&server->tree, NULL); w;
+	     w = vis_wtree_next_viewable(&server->tree, w))
+		if (server_may_see(c, w))
+			server_track(w, server);
 }
 
 /*
@@ -57,12 +58,11 @@ static void send_initial(struct client *c, const struct sub *s)
 			server_notice_initial(c, w);
 		return;
 	}
-	server->work += server->tree.n_order;
-	for (size_t i = 0; i < server->tree.n_order && !c->closing; i++) {
-		struct vis_window *w = server->tree.order[i];
-		if (w && w->state != VIS_WTREE_STATE_NONE && server_may_see(c, w))
+	server->work += server->tree.count;
+	for (struct vis_window *w = vis_wtree_next_viewable(&server->tree, NULL); w && !c->closing;
+	     w = vis_wtree_next_viewable(&server->tree, w))
+		if (w->state != VIS_WTREE_STATE_NONE && server_may_see(c, w))
 			server_notice_initial(c, w);
-	}
 }
 
 void server_subscription(struct client *c, uint32_t seq, uint32_t op, const union vis_arg *a)

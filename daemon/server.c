@@ -186,9 +186,10 @@ static struct evconnlistener *listen_passed(struct server *server, int fd, const
 	return l;
 }
 
-void server_damage(struct server *server, const struct vis_window *w)
+void server_damage(struct server *server, struct vis_window *w)
 {
 	server->dirty = true;
+	vis_wtree_note(&server->tree, w);
 	if (server->damage_all)
 		return;
 	if (server->n_damage == SERVER_DAMAGE_BOXES) {
@@ -312,11 +313,43 @@ int server_init(struct server *server, struct event_base *base, const struct ser
 	return 0;
 }
 
-/* Frees a window's daemon data: the tree callback of destruction at shutdown. */
-static void free_window_data(struct vis_window *w)
+/*
+ * Starts or stops tracking a window's visible region, keeping server->tracked. false when there
+ * is no memory to track it (it stays untracked).
+ */
+static bool set_tracked(struct server *server, struct vis_window *w, struct window_data *d, bool on)
+{
+	if (on == d->tracked)
+		return true;
+	if (on) {
+		if (server->n_tracked == server->cap_tracked) {
+			size_t cap = server->cap_tracked ? 2 * server->cap_tracked : 64;
+			struct vis_window **t = realloc(server->tracked, cap * sizeof *t);
+			if (!t)
+				return false;
+			server->tracked = t;
+			server->cap_tracked = cap;
+		}
+		server->tracked[server->n_tracked++] = w;
+		d->tracked_slot = (uint32_t)server->n_tracked;
+	} else {
+		size_t at = d->tracked_slot - 1;
+		server->tracked[at] = server->tracked[--server->n_tracked];
+		if (at < server->n_tracked)
+			((struct window_data *)server->tracked[at]->data)->tracked_slot = (uint32_t)(at + 1);
+		d->tracked_slot = 0;
+	}
+	d->tracked = on;
+	return true;
+}
+
+/* Frees a window's daemon data (at shutdown, server is NULL: the tracked list goes too). */
+static void free_window_data(struct server *server, struct vis_window *w)
 {
 	struct window_data *d = w->data;
 	if (d) {
+		if (server)
+			set_tracked(server, w, d, false);
 		pixman_region32_fini(&d->region);
 		free(d);
 		w->data = NULL;
@@ -327,7 +360,7 @@ static void free_window_data(struct vis_window *w)
 static void forget_window_data(void *data, struct vis_window *w)
 {
 	(void)data;
-	free_window_data(w);
+	free_window_data(NULL, w);
 }
 
 void server_finish(struct server *server)
@@ -347,6 +380,7 @@ void server_finish(struct server *server)
 	if (server->turn_event)
 		event_free(server->turn_event);
 	vis_wtree_finish(&server->tree);
+	free(server->tracked);
 	vis_idmap_finish(&server->clients_by_id);
 	server_quota_finish(server);
 	if (server->reserve_fd >= 0)
@@ -392,9 +426,12 @@ void server_track(struct vis_window *w, struct server *server)
 	struct window_data *d = server_window_data(w);
 	if (!d || d->tracked)
 		return;
+	if (!set_tracked(server, w, d, true)) {
+		log_error("out of memory for exposure tracking");
+		return;
+	}
 	if (vis_wtree_visible_region(&server->tree, w, &d->region) < 0)
 		pixman_region32_clear(&d->region);
-	d->tracked = true;
 }
 
 /* Sends the visibility notice of w to every connection subscribed to it. */
@@ -444,18 +481,55 @@ static void notify_exposure(struct server *server, struct vis_window *w, pixman_
 	free(words);
 }
 
+/* Orders windows by stacking (keys grow with it; 0 for those not viewable), then address. */
+static int by_stacking(const void *a, const void *b)
+{
+	const struct vis_window *x = *(struct vis_window *const *)a, *y = *(struct vis_window *const *)b;
+	if (x->key != y->key)
+		return x->key < y->key ? -1 : 1;
+	return x < y ? -1 : x > y;
+}
+
+/*
+ * The notices of one window after a recompute: its visibility if its state changed, its exposure
+ * if it is tracked and its visible region may have grown.
+ */
+static void flush_window(struct server *server, struct vis_window *w, struct damage *damage,
+			 pixman_region32_t *now, pixman_region32_t *exposed)
+{
+	if (w->state != w->old_state && w->state != VIS_WTREE_STATE_NONE)
+		notify_visibility(server, w);
+	struct window_data *d = w->data;
+	if (!wants_exposure(server, w)) {
+		if (d && d->tracked) {
+			set_tracked(server, w, d, false);
+			pixman_region32_clear(&d->region);
+		}
+		return;
+	}
+	if (d && d->tracked && !maybe_exposed(damage_region(server, damage), w))
+		return;
+	/* A window first tracked now was created since the last recompute: it showed nothing. */
+	if (!(d = server_window_data(w)) || !set_tracked(server, w, d, true)) {
+		log_error("out of memory for exposure tracking");
+		return;
+	}
+	if (vis_wtree_visible_region(&server->tree, w, now) < 0) {
+		log_error("out of memory for a visible region");
+		return;
+	}
+	pixman_region32_subtract(exposed, now, &d->region);
+	pixman_region32_copy(&d->region, now);
+	if (pixman_region32_not_empty(exposed))
+		notify_exposure(server, w, exposed);
+}
+
 void server_flush(struct server *server)
 {
 	if (!server->dirty || server->deferring)
 		return;
-	/*
-	 * Only the states the changes can have changed, unless there were so many that testing every
-	 * window against each would cost more than the full recompute.
-	 */
-	bool few = !server->damage_all && server->n_damage <= SERVER_DAMAGE_INCREMENTAL;
-	int rc = few ? vis_wtree_compute_damaged(&server->tree, server->damage, server->n_damage)
-		     : vis_wtree_compute(&server->tree);
-	if (rc < 0) {
+	/* The tree decides how: live from the changes noted, or through the tree. */
+	if (vis_wtree_update(&server->tree) < 0) {
 		log_error("recompute: out of memory; states stay as they were");
 		return;
 	}
@@ -465,33 +539,32 @@ void server_flush(struct server *server)
 	pixman_region32_init(&now);
 	pixman_region32_init(&exposed);
 	struct damage damage = { 0 };
-	for (struct vis_window *w = server->tree.root.bottom; w; w = vis_wtree_next(w)) {
-		if (w->state != w->old_state && w->state != VIS_WTREE_STATE_NONE)
-			notify_visibility(server, w);
-		struct window_data *d = w->data;
-		if (!wants_exposure(server, w)) {
-			if (d && d->tracked) {
-				d->tracked = false;
-				pixman_region32_clear(&d->region);
-			}
-			continue;
-		}
-		if (!(d = server_window_data(w))) {
-			log_error("out of memory for exposure tracking");
-			continue;
-		}
-		if (d->tracked && !maybe_exposed(damage_region(server, &damage), w))
-			continue;
-		/* A window first tracked now was created since the last recompute: it showed nothing. */
-		d->tracked = true;
-		if (vis_wtree_visible_region(&server->tree, w, &now) < 0) {
-			log_error("out of memory for a visible region");
-			continue;
-		}
-		pixman_region32_subtract(&exposed, &now, &d->region);
-		pixman_region32_copy(&d->region, &now);
-		if (pixman_region32_not_empty(&exposed))
-			notify_exposure(server, w, &exposed);
+	struct vis_window *const *changed;
+	size_t n;
+	/*
+	 * A live recompute lists the windows it may have changed; a window it did not keeps its
+	 * state and visible region, so that a tracked one has no new exposure. Else every window.
+	 */
+	struct vis_window **list = NULL;
+	if (vis_wtree_changes(&server->tree, &changed, &n) &&
+	    (list = malloc((n + server->n_tracked + 1) * sizeof *list))) {
+		/*
+		 * The windows the recompute may have changed, and the tracked ones: a tracked
+		 * window's region also counts its descendants as hiding it (X's clip list), so it
+		 * may change with no change of state; maybe_exposed() tells. In stacking order, as
+		 * notices go out, each once.
+		 */
+		memcpy(list, changed, n * sizeof *list);
+		memcpy(list + n, server->tracked, server->n_tracked * sizeof *list);
+		size_t m = n + server->n_tracked;
+		qsort(list, m, sizeof *list, by_stacking);
+		for (size_t i = 0; i < m; i++)
+			if (i == 0 || list[i] != list[i - 1])
+				flush_window(server, list[i], &damage, &now, &exposed);
+		free(list);
+	} else {
+		for (struct vis_window *w = server->tree.root.bottom; w; w = vis_wtree_next(w))
+			flush_window(server, w, &damage, &now, &exposed);
 	}
 	pixman_region32_fini(&now);
 	pixman_region32_fini(&exposed);
@@ -584,7 +657,7 @@ static void window_gone(void *data, struct vis_window *w)
 				else
 					i++;
 	}
-	free_window_data(w);
+	free_window_data(server, w);
 }
 
 void server_destroy_window(struct server *server, struct vis_window *w)

@@ -38,8 +38,6 @@ struct server_options {
 
 /* Changes remembered one by one between recomputes before every window counts as damaged. */
 #define SERVER_DAMAGE_BOXES 1024
-/* Changes past which a recompute is a full one rather than an incremental one. */
-#define SERVER_DAMAGE_INCREMENTAL 64
 
 /*
  * Requests one connection may run per turn of the event loop before others get theirs; a request
@@ -167,6 +165,7 @@ struct window_data {
 	uint32_t exposure_subs; /* subscriptions naming this window with exposures */
 	uint32_t subs;          /* subscriptions naming this window */
 	bool tracked;           /* region holds the visible region last reported */
+	uint32_t tracked_slot;  /* its place in server->tracked, 1-based, while tracked */
 	uid_t retained_by;      /* a retained window's creator, whose quota counts it */
 	pixman_region32_t region;
 };
@@ -178,6 +177,9 @@ struct server {
 	struct event *listener_retry;
 	int reserve_fd; /* spent to refuse connections when descriptors run out */
 	struct vis_wtree tree;
+	/* The windows whose visible region is tracked for exposures (window_data.tracked). */
+	struct vis_window **tracked;
+	size_t n_tracked, cap_tracked;
 	struct client_list clients;
 	struct client_list to_write; /* connections with output queued in this turn (conn.listed) */
 	uint32_t n_clients;
@@ -219,9 +221,10 @@ bool server_may_change(const struct client *c, const struct vis_window *w);
 void server_flush(struct server *server);
 /*
  * Marks the tree changed where w and its subtree lie (absolute coordinates), so that the windows
- * there get their exposures recomputed. Called before and after a change moves w.
+ * there get their exposures recomputed, and notes w's change for the live recompute. Called
+ * before and after a change moves w.
  */
-void server_damage(struct server *server, const struct vis_window *w);
+void server_damage(struct server *server, struct vis_window *w);
 /* Recomputes once every request read in this turn of the event loop has run. */
 void server_schedule_flush(struct server *server);
 /* Makes the end of this turn of the event loop (the recompute, the writes) come. */

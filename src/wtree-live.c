@@ -327,15 +327,6 @@ static struct vis_window *next_past(const struct vis_window *w)
 	return NULL;
 }
 
-/* The next viewable window in pre-order after viewable w, or NULL. */
-static struct vis_window *next_viewable(const struct vis_window *w)
-{
-	struct vis_window *c = w->bottom;
-	while (c && !c->mapped)
-		c = c->above;
-	return c ? c : next_past(w);
-}
-
 /* The key of the last viewable window of w's subtree (w's own without viewable descendants). */
 static uint64_t subtree_end(const struct vis_window *w)
 {
@@ -354,13 +345,13 @@ static uint64_t subtree_end(const struct vis_window *w)
  * windows before and after it (windows of changed subtrees have none yet). false when the keys
  * there are used up: the order is then numbered afresh by a full recompute.
  */
-static bool give_keys(struct vis_window *d, size_t k)
+static bool give_keys(const struct vis_wtree *tree, struct vis_window *d, size_t k)
 {
 	const struct vis_window *p = prev_viewable(d), *s = next_past(d);
 	while (p && !p->key)
 		p = prev_viewable(p);
 	while (s && !s->key)
-		s = next_viewable(s);
+		s = vis_wtree_next_viewable(tree, s);
 	uint64_t span = (uint64_t)(k + 1) * KEY_GAP;
 	uint64_t lo = p ? p->key : 0, hi = s ? s->key : 0;
 	if (!lo && !hi)
@@ -773,7 +764,7 @@ static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 		size_t k = 0;
 		for (struct vis_window *v = d; v; v = vis_wtree_next_within(v, d))
 			k += v->live_viewable;
-		if (k && !give_keys(d, k))
+		if (k && !give_keys(tree, d, k))
 			return NOT_LIVE;
 	}
 	tree->stale = true; /* the boxes move on: until the states go with them */

@@ -82,18 +82,10 @@ static struct vis_window **live_order(const struct vis_wtree *tree, size_t *n)
 	*n = 0;
 	if (!order)
 		return NULL;
-	for (struct vis_window *w = tree->root.bottom; w;) {
-		if (w->mapped) {
-			if (!w->look.input_only)
-				order[(*n)++] = w;
-			w = vis_wtree_next(w);
-			continue;
-		}
-		/* An unmapped subtree shows nothing: on past it. */
-		for (; w->parent && !w->above; w = w->parent)
-			;
-		w = w->parent ? w->above : NULL;
-	}
+	for (struct vis_window *w = vis_wtree_next_viewable(tree, NULL); w;
+	     w = vis_wtree_next_viewable(tree, w))
+		if (!w->look.input_only)
+			order[(*n)++] = w;
 	return order;
 }
 

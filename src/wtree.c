@@ -240,6 +240,28 @@ void vis_wtree_reparent(struct vis_window *window, struct vis_window *parent, in
 		v->depth = v->parent->depth + 1;
 }
 
+/* The first mapped window from w upwards among its siblings, or NULL. */
+static struct vis_window *mapped_from(struct vis_window *w)
+{
+	while (w && !w->mapped)
+		w = w->above;
+	return w;
+}
+
+struct vis_window *vis_wtree_next_viewable(const struct vis_wtree *tree,
+					   const struct vis_window *w)
+{
+	if (!w)
+		return mapped_from(tree->root.bottom);
+	struct vis_window *c = mapped_from(w->bottom);
+	if (c)
+		return c;
+	for (; w->parent; w = w->parent)
+		if ((c = mapped_from(w->above)))
+			return c;
+	return NULL;
+}
+
 struct vis_window *vis_wtree_next(const struct vis_window *w)
 {
 	return vis_wtree_next_within(w, NULL);

@@ -179,6 +179,13 @@ struct vis_window *vis_wtree_next(const struct vis_window *w);
 struct vis_window *vis_wtree_next_within(const struct vis_window *w, const struct vis_window *top);
 
 /*
+ * The viewable window after w in pre-order (w viewable; NULL: the first), or NULL after the last:
+ * stacking order, unmapped subtrees skipped. O(depth + unmapped siblings) at worst.
+ */
+struct vis_window *vis_wtree_next_viewable(const struct vis_wtree *tree,
+					   const struct vis_window *w);
+
+/*
  * The window's border box in screen coordinates from its own and its ancestors' positions (and
  * their borders), viewable or not: its subtree's pixels lie inside it, as children are clipped to
  * their parent's inside. O(depth).
@@ -329,7 +336,7 @@ int vis_wtree_visible_region(const struct vis_wtree *tree, const struct vis_wind
  * The windows that show pixels of their own inside the screen box damage, bottom to top: the
  * sweep over the flattened tree, every window clipped to damage; a window shows where no opaque
  * pixel of a later window covers it, so translucent ones and those seen through them are listed,
- * input-only ones never. Writes at most n_order windows to out and returns how many, or -1 with
+ * input-only ones never. Writes at most count windows to out and returns how many, or -1 with
  * ENOMEM. Needs a computed tree. O(n log n), n counting pieces as vis_wtree_compute() does.
  */
 long vis_wtree_repaint(const struct vis_wtree *tree, struct vis_box damage,
