@@ -25,6 +25,12 @@
 /* A state not known yet, for a window taken to be recomputed. */
 #define STATE_UNKNOWN 0xff
 
+/* What a walk returns when the update's budget ran out: it goes through the tree instead. */
+#define OVER_BUDGET (-2)
+
+/* Updates through the tree after one gave up, before the live structures are rebuilt. */
+#define LIVE_COOLDOWN 64
+
 /* Pixels that a window (or a destroyed one) saw: its seen region, or a box holding it. */
 struct seen {
 	uint8_t n;
@@ -80,6 +86,20 @@ struct vis_wtree_live {
 	bool damage_all;
 	bool changed_lost; /* changed could not list them all: the next recompute goes through all */
 	uint32_t mark;
+	/* An update's walks take at most budget steps in all, past which it gives up (NOT_LIVE). */
+	size_t steps, budget;
+	size_t fixed_budget; /* a budget set by wtree_live_set_budget(), or 0 */
+	/* Updates left to go through the tree after one gave up, before the structures are built
+	 * again: where updates cost more than that, rebuilding each time would cost more still. */
+	unsigned cooldown;
+	/* The boxes of the changed subtrees' windows before the update, to put back if it gives up. */
+	struct saved_boxes *saved;
+	size_t n_saved, cap_saved;
+};
+
+struct saved_boxes {
+	struct vis_window *w;
+	struct vis_box box, clip, inner;
 };
 
 /* Makes room for one more element in a growing array. 0, or -1 with ENOMEM. */
@@ -119,6 +139,7 @@ void vis_wtree_live_destroy(struct vis_wtree_live *lv)
 	free(lv->exposures);
 	free(lv->cands);
 	free(lv->reach);
+	free(lv->saved);
 	free(lv);
 }
 
@@ -448,7 +469,8 @@ static void narrow(struct vis_zgrid_walk *walk, pixman_region32_t *u)
  * top (a maximized window). Stops once u is empty. Sets *hit when some pixel was taken off.
  * 0, or -1 (ENOMEM).
  */
-static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t *u, bool *hit)
+static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t *u, bool *hit,
+		size_t *steps, size_t budget)
 {
 	struct vis_zgrid_walk up, down;
 	struct vis_box ext = vbox(pixman_region32_extents(u));
@@ -469,6 +491,10 @@ static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t
 			void *item;
 			if (!*go)
 				continue;
+			if (++*steps > budget) {
+				ok = false;
+				break;
+			}
 			if (!vis_zgrid_walk_next(side ? &down : &up, &key, &item) ||
 			    (side ? key <= lo : key >= hi)) {
 				*go = false; /* the two walks met: every key between was seen */
@@ -486,6 +512,8 @@ static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t
 	}
 	vis_zgrid_walk_finish(&up);
 	vis_zgrid_walk_finish(&down);
+	if (*steps > budget)
+		return OVER_BUDGET;
 	if (!ok)
 		errno = ENOMEM;
 	return ok ? 0 : -1;
@@ -510,7 +538,7 @@ static void keep_seen(pixman_region32_t *u, struct seen *s)
  * A viewable window's state, by X's rule over its pixels (its clip), and what it sees: its clip
  * less the clips of the windows after its subtree. 0, or -1 (ENOMEM).
  */
-static int query(const struct vis_wtree_live *lv, struct candidate *c)
+static int query(struct vis_wtree_live *lv, struct candidate *c)
 {
 	const struct vis_window *w = c->w;
 	c->seen.n = 0;
@@ -521,7 +549,7 @@ static int query(const struct vis_wtree_live *lv, struct candidate *c)
 	pixman_box32_t b = pbox(w->clip);
 	pixman_region32_init_rect(&u, b.x1, b.y1, (unsigned)(b.x2 - b.x1), (unsigned)(b.y2 - b.y1));
 	bool hit;
-	int rc = hide(lv, subtree_end(w), &u, &hit);
+	int rc = hide(lv, subtree_end(w), &u, &hit, &lv->steps, lv->budget);
 	if (rc == 0 && pixman_region32_not_empty(&u)) {
 		bool whole = !hit && w->clip.x1 == w->box.x1 && w->clip.y1 == w->box.y1 &&
 			     w->clip.x2 == w->box.x2 && w->clip.y2 == w->box.y2;
@@ -543,7 +571,8 @@ int wtree_live_region(const struct vis_wtree *tree, const struct vis_window *w, 
 	pixman_region32_init_rect(&u, b.x1, b.y1, (unsigned)(b.x2 - b.x1), (unsigned)(b.y2 - b.y1));
 	bool hit;
 	/* As X's clip list, its descendants hide it here: every window after it. */
-	int rc = hide(tree->live, w->key, &u, &hit);
+	size_t steps = 0;
+	int rc = hide(tree->live, w->key, &u, &hit, &steps, SIZE_MAX);
 	if (rc == 0 && pixman_region32_not_empty(&u)) {
 		pixman_region32_translate(&u, (int)-w->box.x1, (int)-w->box.y1);
 		if (!pixman_region32_copy(region, &u)) {
@@ -582,7 +611,8 @@ static int uncover(struct vis_wtree *tree, struct vis_wtree_live *lv, const stru
 	bool ok = rc == 0;
 	uint64_t key;
 	void *item;
-	while (ok && pixman_region32_not_empty(&u) && vis_zgrid_walk_next(&walk, &key, &item)) {
+	while (ok && pixman_region32_not_empty(&u) && ++lv->steps <= lv->budget &&
+	       vis_zgrid_walk_next(&walk, &key, &item)) {
 		struct vis_window *v = item;
 		if (!cut(&u, v, &ok))
 			continue;
@@ -592,6 +622,8 @@ static int uncover(struct vis_wtree *tree, struct vis_wtree_live *lv, const stru
 	}
 	vis_zgrid_walk_finish(&walk);
 	pixman_region32_fini(&u);
+	if (lv->steps > lv->budget)
+		return OVER_BUDGET;
 	if (!ok)
 		errno = ENOMEM;
 	return ok ? 0 : -1;
@@ -644,11 +676,15 @@ static long roots_of(struct vis_wtree *tree, struct vis_wtree_live *lv)
  * Takes the changed subtrees out of the grid, keeping what each of their windows saw as an
  * exposure under its old key.
  */
-static void unindex(struct vis_wtree_live *lv, size_t roots)
+static int unindex(struct vis_wtree_live *lv, size_t roots)
 {
+	lv->n_saved = 0;
 	for (size_t r = 0; r < roots; r++) {
 		struct vis_window *d = lv->dirty[r];
 		for (struct vis_window *v = d; v; v = vis_wtree_next_within(v, d)) {
+			if (grow(&lv->saved, &lv->cap_saved, lv->n_saved, sizeof *lv->saved) < 0)
+				return -1;
+			lv->saved[lv->n_saved++] = (struct saved_boxes){ v, v->box, v->clip, v->inner };
 			if (v->live_seen)
 				expose(lv, v->key, &lv->seen[v->live_seen - 1].seen);
 			if (v->live_indexed)
@@ -656,6 +692,18 @@ static void unindex(struct vis_wtree_live *lv, size_t roots)
 			v->live_indexed = false;
 			v->key = 0;
 		}
+	}
+	return 0;
+}
+
+/* Puts the changed subtrees' boxes back as the last recompute left them: the update gave up. */
+static void restore(struct vis_wtree_live *lv)
+{
+	for (size_t i = 0; i < lv->n_saved; i++) {
+		struct saved_boxes *s = &lv->saved[i];
+		s->w->box = s->box;
+		s->w->clip = s->clip;
+		s->w->inner = s->inner;
 	}
 }
 
@@ -758,7 +806,8 @@ static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 		lv->mark = 1;
 	}
 	lv->n_cands = 0;
-	unindex(lv, (size_t)roots);
+	if (unindex(lv, (size_t)roots) < 0)
+		return -1;
 	for (long r = 0; r < roots; r++) {
 		struct vis_window *d = lv->dirty[r];
 		size_t k = 0;
@@ -767,15 +816,29 @@ static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 		if (k && !give_keys(tree, d, k))
 			return NOT_LIVE;
 	}
+	/*
+	 * Walks cost what the windows they pass over do; past a few times the tree's size in all,
+	 * the recompute through the tree costs less: give up, with the boxes as they were.
+	 */
+	lv->steps = 0;
+	lv->budget = lv->fixed_budget ? lv->fixed_budget : 4 * tree->count + 64;
 	tree->stale = true; /* the boxes move on: until the states go with them */
-	if (reindex(lv, (size_t)roots) < 0 || take_covered(lv) < 0)
+	int rc = reindex(lv, (size_t)roots);
+	if (rc == 0)
+		rc = take_covered(lv);
+	for (size_t e = 0; rc == 0 && e < lv->n_exposures; e++)
+		rc = uncover(tree, lv, &lv->exposures[e]);
+	for (size_t i = 0; rc == 0 && i < lv->n_cands; i++)
+		if (lv->cands[i].state == STATE_UNKNOWN)
+			rc = query(lv, &lv->cands[i]);
+	if (rc == OVER_BUDGET) {
+		restore(lv);
+		tree->stale = false;
+		lv->cooldown = LIVE_COOLDOWN;
+		return NOT_LIVE;
+	}
+	if (rc < 0)
 		return -1;
-	for (size_t e = 0; e < lv->n_exposures; e++)
-		if (uncover(tree, lv, &lv->exposures[e]) < 0)
-			return -1;
-	for (size_t i = 0; i < lv->n_cands; i++)
-		if (lv->cands[i].state == STATE_UNKNOWN && query(lv, &lv->cands[i]) < 0)
-			return -1;
 	reset_changed(lv, true);
 	if (commit(lv) < 0)
 		return -1;
@@ -808,7 +871,9 @@ int vis_wtree_update(struct vis_wtree *tree)
 	if (rc < 0)
 		return -1;
 	clear_notes(lv);
-	if (rebuild(tree, lv) < 0)
+	if (lv->cooldown)
+		lv->cooldown--;
+	else if (rebuild(tree, lv) < 0)
 		lv->valid = false; /* the states are right; the next update goes through the tree */
 	return 0;
 }
@@ -855,4 +920,11 @@ const char *wtree_live_check(const struct vis_wtree *tree)
 	if (vis_zgrid_size(&lv->grid) != cells)
 		return "the grid holds stale entries, or a cell is out of order";
 	return NULL;
+}
+
+void wtree_live_set_budget(struct vis_wtree *tree, size_t steps)
+{
+	struct vis_wtree_live *lv = live_of(tree);
+	if (lv)
+		lv->fixed_budget = steps;
 }
