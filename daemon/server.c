@@ -554,9 +554,11 @@ void server_flush(struct server *server)
 		 * may change with no change of state; maybe_exposed() tells. In stacking order, as
 		 * notices go out, each once.
 		 */
-		memcpy(list, changed, n * sizeof *list);
-		memcpy(list + n, server->tracked, server->n_tracked * sizeof *list);
-		size_t m = n + server->n_tracked;
+		size_t m = 0;
+		for (size_t i = 0; i < n; i++)
+			list[m++] = changed[i];
+		for (size_t i = 0; i < server->n_tracked; i++)
+			list[m++] = server->tracked[i];
 		qsort(list, m, sizeof *list, by_stacking);
 		for (size_t i = 0; i < m; i++)
 			if (i == 0 || list[i] != list[i - 1])

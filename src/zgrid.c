@@ -250,6 +250,12 @@ static bool place(const struct vis_zgrid_walk *w, struct vis_zgrid_cursor *c, ui
 	const struct vis_zgrid_cell *cell = c->cell;
 	if (cell->n == 0)
 		return false;
+	if (!w->up && from == UINT64_MAX) {
+		/* From the top, the commonest walk: no search. */
+		c->chunk = cell->n - 1;
+		c->at = cell->chunks[c->chunk]->n - 1;
+		return settle(c);
+	}
 	size_t i = find_chunk(cell, from, w->up);
 	if (w->up) {
 		c->chunk = i;
