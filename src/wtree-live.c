@@ -28,7 +28,7 @@
 /* What a walk returns when the update's budget ran out: it goes through the tree instead. */
 #define OVER_BUDGET (-2)
 
-/* Updates through the tree after one gave up, before the live structures are rebuilt. */
+/* Updates through the tree after one could not go live, before the structures are rebuilt. */
 #define LIVE_COOLDOWN 64
 
 /* Pixels that a window (or a destroyed one) saw: its seen region, or a box holding it. */
@@ -79,8 +79,6 @@ struct vis_wtree_live {
 	size_t n_exposures, cap_exposures;
 	struct candidate *cands;
 	size_t n_cands, cap_cands;
-	struct vis_box *reach; /* the new clips of the changed subtrees */
-	size_t n_reach, cap_reach;
 	struct vis_box damage[LIVE_DAMAGE];
 	size_t n_damage;
 	bool damage_all;
@@ -89,8 +87,8 @@ struct vis_wtree_live {
 	/* An update's walks take at most budget steps in all, past which it gives up (NOT_LIVE). */
 	size_t steps, budget;
 	size_t fixed_budget; /* a budget set by wtree_live_set_budget(), or 0 */
-	/* Updates left to go through the tree after one gave up, before the structures are built
-	 * again: where updates cost more than that, rebuilding each time would cost more still. */
+	/* Updates left to go through the tree after one could not go live, before the structures
+	 * are built again: where updates cost more than that, rebuilding each time costs more. */
 	unsigned cooldown;
 	/* The boxes of the changed subtrees' windows before the update, to put back if it gives up. */
 	struct saved_boxes *saved;
@@ -138,7 +136,6 @@ void vis_wtree_live_destroy(struct vis_wtree_live *lv)
 	free(lv->changed);
 	free(lv->exposures);
 	free(lv->cands);
-	free(lv->reach);
 	free(lv->saved);
 	free(lv);
 }
@@ -415,21 +412,6 @@ static int take(struct vis_wtree_live *lv, struct vis_window *w, uint8_t state)
 	w->live_mark = lv->mark;
 	lv->cands[lv->n_cands++] = (struct candidate){ .w = w, .state = state };
 	return 0;
-}
-
-static bool meets(struct vis_box a, struct vis_box b)
-{
-	return !vis_box_empty(vis_box_intersect(a, b));
-}
-
-static bool seen_meets(const struct seen *s, struct vis_box b)
-{
-	if (s->n == SEEN_EXTENTS)
-		return meets(s->boxes[0], b);
-	for (uint8_t i = 0; i < s->n; i++)
-		if (meets(s->boxes[i], b))
-			return true;
-	return false;
 }
 
 static pixman_box32_t pbox(struct vis_box b)
@@ -710,7 +692,6 @@ static void restore(struct vis_wtree_live *lv)
 /* Places the changed subtrees' viewable windows, indexes them, and takes every window there. */
 static int reindex(struct vis_wtree_live *lv, size_t roots)
 {
-	lv->n_reach = 0;
 	for (size_t r = 0; r < roots; r++) {
 		struct vis_window *d = lv->dirty[r];
 		for (struct vis_window *v = d; v; v = vis_wtree_next_within(v, d)) {
@@ -731,38 +712,74 @@ static int reindex(struct vis_wtree_live *lv, size_t roots)
 			if (take(lv, v, STATE_UNKNOWN) < 0)
 				return -1;
 		}
-		if (d->live_viewable && !vis_box_empty(d->clip)) {
-			if (grow(&lv->reach, &lv->cap_reach, lv->n_reach, sizeof *lv->reach) < 0)
-				return -1;
-			lv->reach[lv->n_reach++] = d->clip;
-		}
 	}
 	return 0;
 }
 
-/* Takes the windows that saw pixels where a changed subtree now lies: they may see fewer. */
-static int take_covered(struct vis_wtree_live *lv)
+/* Whether a window saw pixels of u at the last recompute (its kept seen region meets u's). */
+static bool saw(const struct vis_wtree_live *lv, const struct vis_window *v, pixman_region32_t *u)
 {
-	if (!lv->n_reach)
+	if (!v->live_seen)
+		return false;
+	const struct seen *s = &lv->seen[v->live_seen - 1].seen;
+	int n = s->n == SEEN_EXTENTS ? 1 : s->n;
+	for (int i = 0; i < n; i++) {
+		pixman_box32_t b = pbox(s->boxes[i]);
+		if (pixman_region32_contains_rectangle(u, &b) != PIXMAN_REGION_OUT)
+			return true;
+	}
+	return false;
+}
+
+/*
+ * Takes the windows that may see fewer pixels because of a changed subtree whose root now sees
+ * c->seen: walking down from the root's key, the windows whose clip meets what is left of those
+ * pixels and that saw some of it, with their ancestors that did; each unchanged window's clip is
+ * taken off what is left (what it covers, it hid before as now). 0, or -1 (ENOMEM), or
+ * OVER_BUDGET.
+ */
+static int cover(struct vis_wtree *tree, struct vis_wtree_live *lv, const struct candidate *c)
+{
+	/* c lies in lv->cands, which take() may move: read it all first. */
+	const struct seen *s = &c->seen;
+	uint64_t from = c->w->key;
+	int n = s->n == SEEN_EXTENTS ? 1 : s->n;
+	if (n == 0 || c->state == VIS_WTREE_STATE_NONE)
 		return 0;
-	struct vis_box hull = lv->reach[0];
-	for (size_t i = 1; i < lv->n_reach; i++) {
-		struct vis_box b = lv->reach[i];
-		hull = (struct vis_box){ b.x1 < hull.x1 ? b.x1 : hull.x1, b.y1 < hull.y1 ? b.y1 : hull.y1,
-					 b.x2 > hull.x2 ? b.x2 : hull.x2, b.y2 > hull.y2 ? b.y2 : hull.y2 };
+	pixman_box32_t boxes[SEEN_BOXES];
+	for (int i = 0; i < n; i++)
+		boxes[i] = pbox(vis_box_intersect(s->boxes[i], tree->root.clip));
+	pixman_region32_t u;
+	if (!pixman_region32_init_rects(&u, boxes, n)) {
+		errno = ENOMEM;
+		return -1;
 	}
-	for (size_t s = 0; s < lv->n_seen; s++) {
-		const struct seen *seen = &lv->seen[s].seen;
-		if (!seen_meets(seen, hull))
+	struct vis_zgrid_walk walk;
+	bool ok = vis_zgrid_walk_init(&walk, &lv->grid, vbox(pixman_region32_extents(&u)), from,
+				      false) == 0;
+	uint64_t key;
+	void *item;
+	while (ok && pixman_region32_not_empty(&u) && ++lv->steps <= lv->budget &&
+	       vis_zgrid_walk_next(&walk, &key, &item)) {
+		struct vis_window *v = item;
+		pixman_box32_t b = pbox(v->clip);
+		if (pixman_region32_contains_rectangle(&u, &b) == PIXMAN_REGION_OUT)
 			continue;
-		for (size_t i = 0; i < lv->n_reach; i++)
-			if (seen_meets(seen, lv->reach[i])) {
-				if (take(lv, lv->seen[s].w, STATE_UNKNOWN) < 0)
-					return -1;
-				break;
-			}
+		if (v->live_mark == lv->mark)
+			continue; /* changed: recomputed already, and it hides what it did not before */
+		for (struct vis_window *a = v; ok && a->parent; a = a->parent)
+			if (saw(lv, a, &u))
+				ok = take(lv, a, STATE_UNKNOWN) == 0;
+		cut(&u, v, &ok);
+		narrow(&walk, &u);
 	}
-	return 0;
+	vis_zgrid_walk_finish(&walk);
+	pixman_region32_fini(&u);
+	if (lv->steps > lv->budget)
+		return OVER_BUDGET;
+	if (!ok)
+		errno = ENOMEM;
+	return ok ? 0 : -1;
 }
 
 /* Makes the candidates' states and seen regions the tree's: cannot fail (room is made first). */
@@ -824,17 +841,22 @@ static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 	lv->budget = lv->fixed_budget ? lv->fixed_budget : 4 * tree->count + 64;
 	tree->stale = true; /* the boxes move on: until the states go with them */
 	int rc = reindex(lv, (size_t)roots);
-	if (rc == 0)
-		rc = take_covered(lv);
+	/* The changed windows first: what their roots see now bounds what others lose. */
+	size_t changed = lv->n_cands;
+	for (size_t i = 0; rc == 0 && i < changed; i++)
+		if (lv->cands[i].state == STATE_UNKNOWN)
+			rc = query(lv, &lv->cands[i]);
+	/* Each one: under an input-only root, descendants see what their root does not. */
+	for (size_t i = 0; rc == 0 && i < changed; i++)
+		rc = cover(tree, lv, &lv->cands[i]);
 	for (size_t e = 0; rc == 0 && e < lv->n_exposures; e++)
 		rc = uncover(tree, lv, &lv->exposures[e]);
-	for (size_t i = 0; rc == 0 && i < lv->n_cands; i++)
+	for (size_t i = changed; rc == 0 && i < lv->n_cands; i++)
 		if (lv->cands[i].state == STATE_UNKNOWN)
 			rc = query(lv, &lv->cands[i]);
 	if (rc == OVER_BUDGET) {
 		restore(lv);
 		tree->stale = false;
-		lv->cooldown = LIVE_COOLDOWN;
 		return NOT_LIVE;
 	}
 	if (rc < 0)
@@ -852,6 +874,7 @@ int vis_wtree_update(struct vis_wtree *tree)
 	struct vis_wtree_live *lv = live_of(tree);
 	if (!lv)
 		return vis_wtree_compute(tree);
+	bool was_valid = lv->valid;
 	if (lv->valid && !tree->stale && !lv->damage_all && !lv->changed_lost) {
 		int rc = update(tree, lv);
 		if (rc == 0) {
@@ -871,10 +894,17 @@ int vis_wtree_update(struct vis_wtree *tree)
 	if (rc < 0)
 		return -1;
 	clear_notes(lv);
-	if (lv->cooldown)
+	/*
+	 * Building the structures costs a few full recomputes: not after each change that could
+	 * not go live (a desktop of cascades, a burst of changes), but once such changes have
+	 * stopped for a while.
+	 */
+	if (was_valid)
+		lv->cooldown = LIVE_COOLDOWN;
+	else if (lv->cooldown)
 		lv->cooldown--;
 	else if (rebuild(tree, lv) < 0)
-		lv->valid = false; /* the states are right; the next update goes through the tree */
+		lv->cooldown = LIVE_COOLDOWN; /* a look, or no memory: the states are right still */
 	return 0;
 }
 

@@ -281,19 +281,27 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  *
  * The rule: let the changed subtrees be those of the noted windows (a change of a window moves
  * or re-stacks its subtree with it). Recomputed are (1) the windows of the changed subtrees;
- * (2) the windows whose last seen region meets the new clip of a changed subtree's root; (3) for
- * each window of the changed subtrees (and each one destroyed) that saw pixels, walking the grid
- * down from its old key, the windows whose clip meets what is left of those pixels, and their
- * ancestors, each one's clip taken off what is left. Every other window keeps its state and seen
- * region. It is exact: a window w outside the changed subtrees keeps its clip and its place among
- * the others. If it sees fewer pixels, the pixel p it lost is now hidden by a window after w's
- * subtree; were that window unchanged it would have hidden p before, so it is in a changed
- * subtree, which lies in its root's new clip: p is in w's last seen region and in that clip, (2).
- * If w sees more, the pixel p it gained was hidden by windows after its subtree; the highest of
- * them, h, is in a changed subtree or destroyed, or it would still hide p. Nothing after h covered
- * p, so h saw p, and w's subtree lies below h's old key. Walking down from that key, the windows
- * whose clips hold p before w or its descendants are reached hide w at p now, unless they are
- * w's descendants: so p is still left when w or a descendant is reached, and w is taken, (3).
+ * (2) for each of those that sees pixels now, walking the grid down from its key, the unchanged
+ * windows whose clip meets what is left of those pixels and whose last seen region meets it,
+ * with their ancestors whose last seen region does, each unchanged window's clip taken off what
+ * is left; (3) for each window of the changed subtrees (and each one destroyed) that saw pixels,
+ * walking the grid down from its old key, the windows whose clip meets what is left of those
+ * pixels, and their ancestors, each one's clip taken off what is left. Every other window keeps
+ * its state and seen region.
+ * It is exact: a window w outside the changed subtrees keeps its clip and its place among the
+ * others. If it sees fewer pixels, the pixel p it lost is now hidden by windows after w's
+ * subtree; the highest of them, h, is in a changed subtree, or it would have hidden p before.
+ * Nothing after h covers p, so h sees p, and w's subtree lies below h's key. Walking down from
+ * it, the windows whose clips hold p before w or its descendants are reached hide w at p now
+ * (unless they are w's descendants): were one unchanged, it would have hidden p before. So only
+ * changed windows are passed over at p, p is still left when w or a descendant is reached, and
+ * as w saw p, w is taken, (2). If w sees more, the pixel p it gained was hidden by windows after
+ * its subtree; the highest of them, h, is in a changed subtree or destroyed, or it would still
+ * hide p. Nothing after h covered p, so h saw p, and w's subtree lies below h's old key. Walking
+ * down from that key, the windows whose clips hold p before w or its descendants are reached
+ * hide w at p now, unless they are w's descendants: so p is still left when w or a descendant is
+ * reached, and w is taken, (3). In both walks a window reached at p takes off p for the windows
+ * below it, but for its ancestors, which its pixels never hide and which are taken with it.
  * The recomputed windows get their seen regions exactly, by walking the grid over the windows
  * after their subtree from both ends of that range, until their pixels are all hidden or the
  * walks meet. The unit test holds the result to vis_wtree_compute()'s after every batch of edits
@@ -307,9 +315,10 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  * through the tree: n_order is 0 after a live one.
  *
  * Returns 0, or -1 with errno ENOMEM (states are then unchanged, and the next recompute is full).
- * Cost, live: O(r · log n) per window recomputed, r the clips its walks pass over (those in the
- * grid cells its pixels meet, between its key and the highest that hides them), plus the subtrees
- * changed and the windows that see pixels (scanned once).
+ * Cost, live: O(r · log n) per window recomputed and per walk, r the clips the walk passes over
+ * (those in the grid cells its pixels meet, between its key and the first that hide them), plus
+ * the subtrees changed; a budget of 4n + 64 steps in all, past which the update gives up and
+ * recomputes through the tree (as do the next 64, before the structures are built again).
  */
 int vis_wtree_update(struct vis_wtree *tree);
 
