@@ -54,6 +54,10 @@ static const char usage_text[] =
 	"  --max-subscriptions N     subscriptions per connection (default 1024)\n"
 	"  --max-pending BYTES       output waiting for one connection before its notices\n"
 	"                            are dropped for a resync (default 4194304)\n"
+	"tuning:\n"
+	"  --live-from N             windows from which recomputes go live, costing the\n"
+	"                            windows a change can affect; below, through the\n"
+	"                            tree (default 2048; 0: always live)\n"
 	"socket activation: given a listening socket by its service manager (LISTEN_PID,\n"
 	"LISTEN_FDS, LISTEN_FDNAMES, as sd_listen_fds(3) says), visd serves it rather than\n"
 	"bind one; a second socket, named 'restricted' in LISTEN_FDNAMES, is the restricted\n"
@@ -84,6 +88,7 @@ static const struct number_option number_options[] = {
 	{ "--max-depth", 1, 4096, offsetof(struct server_options, max_depth) },
 	{ "--max-subscriptions", 1, 1000000, offsetof(struct server_options, max_subs) },
 	{ "--max-pending", 65536, 1u << 30, offsetof(struct server_options, max_pending) },
+	{ "--live-from", 0, INT32_MAX, offsetof(struct server_options, live_from) },
 };
 
 static const struct number_option *find_number_option(const char *name)
@@ -324,6 +329,7 @@ int main(int argc, char **argv)
 		.max_depth = 64,
 		.max_subs = 1024,
 		.max_pending = 4u << 20,
+		.live_from = 2048,
 		.allowed_uid = getuid(),
 		.socket_fd = -1,
 		.restricted_fd = -1,

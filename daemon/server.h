@@ -29,6 +29,7 @@ struct server_options {
 	uint32_t max_windows;   /* windows one connection owns */
 	uint32_t max_look_rects; /* shape and opaque rectangles of the windows one connection owns */
 	uint32_t max_depth;     /* window tree depth (top-level windows: 1) */
+	uint32_t live_from;     /* windows from which recomputes go live (vis_wtree_live_from) */
 	uint32_t max_subs;      /* subscriptions per connection */
 	uint32_t max_pending;   /* bytes waiting to be written to one connection */
 	uint32_t max_retained_per_uid; /* retained windows that exist, made by one uid */

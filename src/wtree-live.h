@@ -42,8 +42,8 @@ int wtree_live_region(const struct vis_wtree *tree, const struct vis_window *w, 
  * is wrong. O(n · cells). */
 const char *wtree_live_check(const struct vis_wtree *tree);
 
-/* For tests: the steps an update's walks may take (0: the default, 4n + 64), so that a test can
- * make updates give up. */
-void wtree_live_set_budget(struct vis_wtree *tree, size_t steps);
+/* For tests: the steps an update's walks may take (0: the default, 4n + 64), so that updates
+ * can be made to give up. */
+void wtree_live_tune(struct vis_wtree *tree, size_t steps);
 
 #endif

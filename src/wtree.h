@@ -323,6 +323,12 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
 int vis_wtree_update(struct vis_wtree *tree);
 
 /*
+ * Sets the windows from which vis_wtree_update() goes live (default 2048: below, the damaged
+ * recompute costs as little and its tail less; 0: always). 0, or -1 with ENOMEM.
+ */
+int vis_wtree_live_from(struct vis_wtree *tree, size_t windows);
+
+/*
  * After a recompute, the windows whose state or visible region it may have changed (every one
  * whose state differs from old_state among them): true with them in *windows[0 … *n), or false
  * when that may be any window (the recompute went through the tree).

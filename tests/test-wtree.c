@@ -623,9 +623,9 @@ static int random_trees(uint64_t first, uint64_t count, int batches)
 		}
 		vis_wtree_init(&tree, sw, sh);
 		vis_wtree_init(&twin, sw, sh);
-		/* Now and then live updates run out of steps and give up halfway. */
-		if (seed % 7 == 3)
-			wtree_live_set_budget(&twin, 1 + vis_rng_below(&r, 40));
+		/* Small trees go live; now and then updates run out of steps and give up. */
+		assert(vis_wtree_live_from(&twin, 0) == 0);
+		wtree_live_tune(&twin, seed % 7 == 3 ? 1 + vis_rng_below(&r, 40) : 0);
 		nwins = 0;
 		n_damage = 0;
 		damage_all = false;
@@ -656,6 +656,7 @@ static void scene_begin(void)
 {
 	vis_wtree_init(&tree, SW, SH);
 	vis_wtree_init(&twin, SW, SH);
+	assert(vis_wtree_live_from(&twin, 0) == 0);
 	nwins = 0;
 	n_damage = 0;
 	damage_all = false;
