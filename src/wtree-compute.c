@@ -102,11 +102,13 @@ static int flatten(struct vis_wtree *tree, struct vis_wtree_work *wk)
 		tree->cap_order = tree->count;
 	}
 	size_t n = 0, n_clear = 0;
+	/* The live update's keys, in the grid already: the same order (wtree-live.h). */
+	bool keep_keys = wtree_live_keeping(tree);
 	wk->n_hidden = 0;
 	for (struct vis_window *w = tree->root.bottom; w; w = next_viewable(w)) {
 		if (!w->mapped) {
 			for (struct vis_window *v = w; v; v = vis_wtree_next_within(v, w)) {
-				v->key = 0;
+				v->key = keep_keys ? v->key : 0;
 				if (v->state != VIS_WTREE_STATE_NONE ||
 				    v->old_state != VIS_WTREE_STATE_NONE)
 					wk->hidden[wk->n_hidden++] = v;
@@ -127,7 +129,8 @@ static int flatten(struct vis_wtree *tree, struct vis_wtree_work *wk)
 		w->clip = clip;
 		w->inner = clip;
 		w->pos = n;
-		w->key = wtree_key_of(n, tree->count);
+		if (!keep_keys)
+			w->key = wtree_key_of(n, tree->count);
 		wk->old[n] = w->old_state;
 		w->old_state = last;
 		wk->last[n] = last;
@@ -527,7 +530,10 @@ static int compute(struct vis_wtree *tree, const struct vis_box *damage, size_t 
 			tree->order[i]->state = s;
 	}
 	tree->stale = false;
-	wtree_live_computed(tree, wk);
+	if (wtree_live_keeping(tree))
+		wtree_live_repair(tree, wk);
+	else
+		wtree_live_computed(tree, wk);
 	return 0;
 }
 

@@ -36,9 +36,6 @@
  */
 #define LIVE_MIN_WINDOWS 2048
 
-/* The boxes past which a cover walk stops taking clips off what is left. */
-#define COVER_BOXES 32
-
 /* Updates through the tree after one could not go live, before the structures are rebuilt. */
 #define LIVE_COOLDOWN 64
 
@@ -102,14 +99,8 @@ struct vis_wtree_live {
 	/* Updates left to go through the tree after one could not go live, before the structures
 	 * are built again: where updates cost more than that, rebuilding each time costs more. */
 	unsigned cooldown;
-	/* The boxes of the changed subtrees' windows before the update, to put back if it gives up. */
-	struct saved_boxes *saved;
-	size_t n_saved, cap_saved;
-};
-
-struct saved_boxes {
-	struct vis_window *w;
-	struct vis_box box, clip, inner;
+	/* Set while a recompute through the tree keeps the structures (keys, grid) valid. */
+	bool keeping;
 };
 
 /* Makes room for one more element in a growing array. 0, or -1 with ENOMEM. */
@@ -159,7 +150,6 @@ void vis_wtree_live_destroy(struct vis_wtree_live *lv)
 	free(lv->changed);
 	free(lv->exposures);
 	free(lv->cands);
-	free(lv->saved);
 	free(lv);
 }
 
@@ -280,8 +270,52 @@ static void clear_notes(struct vis_wtree_live *lv)
 
 void wtree_live_invalidate(struct vis_wtree *tree)
 {
-	if (tree->live)
+	if (tree->live && !tree->live->keeping)
 		tree->live->valid = false;
+}
+
+bool wtree_live_keeping(const struct vis_wtree *tree)
+{
+	return tree->live && tree->live->keeping;
+}
+
+/* Keeps a window's seen region as its clip (or none when it sees nothing): 0, or -1 (ENOMEM). */
+static int seen_as_clip(struct vis_wtree_live *lv, struct vis_window *w)
+{
+	bool sees = w->state == VIS_UNOBSCURED || w->state == VIS_PARTIALLY_OBSCURED;
+	if (!sees) {
+		if (w->live_seen)
+			seen_remove(lv, w);
+		return 0;
+	}
+	if (!w->live_seen) {
+		if (grow(&lv->seen, &lv->cap_seen, lv->n_seen, sizeof *lv->seen) < 0)
+			return -1;
+		lv->seen[lv->n_seen++].w = w;
+		w->live_seen = (uint32_t)lv->n_seen;
+	}
+	lv->seen[w->live_seen - 1].seen = (struct seen){ SEEN_EXTENTS, { w->clip } };
+	return 0;
+}
+
+void wtree_live_repair(struct vis_wtree *tree, const struct vis_wtree_work *wk)
+{
+	struct vis_wtree_live *lv = tree->live;
+	bool ok = true;
+	for (size_t a = 0; a < wk->n_affected; a++)
+		ok &= seen_as_clip(lv, tree->order[wk->affected[a]]) == 0;
+	for (size_t i = 0; i < wk->n_hidden; i++)
+		ok &= seen_as_clip(lv, wk->hidden[i]) == 0;
+	reset_changed(lv, false);
+	for (size_t i = 0; i < tree->n_order; i++)
+		if (tree->order[i]->state != tree->order[i]->old_state)
+			list_changed(lv, tree->order[i]);
+	for (size_t i = 0; i < wk->n_hidden; i++)
+		if (wk->hidden[i]->state != wk->hidden[i]->old_state)
+			list_changed(lv, wk->hidden[i]);
+	lv->changed_all = true;
+	if (!ok)
+		lv->valid = false;
 }
 
 void wtree_live_computed(struct vis_wtree *tree, const struct vis_wtree_work *wk)
@@ -355,19 +389,6 @@ static struct vis_window *prev_viewable(const struct vis_window *w)
 	}
 }
 
-/* The next viewable window in pre-order past w's subtree, or NULL after the last. */
-static struct vis_window *next_past(const struct vis_window *w)
-{
-	for (; w->parent; w = w->parent) {
-		struct vis_window *s = w->above;
-		while (s && !s->mapped)
-			s = s->above;
-		if (s)
-			return s;
-	}
-	return NULL;
-}
-
 /* The key of the last viewable window of w's subtree (w's own without viewable descendants). */
 static uint64_t subtree_end(const struct vis_window *w)
 {
@@ -382,17 +403,22 @@ static uint64_t subtree_end(const struct vis_window *w)
 }
 
 /*
- * Gives the k viewable windows of d's subtree keys in pre-order between the nearest keyed
- * windows before and after it (windows of changed subtrees have none yet). false when the keys
- * there are used up: the order is then numbered afresh by a full recompute.
+ * Gives keys to the run of viewable windows without one that holds viewable d (its subtree's,
+ * and those of changed subtrees next to it), in pre-order between the nearest keyed windows
+ * before and after the run: each window is keyed once, however many changed subtrees lie side
+ * by side (a batch creating windows). false when the keys there are used up: the order is then
+ * numbered afresh by a recompute through the tree.
  */
-static bool give_keys(const struct vis_wtree *tree, struct vis_window *d, size_t k)
+static bool give_keys(const struct vis_wtree *tree, struct vis_window *d)
 {
-	const struct vis_window *p = prev_viewable(d), *s = next_past(d);
-	while (p && !p->key)
-		p = prev_viewable(p);
-	while (s && !s->key)
-		s = vis_wtree_next_viewable(tree, s);
+	if (d->key)
+		return true; /* in a run keyed already */
+	struct vis_window *first = d, *p = prev_viewable(d), *s = d;
+	for (; p && !p->key; p = prev_viewable(p))
+		first = p;
+	size_t k = 0;
+	for (s = first; s && !s->key; s = vis_wtree_next_viewable(tree, s))
+		k++;
 	uint64_t span = (uint64_t)(k + 1) * KEY_GAP;
 	uint64_t lo = p ? p->key : 0, hi = s ? s->key : 0;
 	if (!lo && !hi)
@@ -404,9 +430,8 @@ static bool give_keys(const struct vis_wtree *tree, struct vis_window *d, size_t
 	if (hi <= lo || (hi - lo) / (k + 1) == 0)
 		return false;
 	uint64_t step = (hi - lo) / (k + 1), key = lo;
-	for (struct vis_window *v = d; v; v = vis_wtree_next_within(v, d))
-		if (v->live_viewable)
-			v->key = key += step;
+	for (struct vis_window *v = first; v != s; v = vis_wtree_next_viewable(tree, v))
+		v->key = key += step;
 	return true;
 }
 
@@ -649,10 +674,10 @@ static bool under_dirty(const struct vis_window *w)
 /*
  * Finds the changed subtrees' roots (moved to the front of dirty; returns how many) and marks
  * their windows viewable or not; -1 when the changes would leave a viewable window with a look
- * (the live structures know no looks), or take more windows than a budget, past which a
- * recompute through the tree costs less.
+ * (the live structures know no looks). *many: they take more windows than a budget, past which
+ * recomputing the states through the tree costs less.
  */
-static long roots_of(struct vis_wtree *tree, struct vis_wtree_live *lv)
+static long roots_of(struct vis_wtree *tree, struct vis_wtree_live *lv, bool *many)
 {
 	size_t roots = 0, windows = 0, budget = 64 + tree->count / 32;
 	bool look = false;
@@ -672,24 +697,19 @@ static long roots_of(struct vis_wtree *tree, struct vis_wtree_live *lv)
 	/* The slots of the moved entries: clear_notes() zeroes them all at the end. */
 	for (size_t i = 0; i < lv->n_dirty; i++)
 		lv->dirty[i]->live_dirty = (uint32_t)(i + 1);
-	if (look || windows > budget)
-		return -1;
-	return (long)roots;
+	*many = windows > budget;
+	return look ? -1 : (long)roots;
 }
 
 /*
  * Takes the changed subtrees out of the grid, keeping what each of their windows saw as an
  * exposure under its old key.
  */
-static int unindex(struct vis_wtree_live *lv, size_t roots)
+static void unindex(struct vis_wtree_live *lv, size_t roots)
 {
-	lv->n_saved = 0;
 	for (size_t r = 0; r < roots; r++) {
 		struct vis_window *d = lv->dirty[r];
 		for (struct vis_window *v = d; v; v = vis_wtree_next_within(v, d)) {
-			if (grow(&lv->saved, &lv->cap_saved, lv->n_saved, sizeof *lv->saved) < 0)
-				return -1;
-			lv->saved[lv->n_saved++] = (struct saved_boxes){ v, v->box, v->clip, v->inner };
 			if (v->live_seen)
 				expose(lv, v->key, &lv->seen[v->live_seen - 1].seen);
 			if (v->live_indexed)
@@ -697,18 +717,6 @@ static int unindex(struct vis_wtree_live *lv, size_t roots)
 			v->live_indexed = false;
 			v->key = 0;
 		}
-	}
-	return 0;
-}
-
-/* Puts the changed subtrees' boxes back as the last recompute left them: the update gave up. */
-static void restore(struct vis_wtree_live *lv)
-{
-	for (size_t i = 0; i < lv->n_saved; i++) {
-		struct saved_boxes *s = &lv->saved[i];
-		s->w->box = s->box;
-		s->w->clip = s->clip;
-		s->w->inner = s->inner;
 	}
 }
 
@@ -793,15 +801,8 @@ static int cover(struct vis_wtree *tree, struct vis_wtree_live *lv, const struct
 		for (struct vis_window *a = v; ok && a->parent; a = a->parent)
 			if (saw(lv, a, &u))
 				ok = take(lv, a, STATE_UNKNOWN) == 0;
-		/*
-		 * Taking clips off only ends the walk early: once they have cut what is left into
-		 * many boxes, each cut costs more than the windows it could spare (a large window
-		 * moved over many small ones).
-		 */
-		if (pixman_region32_n_rects(&u) <= COVER_BOXES) {
-			cut(&u, v, &ok);
-			narrow(&walk, &u);
-		}
+		cut(&u, v, &ok);
+		narrow(&walk, &u);
 	}
 	vis_zgrid_walk_finish(&walk);
 	pixman_region32_fini(&u);
@@ -841,10 +842,25 @@ static int commit(struct vis_wtree_live *lv)
 	return 0;
 }
 
+/*
+ * The states through the tree, the structures kept: the changed subtrees are in the grid under
+ * their new keys already, and the recompute keeps the keys (wtree_live_keeping()); the windows
+ * it recomputed then get their clips as seen regions (wtree_live_repair()).
+ */
+static int through_tree_keeping(struct vis_wtree *tree, struct vis_wtree_live *lv)
+{
+	lv->keeping = true;
+	int rc = lv->damage_all ? vis_wtree_compute(tree)
+				: vis_wtree_compute_damaged(tree, lv->damage, lv->n_damage);
+	lv->keeping = false;
+	return rc;
+}
+
 /* The live update proper: 0, NOT_LIVE, or -1 (ENOMEM, the structures then no longer valid). */
 static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 {
-	long roots = roots_of(tree, lv);
+	bool many;
+	long roots = roots_of(tree, lv, &many);
 	if (roots < 0)
 		return NOT_LIVE;
 	if (++lv->mark == 0) {
@@ -853,25 +869,24 @@ static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 		lv->mark = 1;
 	}
 	lv->n_cands = 0;
-	if (unindex(lv, (size_t)roots) < 0)
-		return -1;
+	unindex(lv, (size_t)roots);
 	for (long r = 0; r < roots; r++) {
 		struct vis_window *d = lv->dirty[r];
-		size_t k = 0;
-		for (struct vis_window *v = d; v; v = vis_wtree_next_within(v, d))
-			k += v->live_viewable;
-		if (k && !give_keys(tree, d, k))
+		if (d->live_viewable && !give_keys(tree, d))
 			return NOT_LIVE;
 	}
 	/*
-	 * Walks cost what the windows they pass over do; past a few times the tree's size in all,
-	 * the recompute through the tree costs less: give up, with the boxes as they were.
+	 * A walk's step (a heap step, a region test) costs about what the recompute through the
+	 * tree spends on 16 windows: past n / 16 steps in all, the states come from that
+	 * recompute, and the structures, up to date by then, stay.
 	 */
 	lv->steps = 0;
-	lv->budget = lv->fixed_budget ? lv->fixed_budget : 4 * tree->count + 64;
+	lv->budget = lv->fixed_budget ? lv->fixed_budget : tree->count / 16 + 256;
 	tree->stale = true; /* the boxes move on: until the states go with them */
 	int rc = reindex(lv, (size_t)roots);
-	/* The changed windows first: what their roots see now bounds what others lose. */
+	if (rc == 0 && many)
+		rc = OVER_BUDGET;
+	/* The changed windows first: what they see now bounds what others lose. */
 	size_t changed = lv->n_cands;
 	for (size_t i = 0; rc == 0 && i < changed; i++)
 		if (lv->cands[i].state == STATE_UNKNOWN)
@@ -884,11 +899,8 @@ static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 	for (size_t i = changed; rc == 0 && i < lv->n_cands; i++)
 		if (lv->cands[i].state == STATE_UNKNOWN)
 			rc = query(lv, &lv->cands[i]);
-	if (rc == OVER_BUDGET) {
-		restore(lv);
-		tree->stale = false;
-		return NOT_LIVE;
-	}
+	if (rc == OVER_BUDGET)
+		return through_tree_keeping(tree, lv);
 	if (rc < 0)
 		return -1;
 	reset_changed(lv, true);
@@ -906,7 +918,7 @@ int vis_wtree_update(struct vis_wtree *tree)
 		return vis_wtree_compute(tree);
 	bool was_valid = lv->valid;
 	bool small = tree->count < lv->min_windows;
-	if (lv->valid && !small && !tree->stale && !lv->damage_all && !lv->changed_lost) {
+	if (lv->valid && !small && !tree->stale && !lv->changed_lost) {
 		int rc = update(tree, lv);
 		if (rc == 0) {
 			clear_notes(lv);

@@ -32,6 +32,14 @@ void wtree_live_forget(struct vis_wtree *tree, struct vis_window *w);
  */
 void wtree_live_computed(struct vis_wtree *tree, const struct vis_wtree_work *wk);
 
+/*
+ * Whether a recompute through the tree runs for the live update, which keeps its structures:
+ * the keys stay, and instead of wtree_live_computed() the windows it recomputed get their clips
+ * as seen regions (wtree_live_repair(), wk its work).
+ */
+bool wtree_live_keeping(const struct vis_wtree *tree);
+void wtree_live_repair(struct vis_wtree *tree, const struct vis_wtree_work *wk);
+
 /* Whether the order (tree->order, positions) is stale: the last recompute was a live one. */
 bool wtree_live_order_stale(const struct vis_wtree *tree);
 
@@ -42,7 +50,7 @@ int wtree_live_region(const struct vis_wtree *tree, const struct vis_window *w, 
  * is wrong. O(n · cells). */
 const char *wtree_live_check(const struct vis_wtree *tree);
 
-/* For tests: the steps an update's walks may take (0: the default, 4n + 64), so that updates
+/* For tests: the steps an update's walks may take (0: the default, n / 16 + 256), so that updates
  * can be made to give up. */
 void wtree_live_tune(struct vis_wtree *tree, size_t steps);
 

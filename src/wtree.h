@@ -308,17 +308,19 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  * on random trees, and the structures to their invariants.
  *
  * Where the live structures do not apply, it recomputes through the tree instead, with the same
- * result: the first time, after a failed recompute, with more than 64 noted boxes, more changed
- * windows than 64 + n / 32, keys used up where a subtree goes, or a viewable window with a look
- * (a shape, an opaque region other than all); vis_wtree_compute_damaged() with the notes' boxes
- * when it can, else vis_wtree_compute(). Positions (order, pos) are kept only by the recomputes
- * through the tree: n_order is 0 after a live one.
+ * result: below vis_wtree_live_from()'s windows, the first time, after a failed recompute, keys
+ * used up where a subtree goes, or a viewable window with a look (a shape, an opaque region
+ * other than all); vis_wtree_compute_damaged() with the notes' boxes when it can (up to 64),
+ * else vis_wtree_compute(). The structures are then built again once 64 updates have gone
+ * through the tree in a row. Positions (order, pos) are kept only by the recomputes through the
+ * tree: n_order is 0 after a live one.
  *
  * Returns 0, or -1 with errno ENOMEM (states are then unchanged, and the next recompute is full).
  * Cost, live: O(r · log n) per window recomputed and per walk, r the clips the walk passes over
  * (those in the grid cells its pixels meet, between its key and the first that hide them), plus
- * the subtrees changed; a budget of 4n + 64 steps in all, past which the update gives up and
- * recomputes through the tree (as do the next 64, before the structures are built again).
+ * the subtrees changed. Past a budget of n / 16 + 256 steps in all (a walk step costs about what
+ * the recompute through the tree spends on 16 windows), or more changed windows than 64 + n / 32,
+ * the states come from vis_wtree_compute_damaged() instead, the structures kept up to date.
  */
 int vis_wtree_update(struct vis_wtree *tree);
 

@@ -1,6 +1,7 @@
 /*
  * The cost of one recompute of the window tree after a single change, as the daemon pays it after
- * a client's request: a generated scene as top-level windows on the 3840×2160 screen, then random
+ * a client's request: a generated scene as top-level windows on the 3840×2160 screen (uniform's
+ * on a screen of 1,100,000 × 1,100,000, the space its rectangles fill), then random
  * changes of one kind (a move of up to 64 pixels each way, a raise, a lower, an unmap, a map),
  * each followed by a recompute that is timed alone: in full (vis_wtree_compute), from the
  * change's damage (vis_wtree_compute_damaged, the window's box before and after) and live from
@@ -91,7 +92,9 @@ static int run(const struct vis_scene *scene, enum who who, enum op op, enum eng
 	       size_t moves, uint64_t seed, double *us)
 {
 	struct vis_wtree tree;
-	vis_wtree_init(&tree, VIS_GEN_SCREEN_W, VIS_GEN_SCREEN_H);
+	/* A scene with a screen of its own (uniform's space, grid's box) is put on that screen. */
+	vis_wtree_init(&tree, scene->has_screen ? scene->screen_w : VIS_GEN_SCREEN_W,
+		       scene->has_screen ? scene->screen_h : VIS_GEN_SCREEN_H);
 	struct vis_window **wins = malloc((scene->n ? scene->n : 1) * sizeof *wins);
 	if (!wins)
 		return -1;
@@ -229,6 +232,11 @@ int main(int argc, char **argv)
 			vis_scene_init(&scene);
 			if (n == 0 || vis_gen(&scene, kind, n, seed, 0, 0) < 0)
 				return 1;
+			if (kind == VIS_GEN_UNIFORM) {
+				/* Its rectangles fill [0, 1.1 × 10^6)²: a stack on the screen. */
+				scene.has_screen = true;
+				scene.screen_w = scene.screen_h = 1100000;
+			}
 			for (int op = 0; op < OP_COUNT; op++) {
 				if (!(op_set & 1 << op))
 					continue;
