@@ -101,6 +101,14 @@ struct vis_wtree_live {
 	unsigned cooldown;
 	/* Set while a recompute through the tree keeps the structures (keys, grid) valid. */
 	bool keeping;
+	/* The boxes of the changed subtrees' windows before the update, put back for it. */
+	struct saved_boxes *saved;
+	size_t n_saved, cap_saved;
+};
+
+struct saved_boxes {
+	struct vis_window *w;
+	struct vis_box box, clip, inner;
 };
 
 /* Makes room for one more element in a growing array. 0, or -1 with ENOMEM. */
@@ -150,6 +158,7 @@ void vis_wtree_live_destroy(struct vis_wtree_live *lv)
 	free(lv->changed);
 	free(lv->exposures);
 	free(lv->cands);
+	free(lv->saved);
 	free(lv);
 }
 
@@ -705,11 +714,15 @@ static long roots_of(struct vis_wtree *tree, struct vis_wtree_live *lv, bool *ma
  * Takes the changed subtrees out of the grid, keeping what each of their windows saw as an
  * exposure under its old key.
  */
-static void unindex(struct vis_wtree_live *lv, size_t roots)
+static int unindex(struct vis_wtree_live *lv, size_t roots)
 {
+	lv->n_saved = 0;
 	for (size_t r = 0; r < roots; r++) {
 		struct vis_window *d = lv->dirty[r];
 		for (struct vis_window *v = d; v; v = vis_wtree_next_within(v, d)) {
+			if (grow(&lv->saved, &lv->cap_saved, lv->n_saved, sizeof *lv->saved) < 0)
+				return -1;
+			lv->saved[lv->n_saved++] = (struct saved_boxes){ v, v->box, v->clip, v->inner };
 			if (v->live_seen)
 				expose(lv, v->key, &lv->seen[v->live_seen - 1].seen);
 			if (v->live_indexed)
@@ -718,6 +731,7 @@ static void unindex(struct vis_wtree_live *lv, size_t roots)
 			v->key = 0;
 		}
 	}
+	return 0;
 }
 
 /* Places the changed subtrees' viewable windows, indexes them, and takes every window there. */
@@ -849,6 +863,14 @@ static int commit(struct vis_wtree_live *lv)
  */
 static int through_tree_keeping(struct vis_wtree *tree, struct vis_wtree_live *lv)
 {
+	/* The recompute finds the boxes as the last one left them, and moves them itself. */
+	for (size_t i = 0; i < lv->n_saved; i++) {
+		struct saved_boxes *b = &lv->saved[i];
+		b->w->box = b->box;
+		b->w->clip = b->clip;
+		b->w->inner = b->inner;
+	}
+	tree->stale = false;
 	lv->keeping = true;
 	int rc = lv->damage_all ? vis_wtree_compute(tree)
 				: vis_wtree_compute_damaged(tree, lv->damage, lv->n_damage);
@@ -869,7 +891,8 @@ static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 		lv->mark = 1;
 	}
 	lv->n_cands = 0;
-	unindex(lv, (size_t)roots);
+	if (unindex(lv, (size_t)roots) < 0)
+		return -1;
 	for (long r = 0; r < roots; r++) {
 		struct vis_window *d = lv->dirty[r];
 		if (d->live_viewable && !give_keys(tree, d))
