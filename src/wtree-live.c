@@ -288,8 +288,24 @@ bool wtree_live_keeping(const struct vis_wtree *tree)
 	return tree->live && tree->live->keeping;
 }
 
-/* Keeps a window's seen region as its clip (or none when it sees nothing): 0, or -1 (ENOMEM). */
-static int seen_as_clip(struct vis_wtree_live *lv, struct vis_window *w)
+/* The smallest box holding a and b (either may be empty). */
+static struct vis_box hull(struct vis_box a, struct vis_box b)
+{
+	if (vis_box_empty(a))
+		return b;
+	if (vis_box_empty(b))
+		return a;
+	return (struct vis_box){ a.x1 < b.x1 ? a.x1 : b.x1, a.y1 < b.y1 ? a.y1 : b.y1,
+				 a.x2 > b.x2 ? a.x2 : b.x2, a.y2 > b.y2 ? a.y2 : b.y2 };
+}
+
+/*
+ * Keeps a box holding a window's seen region after a recompute through the tree whose damage
+ * lies in the box damage (or none when it sees nothing): outside the damage its pixels are
+ * covered as before, so what it sees now lies in what it saw and the damage, inside its clip.
+ * 0, or -1 (ENOMEM).
+ */
+static int seen_after(struct vis_wtree_live *lv, struct vis_window *w, struct vis_box damage)
 {
 	bool sees = w->state == VIS_UNOBSCURED || w->state == VIS_PARTIALLY_OBSCURED;
 	if (!sees) {
@@ -297,24 +313,37 @@ static int seen_as_clip(struct vis_wtree_live *lv, struct vis_window *w)
 			seen_remove(lv, w);
 		return 0;
 	}
-	if (!w->live_seen) {
+	struct vis_box box = vis_box_intersect(damage, w->clip);
+	if (w->live_seen) {
+		const struct seen *old = &lv->seen[w->live_seen - 1].seen;
+		int n = old->n == SEEN_EXTENTS ? 1 : old->n;
+		for (int i = 0; i < n; i++)
+			box = hull(box, old->boxes[i]);
+	} else {
 		if (grow(&lv->seen, &lv->cap_seen, lv->n_seen, sizeof *lv->seen) < 0)
 			return -1;
 		lv->seen[lv->n_seen++].w = w;
 		w->live_seen = (uint32_t)lv->n_seen;
 	}
-	lv->seen[w->live_seen - 1].seen = (struct seen){ SEEN_EXTENTS, { w->clip } };
+	box = vis_box_intersect(box, w->clip);
+	lv->seen[w->live_seen - 1].seen =
+		(struct seen){ SEEN_EXTENTS, { vis_box_empty(box) ? w->clip : box } };
 	return 0;
 }
 
 void wtree_live_repair(struct vis_wtree *tree, const struct vis_wtree_work *wk)
 {
 	struct vis_wtree_live *lv = tree->live;
+	struct vis_box damage = { 0, 0, 0, 0 };
+	for (size_t i = 0; i < lv->n_damage && !lv->damage_all; i++)
+		damage = hull(damage, lv->damage[i]);
+	if (lv->damage_all)
+		damage = tree->root.clip;
 	bool ok = true;
 	for (size_t a = 0; a < wk->n_affected; a++)
-		ok &= seen_as_clip(lv, tree->order[wk->affected[a]]) == 0;
+		ok &= seen_after(lv, tree->order[wk->affected[a]], damage) == 0;
 	for (size_t i = 0; i < wk->n_hidden; i++)
-		ok &= seen_as_clip(lv, wk->hidden[i]) == 0;
+		ok &= seen_after(lv, wk->hidden[i], damage) == 0;
 	reset_changed(lv, false);
 	for (size_t i = 0; i < tree->n_order; i++)
 		if (tree->order[i]->state != tree->order[i]->old_state)
@@ -900,11 +929,11 @@ static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 	}
 	/*
 	 * A walk's step (a heap step, a region test) costs about what the recompute through the
-	 * tree spends on 16 windows: past n / 16 steps in all, the states come from that
+	 * tree spends on 4 to 16 windows: past n / 4 steps in all, the states come from that
 	 * recompute, and the structures, up to date by then, stay.
 	 */
 	lv->steps = 0;
-	lv->budget = lv->fixed_budget ? lv->fixed_budget : tree->count / 16 + 256;
+	lv->budget = lv->fixed_budget ? lv->fixed_budget : tree->count / 4 + 256;
 	tree->stale = true; /* the boxes move on: until the states go with them */
 	int rc = reindex(lv, (size_t)roots);
 	if (rc == 0 && many)

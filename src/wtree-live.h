@@ -50,7 +50,7 @@ int wtree_live_region(const struct vis_wtree *tree, const struct vis_window *w, 
  * is wrong. O(n · cells). */
 const char *wtree_live_check(const struct vis_wtree *tree);
 
-/* For tests: the steps an update's walks may take (0: the default, n / 16 + 256), so that updates
+/* For tests: the steps an update's walks may take (0: the default, n / 4 + 256), so that updates
  * can be made to give up. */
 void wtree_live_tune(struct vis_wtree *tree, size_t steps);
 
