@@ -388,7 +388,10 @@ static int rebuild(struct vis_wtree *tree, struct vis_wtree_live *lv)
 	for (struct vis_window *w = tree->root.bottom; w; w = vis_wtree_next(w)) {
 		w->live_seen = 0;
 		w->live_indexed = false;
+		w->live_leaf = true;
 	}
+	for (size_t i = 0; i < tree->n_order; i++)
+		tree->order[i]->parent->live_leaf = false;
 	if (vis_zgrid_init(&lv->grid, tree->root.clip) < 0)
 		return -1;
 	for (size_t i = 0; i < tree->n_order; i++) {
@@ -740,6 +743,33 @@ static long roots_of(struct vis_wtree *tree, struct vis_wtree_live *lv, bool *ma
 }
 
 /*
+ * Narrows a loose seen box (kept after a rebuild or a recompute through the tree) of a window
+ * about to leave the grid to what it saw, walking the grid as the last recompute left it: its
+ * clip less the windows above it, if it had no descendants then (they would not hide it).
+ * Windows already out of the grid hide nothing here: the result still holds what it saw.
+ * 0, or -1 (ENOMEM); a walk past its steps leaves the box as it was.
+ */
+static int refine(struct vis_wtree_live *lv, struct vis_window *v)
+{
+	struct seen *s = &lv->seen[v->live_seen - 1].seen;
+	if (s->n != SEEN_EXTENTS || !v->live_leaf || !v->live_indexed)
+		return 0;
+	struct vis_box b = vis_box_intersect(s->boxes[0], v->clip);
+	if (vis_box_empty(b))
+		return 0;
+	pixman_region32_t u;
+	pixman_region32_init_rect(&u, (int)b.x1, (int)b.y1, (unsigned)(b.x2 - b.x1),
+				  (unsigned)(b.y2 - b.y1));
+	bool hit;
+	size_t steps = 0;
+	int rc = hide(lv, v->key, &u, &hit, &steps, lv->budget);
+	if (rc == 0)
+		keep_seen(&u, s);
+	pixman_region32_fini(&u);
+	return rc == OVER_BUDGET ? 0 : rc;
+}
+
+/*
  * Takes the changed subtrees out of the grid, keeping what each of their windows saw as an
  * exposure under its old key.
  */
@@ -752,6 +782,8 @@ static int unindex(struct vis_wtree_live *lv, size_t roots)
 			if (grow(&lv->saved, &lv->cap_saved, lv->n_saved, sizeof *lv->saved) < 0)
 				return -1;
 			lv->saved[lv->n_saved++] = (struct saved_boxes){ v, v->box, v->clip, v->inner };
+			if (v->live_seen && refine(lv, v) < 0)
+				return -1;
 			if (v->live_seen)
 				expose(lv, v->key, &lv->seen[v->live_seen - 1].seen);
 			if (v->live_indexed)
@@ -776,6 +808,10 @@ static int reindex(struct vis_wtree_live *lv, size_t roots)
 				continue;
 			}
 			place(v);
+			/* Its ancestors have a viewable descendant now. */
+			v->live_leaf = true;
+			for (struct vis_window *a = v->parent; a->parent && a->live_leaf; a = a->parent)
+				a->live_leaf = false;
 			if (v->look.input_only)
 				continue;
 			if (!vis_box_empty(v->clip)) {
@@ -920,6 +956,7 @@ static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 		lv->mark = 1;
 	}
 	lv->n_cands = 0;
+	lv->budget = lv->fixed_budget ? lv->fixed_budget : tree->count / 4 + 256;
 	if (unindex(lv, (size_t)roots) < 0)
 		return -1;
 	for (long r = 0; r < roots; r++) {
@@ -1031,6 +1068,8 @@ const char *wtree_live_check(const struct vis_wtree *tree)
 		}
 		if (w->key <= last)
 			return "keys do not grow in pre-order";
+		if (w->parent->parent && w->parent->live_leaf)
+			return "a window with a viewable child is flagged as having none";
 		last = w->key;
 		bool pixels = !w->look.input_only && !vis_box_empty(w->clip);
 		if (w->live_indexed != pixels)

@@ -51,9 +51,10 @@ struct vis_window {
 	uint64_t key;
 	/* vis_wtree_update()'s (wtree-live.c): slots in its lists (1-based, 0: in none), a mark for
 	 * the windows it has taken, whether it indexed the clip and counted the window as having a
-	 * look, and whether the window is viewable (while it works). */
+	 * look, whether the window is viewable (while it works), and whether it had no viewable
+	 * descendants at the last recompute (or may have had: false). */
 	uint32_t live_seen, live_dirty, live_changed, live_mark;
-	bool live_indexed, live_viewable;
+	bool live_indexed, live_viewable, live_leaf;
 	void *data; /* the daemon's */
 };
 
