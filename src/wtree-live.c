@@ -277,6 +277,23 @@ static void clear_notes(struct vis_wtree_live *lv)
 	lv->n_exposures = 0;
 }
 
+/*
+ * After a recompute through the tree (wk its work), which moved every state to old_state:
+ * lists the windows whose state changed, as any window may have.
+ */
+static void list_state_changes(struct vis_wtree *tree, struct vis_wtree_live *lv,
+			       const struct vis_wtree_work *wk)
+{
+	reset_changed(lv, false);
+	for (size_t i = 0; i < tree->n_order; i++)
+		if (tree->order[i]->state != tree->order[i]->old_state)
+			list_changed(lv, tree->order[i]);
+	for (size_t i = 0; i < wk->n_hidden; i++)
+		if (wk->hidden[i]->state != wk->hidden[i]->old_state)
+			list_changed(lv, wk->hidden[i]);
+	lv->changed_all = true;
+}
+
 void wtree_live_invalidate(struct vis_wtree *tree)
 {
 	if (tree->live && !tree->live->keeping)
@@ -344,14 +361,7 @@ void wtree_live_repair(struct vis_wtree *tree, const struct vis_wtree_work *wk)
 		ok &= seen_after(lv, tree->order[wk->affected[a]], damage) == 0;
 	for (size_t i = 0; i < wk->n_hidden; i++)
 		ok &= seen_after(lv, wk->hidden[i], damage) == 0;
-	reset_changed(lv, false);
-	for (size_t i = 0; i < tree->n_order; i++)
-		if (tree->order[i]->state != tree->order[i]->old_state)
-			list_changed(lv, tree->order[i]);
-	for (size_t i = 0; i < wk->n_hidden; i++)
-		if (wk->hidden[i]->state != wk->hidden[i]->old_state)
-			list_changed(lv, wk->hidden[i]);
-	lv->changed_all = true;
+	list_state_changes(tree, lv, wk);
 	if (!ok)
 		lv->valid = false;
 }
@@ -362,14 +372,7 @@ void wtree_live_computed(struct vis_wtree *tree, const struct vis_wtree_work *wk
 	if (!lv)
 		return;
 	lv->valid = false;
-	reset_changed(lv, false);
-	for (size_t i = 0; i < tree->n_order; i++)
-		if (tree->order[i]->state != tree->order[i]->old_state)
-			list_changed(lv, tree->order[i]);
-	for (size_t i = 0; i < wk->n_hidden; i++)
-		if (wk->hidden[i]->state != wk->hidden[i]->old_state)
-			list_changed(lv, wk->hidden[i]);
-	lv->changed_all = true;
+	list_state_changes(tree, lv, wk);
 }
 
 /*
@@ -660,35 +663,60 @@ bool wtree_live_order_stale(const struct vis_wtree *tree)
 	return tree->live && tree->live->valid && tree->n_order == 0 && tree->count > 0;
 }
 
-/*
- * Takes the windows that may see pixels an exposure's windows saw: walking down from its key,
- * the windows whose clips meet what is left of its pixels, each with its ancestors (whom their
- * descendants never hid), taking their clips off, until nothing is left. 0, or -1 (ENOMEM).
- */
-static int uncover(struct vis_wtree *tree, struct vis_wtree_live *lv, const struct exposure *e)
+/* Whether a window saw pixels of u at the last recompute (its kept seen region meets u's). */
+static bool saw(const struct vis_wtree_live *lv, const struct vis_window *v, pixman_region32_t *u)
 {
-	pixman_region32_t u;
+	if (!v->live_seen)
+		return false;
+	const struct seen *s = &lv->seen[v->live_seen - 1].seen;
+	int n = s->n == SEEN_EXTENTS ? 1 : s->n;
+	for (int i = 0; i < n; i++) {
+		pixman_box32_t b = pbox(s->boxes[i]);
+		if (pixman_region32_contains_rectangle(u, &b) != PIXMAN_REGION_OUT)
+			return true;
+	}
+	return false;
+}
+
+/*
+ * Walks the grid down from key over seen's pixels, taking the windows whose clip meets what is
+ * left of them, each with its ancestors (whom their descendants never hide), and taking each
+ * one's clip off what is left, until nothing is left. losing (rule 2 of vis_wtree_update()): the
+ * pixels are a changed window's, changed windows are passed over, and only the windows that saw
+ * some of what is left are taken; else (rule 3) the pixels are what a window saw before it
+ * changed, and every window met is taken. 0, or -1 (ENOMEM), or OVER_BUDGET.
+ */
+static int walk_down(struct vis_wtree *tree, struct vis_wtree_live *lv, const struct seen *seen,
+		     uint64_t key, bool losing)
+{
+	int n = seen->n == SEEN_EXTENTS ? 1 : seen->n;
+	if (n == 0)
+		return 0;
 	pixman_box32_t boxes[SEEN_BOXES];
-	int n = e->seen.n == SEEN_EXTENTS ? 1 : e->seen.n;
 	for (int i = 0; i < n; i++)
-		boxes[i] = pbox(vis_box_intersect(e->seen.boxes[i], tree->root.clip));
+		boxes[i] = pbox(vis_box_intersect(seen->boxes[i], tree->root.clip));
+	pixman_region32_t u;
 	if (!pixman_region32_init_rects(&u, boxes, n)) {
 		errno = ENOMEM;
 		return -1;
 	}
 	struct vis_zgrid_walk walk;
-	int rc = vis_zgrid_walk_init(&walk, &lv->grid, vbox(pixman_region32_extents(&u)), e->key,
-				     false);
-	bool ok = rc == 0;
-	uint64_t key;
+	bool ok = vis_zgrid_walk_init(&walk, &lv->grid, vbox(pixman_region32_extents(&u)), key,
+				      false) == 0;
+	uint64_t k;
 	void *item;
 	while (ok && pixman_region32_not_empty(&u) && ++lv->steps <= lv->budget &&
-	       vis_zgrid_walk_next(&walk, &key, &item)) {
+	       vis_zgrid_walk_next(&walk, &k, &item)) {
 		struct vis_window *v = item;
-		if (!cut(&u, v, &ok))
+		pixman_box32_t b = pbox(v->clip);
+		if (pixman_region32_contains_rectangle(&u, &b) == PIXMAN_REGION_OUT)
 			continue;
-		for (; ok && v->parent; v = v->parent)
-			ok = take(lv, v, STATE_UNKNOWN) == 0;
+		if (losing && v->live_mark == lv->mark)
+			continue; /* changed: recomputed already, and it hides what it did not before */
+		for (struct vis_window *a = v; ok && a->parent; a = a->parent)
+			if (!losing || saw(lv, a, &u))
+				ok = take(lv, a, STATE_UNKNOWN) == 0;
+		cut(&u, v, &ok);
 		narrow(&walk, &u);
 	}
 	vis_zgrid_walk_finish(&walk);
@@ -826,70 +854,17 @@ static int reindex(struct vis_wtree_live *lv, size_t roots)
 	return 0;
 }
 
-/* Whether a window saw pixels of u at the last recompute (its kept seen region meets u's). */
-static bool saw(const struct vis_wtree_live *lv, const struct vis_window *v, pixman_region32_t *u)
-{
-	if (!v->live_seen)
-		return false;
-	const struct seen *s = &lv->seen[v->live_seen - 1].seen;
-	int n = s->n == SEEN_EXTENTS ? 1 : s->n;
-	for (int i = 0; i < n; i++) {
-		pixman_box32_t b = pbox(s->boxes[i]);
-		if (pixman_region32_contains_rectangle(u, &b) != PIXMAN_REGION_OUT)
-			return true;
-	}
-	return false;
-}
-
 /*
- * Takes the windows that may see fewer pixels because of a changed subtree whose root now sees
- * c->seen: walking down from the root's key, the windows whose clip meets what is left of those
- * pixels and that saw some of it, with their ancestors that did; each unchanged window's clip is
- * taken off what is left (what it covers, it hid before as now). 0, or -1 (ENOMEM), or
- * OVER_BUDGET.
+ * Takes the windows that may see fewer pixels because of a changed window that now sees c->seen
+ * (rule 2 of vis_wtree_update()). 0, or -1 (ENOMEM), or OVER_BUDGET.
  */
 static int cover(struct vis_wtree *tree, struct vis_wtree_live *lv, const struct candidate *c)
 {
-	/* c lies in lv->cands, which take() may move: read it all first. */
-	const struct seen *s = &c->seen;
-	uint64_t from = c->w->key;
-	int n = s->n == SEEN_EXTENTS ? 1 : s->n;
-	if (n == 0 || c->state == VIS_WTREE_STATE_NONE)
+	if (c->state == VIS_WTREE_STATE_NONE)
 		return 0;
-	pixman_box32_t boxes[SEEN_BOXES];
-	for (int i = 0; i < n; i++)
-		boxes[i] = pbox(vis_box_intersect(s->boxes[i], tree->root.clip));
-	pixman_region32_t u;
-	if (!pixman_region32_init_rects(&u, boxes, n)) {
-		errno = ENOMEM;
-		return -1;
-	}
-	struct vis_zgrid_walk walk;
-	bool ok = vis_zgrid_walk_init(&walk, &lv->grid, vbox(pixman_region32_extents(&u)), from,
-				      false) == 0;
-	uint64_t key;
-	void *item;
-	while (ok && pixman_region32_not_empty(&u) && ++lv->steps <= lv->budget &&
-	       vis_zgrid_walk_next(&walk, &key, &item)) {
-		struct vis_window *v = item;
-		pixman_box32_t b = pbox(v->clip);
-		if (pixman_region32_contains_rectangle(&u, &b) == PIXMAN_REGION_OUT)
-			continue;
-		if (v->live_mark == lv->mark)
-			continue; /* changed: recomputed already, and it hides what it did not before */
-		for (struct vis_window *a = v; ok && a->parent; a = a->parent)
-			if (saw(lv, a, &u))
-				ok = take(lv, a, STATE_UNKNOWN) == 0;
-		cut(&u, v, &ok);
-		narrow(&walk, &u);
-	}
-	vis_zgrid_walk_finish(&walk);
-	pixman_region32_fini(&u);
-	if (lv->steps > lv->budget)
-		return OVER_BUDGET;
-	if (!ok)
-		errno = ENOMEM;
-	return ok ? 0 : -1;
+	/* c lies in lv->cands, which take() may move: copied first. */
+	struct seen seen = c->seen;
+	return walk_down(tree, lv, &seen, c->w->key, true);
 }
 
 /* Makes the candidates' states and seen regions the tree's: cannot fail (room is made first). */
@@ -984,7 +959,7 @@ static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 	for (size_t i = 0; rc == 0 && i < changed; i++)
 		rc = cover(tree, lv, &lv->cands[i]);
 	for (size_t e = 0; rc == 0 && e < lv->n_exposures; e++)
-		rc = uncover(tree, lv, &lv->exposures[e]);
+		rc = walk_down(tree, lv, &lv->exposures[e].seen, lv->exposures[e].key, false);
 	for (size_t i = changed; rc == 0 && i < lv->n_cands; i++)
 		if (lv->cands[i].state == STATE_UNKNOWN)
 			rc = query(lv, &lv->cands[i]);
