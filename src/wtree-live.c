@@ -10,24 +10,6 @@
 #include "wtree-live.h"
 #include "zgrid.h"
 
-/* Keys stay in [KEY_LOW, KEY_HIGH]; windows new at either end of the order are KEY_GAP apart. */
-#define KEY_LOW ((uint64_t)1 << 40)
-#define KEY_HIGH (UINT64_MAX - KEY_LOW)
-#define KEY_GAP ((uint64_t)1 << 32)
-
-/* The damage boxes kept for a recompute that does not go live; past them, a full one. */
-#define LIVE_DAMAGE 64
-
-/* A seen region is kept as up to SEEN_BOXES boxes, or as its extents (n = SEEN_EXTENTS). */
-#define SEEN_BOXES 4
-#define SEEN_EXTENTS 0xff
-
-/* A state not known yet, for a window taken to be recomputed. */
-#define STATE_UNKNOWN 0xff
-
-/* What a walk returns when the update's budget ran out: it goes through the tree instead. */
-#define OVER_BUDGET (-2)
-
 /*
  * The windows below which updates go through the tree: measured with bench-wtree, at 1,000
  * windows the damaged recompute costs 10–20 µs a change and the live one's medians are as low
@@ -39,77 +21,10 @@
 /* Updates through the tree after one could not go live, before the structures are rebuilt. */
 #define LIVE_COOLDOWN 64
 
-/* Pixels that a window (or a destroyed one) saw: its seen region, or a box holding it. */
-struct seen {
-	uint8_t n;
-	struct vis_box boxes[SEEN_BOXES];
-};
-
-/* A viewable window that is not fully obscured, with what it saw at the last recompute. */
-struct seen_window {
-	struct vis_window *w;
-	struct seen seen;
-};
-
-/* Pixels that windows saw until a change: the windows below key may see them now. */
-struct exposure {
-	uint64_t key;
-	struct seen seen;
-};
-
-/* A window whose state the update recomputes, with the result until it commits. */
-struct candidate {
-	struct vis_window *w;
-	uint8_t state;
-	struct seen seen;
-};
-
-/*
- * The invariants, while valid: every viewable window has a key, growing in pre-order (the others
- * 0); the grid holds the clip of every viewable window with pixels (not input-only), under its
- * key, flagged live_indexed; seen lists every viewable window that is not fully obscured, with a
- * region holding the pixels it saw at the last recompute (exact, or its clip when not known);
- * no viewable window has a look (its pixels are its clip, all opaque). Whatever the validity, dirty
- * lists the windows noted since the last recompute, changed those the last one may have changed
- * (state ≠ old_state only among them), exposures what windows destroyed since saw.
- */
-struct vis_wtree_live {
-	bool valid;
-	struct vis_zgrid grid;
-	struct seen_window *seen;
-	size_t n_seen, cap_seen;
-	struct vis_window **dirty;
-	size_t n_dirty, cap_dirty;
-	struct vis_window **changed;
-	size_t n_changed, cap_changed;
-	bool changed_all;
-	struct exposure *exposures;
-	size_t n_exposures, cap_exposures;
-	struct candidate *cands;
-	size_t n_cands, cap_cands;
-	struct vis_box damage[LIVE_DAMAGE];
-	size_t n_damage;
-	bool damage_all;
-	bool changed_lost; /* changed could not list them all: the next recompute goes through all */
-	uint32_t mark;
-	/* An update's walks take at most budget steps in all, past which it gives up (NOT_LIVE). */
-	size_t steps, budget;
-	size_t fixed_budget; /* a budget set by wtree_live_tune(), or 0 */
-	size_t min_windows;  /* the windows below which updates go through the tree */
-	/* Updates left to go through the tree after one could not go live, before the structures
-	 * are built again: where updates cost more than that, rebuilding each time costs more. */
-	unsigned cooldown;
-	/* Set while a recompute through the tree keeps the structures (keys, grid) valid. */
-	bool keeping;
-	/* The boxes of the changed subtrees' windows before the update, put back for it. */
-	struct saved_boxes *saved;
-	size_t n_saved, cap_saved;
-};
-
-struct saved_boxes {
-	struct vis_window *w;
-	struct vis_box box, clip, inner;
-};
+/* Keys stay in [KEY_LOW, KEY_HIGH]; windows new at either end of the order are KEY_GAP apart. */
+#define KEY_LOW ((uint64_t)1 << 40)
+#define KEY_HIGH (UINT64_MAX - KEY_LOW)
+#define KEY_GAP ((uint64_t)1 << 32)
 
 /* Makes room for one more element in a growing array. 0, or -1 with ENOMEM. */
 static int grow(void *array, size_t *cap, size_t n, size_t size)
@@ -433,19 +348,6 @@ static struct vis_window *prev_viewable(const struct vis_window *w)
 	}
 }
 
-/* The key of the last viewable window of w's subtree (w's own without viewable descendants). */
-static uint64_t subtree_end(const struct vis_window *w)
-{
-	for (;;) {
-		const struct vis_window *c = w->top;
-		while (c && !c->mapped)
-			c = c->below;
-		if (!c)
-			return w->key;
-		w = c;
-	}
-}
-
 /*
  * Gives keys to the run of viewable windows without one that holds viewable d (its subtree's,
  * and those of changed subtrees next to it), in pre-order between the nearest keyed windows
@@ -495,7 +397,7 @@ static void place(struct vis_window *w)
 }
 
 /* Takes a window to recompute (once), its state given or STATE_UNKNOWN. 0, or -1 (ENOMEM). */
-static int take(struct vis_wtree_live *lv, struct vis_window *w, uint8_t state)
+int wtree_live_take(struct vis_wtree_live *lv, struct vis_window *w, uint8_t state)
 {
 	if (w->live_mark == lv->mark || w->look.input_only)
 		return 0;
@@ -506,227 +408,16 @@ static int take(struct vis_wtree_live *lv, struct vis_window *w, uint8_t state)
 	return 0;
 }
 
-static pixman_box32_t pbox(struct vis_box b)
-{
-	/* Clips lie in the screen, inside 32 bits. */
-	return (pixman_box32_t){ (int32_t)b.x1, (int32_t)b.y1, (int32_t)b.x2, (int32_t)b.y2 };
-}
 
-static struct vis_box vbox(const pixman_box32_t *b)
-{
-	return (struct vis_box){ b->x1, b->y1, b->x2, b->y2 };
-}
 
-/* Whether window v's clip covers pixels of u (whose extents are ext); if so, takes them off. */
-static bool cut(pixman_region32_t *u, const struct vis_window *v, bool *ok)
-{
-	pixman_box32_t b = pbox(v->clip);
-	if (pixman_region32_contains_rectangle(u, &b) == PIXMAN_REGION_OUT)
-		return false;
-	pixman_region32_t r;
-	pixman_region32_init_rect(&r, b.x1, b.y1, (unsigned)(b.x2 - b.x1), (unsigned)(b.y2 - b.y1));
-	*ok &= pixman_region32_subtract(u, u, &r);
-	pixman_region32_fini(&r);
-	return true;
-}
 
-/* Narrows a walk to what is left of u. */
-static void narrow(struct vis_zgrid_walk *walk, pixman_region32_t *u)
-{
-	vis_zgrid_walk_narrow(walk, vbox(pixman_region32_extents(u)));
-}
 
-/*
- * Takes off u every pixel of a viewable window whose key is above end (after w's subtree in
- * pre-order: the windows that can hide w), walking the grid from both ends of that range at
- * once, so that what hides u is found early whether it lies just above w (a cascade) or at the
- * top (a maximized window). Stops once u is empty. Sets *hit when some pixel was taken off.
- * 0, or -1 (ENOMEM).
- */
-static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t *u, bool *hit,
-		size_t *steps, size_t budget)
-{
-	struct vis_zgrid_walk up, down;
-	struct vis_box ext = vbox(pixman_region32_extents(u));
-	bool ok = true;
-	*hit = false;
-	if (vis_zgrid_walk_init(&up, &lv->grid, ext, end, true) < 0)
-		return -1;
-	if (vis_zgrid_walk_init(&down, &lv->grid, ext, UINT64_MAX, false) < 0) {
-		vis_zgrid_walk_finish(&up);
-		return -1;
-	}
-	uint64_t lo = end, hi = UINT64_MAX;
-	bool go_up = true, go_down = true;
-	while ((go_up || go_down) && pixman_region32_not_empty(u) && ok) {
-		for (int side = 0; side < 2; side++) {
-			bool *go = side ? &go_down : &go_up;
-			uint64_t key;
-			void *item;
-			if (!*go)
-				continue;
-			if (++*steps > budget) {
-				ok = false;
-				break;
-			}
-			if (!vis_zgrid_walk_next(side ? &down : &up, &key, &item) ||
-			    (side ? key <= lo : key >= hi)) {
-				*go = false; /* the two walks met: every key between was seen */
-				continue;
-			}
-			*(side ? &hi : &lo) = key;
-			if (cut(u, item, &ok)) {
-				*hit = true;
-				if (!pixman_region32_not_empty(u))
-					break;
-				narrow(&up, u);
-				narrow(&down, u);
-			}
-		}
-	}
-	vis_zgrid_walk_finish(&up);
-	vis_zgrid_walk_finish(&down);
-	if (*steps > budget)
-		return OVER_BUDGET;
-	if (!ok)
-		errno = ENOMEM;
-	return ok ? 0 : -1;
-}
-
-/* Keeps a region as a seen: its boxes when few, else its extents. */
-static void keep_seen(pixman_region32_t *u, struct seen *s)
-{
-	int n;
-	const pixman_box32_t *b = pixman_region32_rectangles(u, &n);
-	if (n > SEEN_BOXES) {
-		s->n = SEEN_EXTENTS;
-		s->boxes[0] = vbox(pixman_region32_extents(u));
-		return;
-	}
-	s->n = (uint8_t)n;
-	for (int i = 0; i < n; i++)
-		s->boxes[i] = vbox(&b[i]);
-}
-
-/*
- * A viewable window's state, by X's rule over its pixels (its clip), and what it sees: its clip
- * less the clips of the windows after its subtree. 0, or -1 (ENOMEM).
- */
-static int query(struct vis_wtree_live *lv, struct candidate *c)
-{
-	const struct vis_window *w = c->w;
-	c->seen.n = 0;
-	c->state = VIS_FULLY_OBSCURED;
-	if (vis_box_empty(w->clip))
-		return 0;
-	pixman_region32_t u;
-	pixman_box32_t b = pbox(w->clip);
-	pixman_region32_init_rect(&u, b.x1, b.y1, (unsigned)(b.x2 - b.x1), (unsigned)(b.y2 - b.y1));
-	bool hit;
-	int rc = hide(lv, subtree_end(w), &u, &hit, &lv->steps, lv->budget);
-	if (rc == 0 && pixman_region32_not_empty(&u)) {
-		bool whole = !hit && w->clip.x1 == w->box.x1 && w->clip.y1 == w->box.y1 &&
-			     w->clip.x2 == w->box.x2 && w->clip.y2 == w->box.y2;
-		c->state = whole ? VIS_UNOBSCURED : VIS_PARTIALLY_OBSCURED;
-		keep_seen(&u, &c->seen);
-	}
-	pixman_region32_fini(&u);
-	return rc;
-}
-
-int wtree_live_region(const struct vis_wtree *tree, const struct vis_window *w, void *out)
-{
-	pixman_region32_t *region = out;
-	pixman_region32_clear(region);
-	if (vis_box_empty(w->clip) || w->look.input_only)
-		return 0;
-	pixman_box32_t b = pbox(w->clip);
-	pixman_region32_t u;
-	pixman_region32_init_rect(&u, b.x1, b.y1, (unsigned)(b.x2 - b.x1), (unsigned)(b.y2 - b.y1));
-	bool hit;
-	/* As X's clip list, its descendants hide it here: every window after it. */
-	size_t steps = 0;
-	int rc = hide(tree->live, w->key, &u, &hit, &steps, SIZE_MAX);
-	if (rc == 0 && pixman_region32_not_empty(&u)) {
-		pixman_region32_translate(&u, (int)-w->box.x1, (int)-w->box.y1);
-		if (!pixman_region32_copy(region, &u)) {
-			errno = ENOMEM;
-			rc = -1;
-		}
-	}
-	pixman_region32_fini(&u);
-	return rc;
-}
 
 bool wtree_live_order_stale(const struct vis_wtree *tree)
 {
 	return tree->live && tree->live->valid && tree->n_order == 0 && tree->count > 0;
 }
 
-/* Whether a window saw pixels of u at the last recompute (its kept seen region meets u's). */
-static bool saw(const struct vis_wtree_live *lv, const struct vis_window *v, pixman_region32_t *u)
-{
-	if (!v->live_seen)
-		return false;
-	const struct seen *s = &lv->seen[v->live_seen - 1].seen;
-	int n = s->n == SEEN_EXTENTS ? 1 : s->n;
-	for (int i = 0; i < n; i++) {
-		pixman_box32_t b = pbox(s->boxes[i]);
-		if (pixman_region32_contains_rectangle(u, &b) != PIXMAN_REGION_OUT)
-			return true;
-	}
-	return false;
-}
-
-/*
- * Walks the grid down from key over seen's pixels, taking the windows whose clip meets what is
- * left of them, each with its ancestors (whom their descendants never hide), and taking each
- * one's clip off what is left, until nothing is left. losing (rule 2 of vis_wtree_update()): the
- * pixels are a changed window's, changed windows are passed over, and only the windows that saw
- * some of what is left are taken; else (rule 3) the pixels are what a window saw before it
- * changed, and every window met is taken. 0, or -1 (ENOMEM), or OVER_BUDGET.
- */
-static int walk_down(struct vis_wtree *tree, struct vis_wtree_live *lv, const struct seen *seen,
-		     uint64_t key, bool losing)
-{
-	int n = seen->n == SEEN_EXTENTS ? 1 : seen->n;
-	if (n == 0)
-		return 0;
-	pixman_box32_t boxes[SEEN_BOXES];
-	for (int i = 0; i < n; i++)
-		boxes[i] = pbox(vis_box_intersect(seen->boxes[i], tree->root.clip));
-	pixman_region32_t u;
-	if (!pixman_region32_init_rects(&u, boxes, n)) {
-		errno = ENOMEM;
-		return -1;
-	}
-	struct vis_zgrid_walk walk;
-	bool ok = vis_zgrid_walk_init(&walk, &lv->grid, vbox(pixman_region32_extents(&u)), key,
-				      false) == 0;
-	uint64_t k;
-	void *item;
-	while (ok && pixman_region32_not_empty(&u) && ++lv->steps <= lv->budget &&
-	       vis_zgrid_walk_next(&walk, &k, &item)) {
-		struct vis_window *v = item;
-		pixman_box32_t b = pbox(v->clip);
-		if (pixman_region32_contains_rectangle(&u, &b) == PIXMAN_REGION_OUT)
-			continue;
-		if (losing && v->live_mark == lv->mark)
-			continue; /* changed: recomputed already, and it hides what it did not before */
-		for (struct vis_window *a = v; ok && a->parent; a = a->parent)
-			if (!losing || saw(lv, a, &u))
-				ok = take(lv, a, STATE_UNKNOWN) == 0;
-		cut(&u, v, &ok);
-		narrow(&walk, &u);
-	}
-	vis_zgrid_walk_finish(&walk);
-	pixman_region32_fini(&u);
-	if (lv->steps > lv->budget)
-		return OVER_BUDGET;
-	if (!ok)
-		errno = ENOMEM;
-	return ok ? 0 : -1;
-}
 
 /* Whether some ancestor of w was noted too: its change takes w's in. */
 static bool under_dirty(const struct vis_window *w)
@@ -771,33 +462,6 @@ static long roots_of(struct vis_wtree *tree, struct vis_wtree_live *lv, bool *ma
 }
 
 /*
- * Narrows a loose seen box (kept after a rebuild or a recompute through the tree) of a window
- * about to leave the grid to what it saw, walking the grid as the last recompute left it: its
- * clip less the windows above it, if it had no descendants then (they would not hide it).
- * Windows already out of the grid hide nothing here: the result still holds what it saw.
- * 0, or -1 (ENOMEM); a walk past its steps leaves the box as it was.
- */
-static int refine(struct vis_wtree_live *lv, struct vis_window *v)
-{
-	struct seen *s = &lv->seen[v->live_seen - 1].seen;
-	if (s->n != SEEN_EXTENTS || !v->live_leaf || !v->live_indexed)
-		return 0;
-	struct vis_box b = vis_box_intersect(s->boxes[0], v->clip);
-	if (vis_box_empty(b))
-		return 0;
-	pixman_region32_t u;
-	pixman_region32_init_rect(&u, (int)b.x1, (int)b.y1, (unsigned)(b.x2 - b.x1),
-				  (unsigned)(b.y2 - b.y1));
-	bool hit;
-	size_t steps = 0;
-	int rc = hide(lv, v->key, &u, &hit, &steps, lv->budget);
-	if (rc == 0)
-		keep_seen(&u, s);
-	pixman_region32_fini(&u);
-	return rc == OVER_BUDGET ? 0 : rc;
-}
-
-/*
  * Takes the changed subtrees out of the grid, keeping what each of their windows saw as an
  * exposure under its old key.
  */
@@ -810,7 +474,7 @@ static int unindex(struct vis_wtree_live *lv, size_t roots)
 			if (grow(&lv->saved, &lv->cap_saved, lv->n_saved, sizeof *lv->saved) < 0)
 				return -1;
 			lv->saved[lv->n_saved++] = (struct saved_boxes){ v, v->box, v->clip, v->inner };
-			if (v->live_seen && refine(lv, v) < 0)
+			if (v->live_seen && wtree_live_walk_refine(lv, v) < 0)
 				return -1;
 			if (v->live_seen)
 				expose(lv, v->key, &lv->seen[v->live_seen - 1].seen);
@@ -831,7 +495,7 @@ static int reindex(struct vis_wtree_live *lv, size_t roots)
 		for (struct vis_window *v = d; v; v = vis_wtree_next_within(v, d)) {
 			if (!v->live_viewable) {
 				if (v->state != VIS_WTREE_STATE_NONE &&
-				    take(lv, v, VIS_WTREE_STATE_NONE) < 0)
+				    wtree_live_take(lv, v, VIS_WTREE_STATE_NONE) < 0)
 					return -1;
 				continue;
 			}
@@ -847,24 +511,11 @@ static int reindex(struct vis_wtree_live *lv, size_t roots)
 					return -1;
 				v->live_indexed = true;
 			}
-			if (take(lv, v, STATE_UNKNOWN) < 0)
+			if (wtree_live_take(lv, v, STATE_UNKNOWN) < 0)
 				return -1;
 		}
 	}
 	return 0;
-}
-
-/*
- * Takes the windows that may see fewer pixels because of a changed window that now sees c->seen
- * (rule 2 of vis_wtree_update()). 0, or -1 (ENOMEM), or OVER_BUDGET.
- */
-static int cover(struct vis_wtree *tree, struct vis_wtree_live *lv, const struct candidate *c)
-{
-	if (c->state == VIS_WTREE_STATE_NONE)
-		return 0;
-	/* c lies in lv->cands, which take() may move: copied first. */
-	struct seen seen = c->seen;
-	return walk_down(tree, lv, &seen, c->w->key, true);
 }
 
 /* Makes the candidates' states and seen regions the tree's: cannot fail (room is made first). */
@@ -954,15 +605,15 @@ static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 	size_t changed = lv->n_cands;
 	for (size_t i = 0; rc == 0 && i < changed; i++)
 		if (lv->cands[i].state == STATE_UNKNOWN)
-			rc = query(lv, &lv->cands[i]);
+			rc = wtree_live_walk_query(lv, &lv->cands[i]);
 	/* Each one: under an input-only root, descendants see what their root does not. */
 	for (size_t i = 0; rc == 0 && i < changed; i++)
-		rc = cover(tree, lv, &lv->cands[i]);
+		rc = wtree_live_walk_cover(tree, lv, &lv->cands[i]);
 	for (size_t e = 0; rc == 0 && e < lv->n_exposures; e++)
-		rc = walk_down(tree, lv, &lv->exposures[e].seen, lv->exposures[e].key, false);
+		rc = wtree_live_walk_down(tree, lv, &lv->exposures[e].seen, lv->exposures[e].key, false);
 	for (size_t i = changed; rc == 0 && i < lv->n_cands; i++)
 		if (lv->cands[i].state == STATE_UNKNOWN)
-			rc = query(lv, &lv->cands[i]);
+			rc = wtree_live_walk_query(lv, &lv->cands[i]);
 	if (rc == OVER_BUDGET)
 		return through_tree_keeping(tree, lv);
 	if (rc < 0)

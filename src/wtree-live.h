@@ -6,6 +6,92 @@
 #define VIS_WTREE_LIVE_H
 
 #include "wtree-work.h"
+#include "zgrid.h"
+
+/* The damage boxes kept for a recompute that does not go live; past them, a full one. */
+#define LIVE_DAMAGE 64
+
+/* A seen region is kept as up to SEEN_BOXES boxes, or as its extents (n = SEEN_EXTENTS). */
+#define SEEN_BOXES 4
+#define SEEN_EXTENTS 0xff
+
+/* A state not known yet, for a window taken to be recomputed. */
+#define STATE_UNKNOWN 0xff
+
+/* What a walk returns when the update's budget ran out: it goes through the tree instead. */
+#define OVER_BUDGET (-2)
+
+/* Pixels that a window (or a destroyed one) saw: its seen region, or a box holding it. */
+struct seen {
+	uint8_t n;
+	struct vis_box boxes[SEEN_BOXES];
+};
+
+/* A viewable window that is not fully obscured, with what it saw at the last recompute. */
+struct seen_window {
+	struct vis_window *w;
+	struct seen seen;
+};
+
+/* Pixels that windows saw until a change: the windows below key may see them now. */
+struct exposure {
+	uint64_t key;
+	struct seen seen;
+};
+
+/* A window whose state the update recomputes, with the result until it commits. */
+struct candidate {
+	struct vis_window *w;
+	uint8_t state;
+	struct seen seen;
+};
+
+/*
+ * The invariants, while valid: every viewable window has a key, growing in pre-order (the others
+ * 0); the grid holds the clip of every viewable window with pixels (not input-only), under its
+ * key, flagged live_indexed; seen lists every viewable window that is not fully obscured, with a
+ * region holding the pixels it saw at the last recompute (exact, or its clip when not known);
+ * no viewable window has a look (its pixels are its clip, all opaque). Whatever the validity, dirty
+ * lists the windows noted since the last recompute, changed those the last one may have changed
+ * (state ≠ old_state only among them), exposures what windows destroyed since saw.
+ */
+struct vis_wtree_live {
+	bool valid;
+	struct vis_zgrid grid;
+	struct seen_window *seen;
+	size_t n_seen, cap_seen;
+	struct vis_window **dirty;
+	size_t n_dirty, cap_dirty;
+	struct vis_window **changed;
+	size_t n_changed, cap_changed;
+	bool changed_all;
+	struct exposure *exposures;
+	size_t n_exposures, cap_exposures;
+	struct candidate *cands;
+	size_t n_cands, cap_cands;
+	struct vis_box damage[LIVE_DAMAGE];
+	size_t n_damage;
+	bool damage_all;
+	bool changed_lost; /* changed could not list them all: the next recompute goes through all */
+	uint32_t mark;
+	/* An update's walks take at most budget steps in all, past which it gives up (NOT_LIVE). */
+	size_t steps, budget;
+	size_t fixed_budget; /* a budget set by wtree_live_tune(), or 0 */
+	size_t min_windows;  /* the windows below which updates go through the tree */
+	/* Updates left to go through the tree after one could not go live, before the structures
+	 * are built again: where updates cost more than that, rebuilding each time costs more. */
+	unsigned cooldown;
+	/* Set while a recompute through the tree keeps the structures (keys, grid) valid. */
+	bool keeping;
+	/* The boxes of the changed subtrees' windows before the update, put back for it. */
+	struct saved_boxes *saved;
+	size_t n_saved, cap_saved;
+};
+
+struct saved_boxes {
+	struct vis_window *w;
+	struct vis_box box, clip, inner;
+};
 
 /* The keys of a recompute's order: position i of n gets key_of(i), spaced for insertions. */
 #define WTREE_KEY_BASE ((uint64_t)1 << 62)
@@ -15,6 +101,25 @@ static inline uint64_t wtree_key_of(size_t i, size_t n)
 {
 	return WTREE_KEY_BASE + (uint64_t)(i + 1) * (WTREE_KEY_SPAN / ((uint64_t)n + 1));
 }
+
+/* Takes a window to recompute (once), its state given or STATE_UNKNOWN. 0, or -1 (ENOMEM). */
+int wtree_live_take(struct vis_wtree_live *lv, struct vis_window *w, uint8_t state);
+
+/*
+ * The walks (wtree-live-walk.c): a window's state and seen region (query); the windows that see
+ * fewer pixels because of a changed window c (cover, rule 2), or that may see pixels a window saw
+ * before it changed (walk_down, rule 3: seen under key); a loose seen box narrowed on the grid as
+ * the last recompute left it (refine); a visible region for vis_wtree_visible_region() (region).
+ * 0, or -1 (ENOMEM), or OVER_BUDGET.
+ */
+int wtree_live_walk_query(struct vis_wtree_live *lv, struct candidate *c);
+int wtree_live_walk_cover(struct vis_wtree *tree, struct vis_wtree_live *lv,
+			  const struct candidate *c);
+int wtree_live_walk_down(struct vis_wtree *tree, struct vis_wtree_live *lv,
+			 const struct seen *seen, uint64_t key, bool losing);
+int wtree_live_walk_refine(struct vis_wtree_live *lv, struct vis_window *v);
+int wtree_live_walk_region(const struct vis_wtree *tree, const struct vis_window *w,
+			   void *region);
 
 /* Frees a tree's live structures; NULL is a no-op. */
 void vis_wtree_live_destroy(struct vis_wtree_live *live);
@@ -43,8 +148,6 @@ void wtree_live_repair(struct vis_wtree *tree, const struct vis_wtree_work *wk);
 /* Whether the order (tree->order, positions) is stale: the last recompute was a live one. */
 bool wtree_live_order_stale(const struct vis_wtree *tree);
 
-/* The window's visible region, as vis_wtree_visible_region() gives it, from the live index. */
-int wtree_live_region(const struct vis_wtree *tree, const struct vis_window *w, void *region);
 
 /* For self-checks: NULL when the live structures, if valid, meet their invariants, else what
  * is wrong. O(n · cells). */

@@ -40,7 +40,7 @@ int vis_wtree_visible_region(const struct vis_wtree *tree, const struct vis_wind
 	    vis_box_empty(clip))
 		return 0;
 	if (wtree_live_order_stale(tree))
-		return wtree_live_region(tree, window, region);
+		return wtree_live_walk_region(tree, window, region);
 	/* Its own pixels, numbered 0, and the later windows' inside its clip, numbered 1. The boxes
 	 * lie in the clip, so in window coordinates in [0, INT32_MAX) (the box's sides' range). */
 	struct vis_wtree_work wk = { 0 };
