@@ -47,6 +47,20 @@ static inline struct vis_box vis_box_intersect(struct vis_box a, struct vis_box 
 	return r;
 }
 
+/* The smallest box holding a and b; an empty one adds nothing. O(1). */
+static inline struct vis_box vis_box_hull(struct vis_box a, struct vis_box b)
+{
+	if (vis_box_empty(a))
+		return b;
+	if (vis_box_empty(b))
+		return a;
+	struct vis_box r = {
+		a.x1 < b.x1 ? a.x1 : b.x1, a.y1 < b.y1 ? a.y1 : b.y1,
+		a.x2 > b.x2 ? a.x2 : b.x2, a.y2 > b.y2 ? a.y2 : b.y2,
+	};
+	return r;
+}
+
 /* Whether box a holds every pixel of box b (b non-empty). O(1). */
 static inline bool vis_box_contains(struct vis_box a, struct vis_box b)
 {

@@ -53,15 +53,6 @@ static bool meets(struct vis_box a, struct vis_box b)
 	       ((a.y1 > b.y1 ? a.y1 : b.y1) < (a.y2 < b.y2 ? a.y2 : b.y2));
 }
 
-/* The smallest box holding a and b (a may be empty). */
-static struct vis_box box_hull(struct vis_box a, struct vis_box b)
-{
-	if (vis_box_empty(a))
-		return b;
-	return (struct vis_box){ a.x1 < b.x1 ? a.x1 : b.x1, a.y1 < b.y1 ? a.y1 : b.y1,
-				 a.x2 > b.x2 ? a.x2 : b.x2, a.y2 > b.y2 ? a.y2 : b.y2 };
-}
-
 /*
  * The part of flatten() for a window with a border or CLEAR: its inner box, its flags (an
  * input-only window is never CHANGED, its state being always "none"). Returns whether it is CLEAR.
@@ -266,7 +257,7 @@ static size_t outside_parts(struct vis_box c, struct vis_box within, struct vis_
 	*hull = (struct vis_box){ 0, 0, 0, 0 };
 	for (size_t p = 0; p < 4; p++)
 		if (!vis_box_empty(all[p])) {
-			*hull = box_hull(*hull, all[p]);
+			*hull = vis_box_hull(*hull, all[p]);
 			parts[k++] = all[p];
 		}
 	return k;
@@ -331,7 +322,7 @@ static struct vis_box select_within(const struct vis_wtree *tree, struct vis_box
 		if ((wk->flags[i] & CHANGED) ||
 		    ((wk->flags[i] & CLEAR) &&
 		     (tree->order[i]->look.shaped || (wk->flags[i] & UNDER))))
-			within = box_hull(within, wk->clips[i]);
+			within = vis_box_hull(within, wk->clips[i]);
 		else if (wk->last[i] == VIS_PARTIALLY_OBSCURED)
 			wk->flags[i] |= SCAN;
 	}
@@ -352,7 +343,7 @@ static struct vis_box select_within(const struct vis_wtree *tree, struct vis_box
 			}
 		}
 		wk->flags[i] &= (uint8_t)~SCAN;
-		within = box_hull(within, wk->clips[i]);
+		within = vis_box_hull(within, wk->clips[i]);
 	}
 	return within;
 }
@@ -503,7 +494,7 @@ static int compute(struct vis_wtree *tree, const struct vis_box *damage, size_t 
 	}
 	for (size_t k = 0; damage && k < n_damage; k++)
 		if (meets(damage[k], screen))
-			bounds = box_hull(bounds, vis_box_intersect(damage[k], screen));
+			bounds = vis_box_hull(bounds, vis_box_intersect(damage[k], screen));
 	if (flatten(tree, wk) < 0)
 		return -1;
 	tree->stale = true; /* until the states go with the new boxes */

@@ -220,17 +220,6 @@ bool wtree_live_keeping(const struct vis_wtree *tree)
 	return tree->live && tree->live->keeping;
 }
 
-/* The smallest box holding a and b (either may be empty). */
-static struct vis_box hull(struct vis_box a, struct vis_box b)
-{
-	if (vis_box_empty(a))
-		return b;
-	if (vis_box_empty(b))
-		return a;
-	return (struct vis_box){ a.x1 < b.x1 ? a.x1 : b.x1, a.y1 < b.y1 ? a.y1 : b.y1,
-				 a.x2 > b.x2 ? a.x2 : b.x2, a.y2 > b.y2 ? a.y2 : b.y2 };
-}
-
 /*
  * Keeps a box holding a window's seen region after a recompute through the tree whose damage
  * lies in the box damage (or none when it sees nothing): outside the damage its pixels are
@@ -250,7 +239,7 @@ static int seen_after(struct vis_wtree_live *lv, struct vis_window *w, struct vi
 		const struct seen *old = &lv->seen[w->live_seen - 1].seen;
 		int n = old->n == SEEN_EXTENTS ? 1 : old->n;
 		for (int i = 0; i < n; i++)
-			box = hull(box, old->boxes[i]);
+			box = vis_box_hull(box, old->boxes[i]);
 	} else {
 		if (grow(&lv->seen, &lv->cap_seen, lv->n_seen, sizeof *lv->seen) < 0)
 			return -1;
@@ -268,7 +257,7 @@ void wtree_live_repair(struct vis_wtree *tree, const struct vis_wtree_work *wk)
 	struct vis_wtree_live *lv = tree->live;
 	struct vis_box damage = { 0, 0, 0, 0 };
 	for (size_t i = 0; i < lv->n_damage && !lv->damage_all; i++)
-		damage = hull(damage, lv->damage[i]);
+		damage = vis_box_hull(damage, lv->damage[i]);
 	if (lv->damage_all)
 		damage = tree->root.clip;
 	bool ok = true;
@@ -582,6 +571,12 @@ static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 		lv->mark = 1;
 	}
 	lv->n_cands = 0;
+	/*
+	 * A walk's step (a heap step, a region test) costs about what the recompute through the
+	 * tree spends on 4 to 16 windows: past n / 4 steps in all (narrowing loose boxes aside),
+	 * the states come from that recompute, and the structures, up to date by then, stay.
+	 */
+	lv->steps = 0;
 	lv->budget = lv->fixed_budget ? lv->fixed_budget : tree->count / 4 + 256;
 	if (unindex(lv, (size_t)roots) < 0)
 		return -1;
@@ -590,13 +585,6 @@ static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 		if (d->live_viewable && !give_keys(tree, d))
 			return NOT_LIVE;
 	}
-	/*
-	 * A walk's step (a heap step, a region test) costs about what the recompute through the
-	 * tree spends on 4 to 16 windows: past n / 4 steps in all, the states come from that
-	 * recompute, and the structures, up to date by then, stay.
-	 */
-	lv->steps = 0;
-	lv->budget = lv->fixed_budget ? lv->fixed_budget : tree->count / 4 + 256;
 	tree->stale = true; /* the boxes move on: until the states go with them */
 	int rc = reindex(lv, (size_t)roots);
 	if (rc == 0 && many)
