@@ -113,7 +113,7 @@ static void keep_seen(pixman_region32_t *u, struct seen *s)
 }
 
 /* The key of the last viewable window of w's subtree (w's own without viewable descendants). */
-static uint64_t subtree_end(const struct vis_window *w)
+uint64_t wtree_live_subtree_end(const struct vis_window *w)
 {
 	for (;;) {
 		const struct vis_window *c = w->top;
@@ -140,7 +140,7 @@ int wtree_live_walk_query(struct vis_wtree_live *lv, struct candidate *c)
 	pixman_box32_t b = pbox(w->clip);
 	pixman_region32_init_rect(&u, b.x1, b.y1, (unsigned)(b.x2 - b.x1), (unsigned)(b.y2 - b.y1));
 	bool hit;
-	int rc = hide(lv, subtree_end(w), &u, &hit, &lv->steps, lv->budget);
+	int rc = hide(lv, wtree_live_subtree_end(w), &u, &hit, &lv->steps, lv->budget);
 	if (rc == 0 && pixman_region32_not_empty(&u)) {
 		bool whole = !hit && w->clip.x1 == w->box.x1 && w->clip.y1 == w->box.y1 &&
 			     w->clip.x2 == w->box.x2 && w->clip.y2 == w->box.y2;
@@ -190,49 +190,66 @@ static bool saw(const struct vis_wtree_live *lv, const struct vis_window *v, pix
 	return false;
 }
 
+/* Whether w lies in one of the update's changed subtrees (its candidates [0, n_moved)). */
+static bool moved(const struct vis_wtree_live *lv, const struct vis_window *w)
+{
+	return w->live_mark == lv->mark && w->live_cand && w->live_cand <= lv->n_moved;
+}
+
+/* Sets u (not initialized) to a seen region's pixels on the screen. false without memory. */
+static bool seen_region(pixman_region32_t *u, const struct seen *seen, struct vis_box screen)
+{
+	int n = seen->n == SEEN_EXTENTS ? 1 : seen->n;
+	pixman_box32_t boxes[SEEN_BOXES];
+	for (int i = 0; i < n; i++)
+		boxes[i] = pbox(vis_box_intersect(seen->boxes[i], screen));
+	return pixman_region32_init_rects(u, boxes, n);
+}
+
+/* Takes a seen region's pixels off u. false without memory. */
+static bool subtract_seen(pixman_region32_t *u, const struct seen *seen, struct vis_box screen)
+{
+	pixman_region32_t r;
+	if (!seen_region(&r, seen, screen))
+		return false;
+	bool ok = pixman_region32_subtract(u, u, &r);
+	pixman_region32_fini(&r);
+	return ok;
+}
+
 /*
- * Walks the grid down from key over seen's pixels, taking the windows whose clip meets what is
+ * Walks the grid down from key over u's pixels, taking the windows whose clip meets what is
  * left of them, each with its ancestors (whom their descendants never hide), and taking each
  * one's clip off what is left, until nothing is left. losing (rule 2 of vis_wtree_update()): the
  * pixels are a changed window's, changed windows are passed over, and only the windows that saw
  * some of what is left are taken; else (rule 3) the pixels are what a window saw before it
- * changed, and every window met is taken. 0, or -1 (ENOMEM), or OVER_BUDGET.
+ * changed, and every window met is taken, as one that may gain pixels. Empties u.
+ * 0, or -1 (ENOMEM), or OVER_BUDGET.
  */
-int wtree_live_walk_down(struct vis_wtree *tree, struct vis_wtree_live *lv, const struct seen *seen,
-		     uint64_t key, bool losing)
+static int walk_down(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t key, bool losing)
 {
-	int n = seen->n == SEEN_EXTENTS ? 1 : seen->n;
-	if (n == 0)
+	if (!pixman_region32_not_empty(u))
 		return 0;
-	pixman_box32_t boxes[SEEN_BOXES];
-	for (int i = 0; i < n; i++)
-		boxes[i] = pbox(vis_box_intersect(seen->boxes[i], tree->root.clip));
-	pixman_region32_t u;
-	if (!pixman_region32_init_rects(&u, boxes, n)) {
-		errno = ENOMEM;
-		return -1;
-	}
 	struct vis_zgrid_walk walk;
-	bool ok = vis_zgrid_walk_init(&walk, &lv->grid, vbox(pixman_region32_extents(&u)), key,
+	bool ok = vis_zgrid_walk_init(&walk, &lv->grid, vbox(pixman_region32_extents(u)), key,
 				      false) == 0;
 	uint64_t k;
 	void *item;
-	while (ok && pixman_region32_not_empty(&u) && ++lv->steps <= lv->budget &&
+	while (ok && pixman_region32_not_empty(u) && ++lv->steps <= lv->budget &&
 	       vis_zgrid_walk_next(&walk, &k, &item)) {
 		struct vis_window *v = item;
 		pixman_box32_t b = pbox(v->clip);
-		if (pixman_region32_contains_rectangle(&u, &b) == PIXMAN_REGION_OUT)
+		if (pixman_region32_contains_rectangle(u, &b) == PIXMAN_REGION_OUT)
 			continue;
-		if (losing && v->live_mark == lv->mark)
+		if (losing && moved(lv, v))
 			continue; /* changed: recomputed already, and it hides what it did not before */
 		for (struct vis_window *a = v; ok && a->parent; a = a->parent)
-			if (!losing || saw(lv, a, &u))
-				ok = wtree_live_take(lv, a, STATE_UNKNOWN) == 0;
-		cut(&u, v, &ok);
-		narrow(&walk, &u);
+			if (!losing || saw(lv, a, u))
+				ok = wtree_live_take(lv, a, STATE_UNKNOWN, !losing) == 0;
+		cut(u, v, &ok);
+		narrow(&walk, u);
 	}
 	vis_zgrid_walk_finish(&walk);
-	pixman_region32_fini(&u);
 	if (lv->steps > lv->budget)
 		return OVER_BUDGET;
 	if (!ok)
@@ -269,14 +286,112 @@ int wtree_live_walk_refine(struct vis_wtree_live *lv, struct vis_window *v)
 
 /*
  * Takes the windows that may see fewer pixels because of a changed window that now sees c->seen
- * (rule 2 of vis_wtree_update()). 0, or -1 (ENOMEM), or OVER_BUDGET.
+ * (rule 2 of vis_wtree_update()). Pixels it saw before as well are left out when its subtree
+ * kept its parent: no window lost them to it (wtree.h). 0, or -1 (ENOMEM), or OVER_BUDGET.
  */
 int wtree_live_walk_cover(struct vis_wtree *tree, struct vis_wtree_live *lv,
 			  const struct candidate *c)
 {
-	if (c->state == VIS_WTREE_STATE_NONE)
+	if (c->state == VIS_WTREE_STATE_NONE || c->seen.n == 0)
 		return 0;
-	/* c lies in lv->cands, which take() may move: copied first. */
-	struct seen seen = c->seen;
-	return wtree_live_walk_down(tree, lv, &seen, c->w->key, true);
+	/* c lies in lv->cands, which take() may move: read first. */
+	const struct vis_window *w = c->w;
+	pixman_region32_t u;
+	if (!seen_region(&u, &c->seen, tree->root.clip)) {
+		errno = ENOMEM;
+		return -1;
+	}
+	const struct seen *old = wtree_live_old_seen(lv, w);
+	bool ok = true;
+	if (old && seen_exact(old) && wtree_live_kept_parent(w))
+		ok = subtract_seen(&u, old, tree->root.clip);
+	int rc = ok ? walk_down(lv, &u, w->key, true) : -1;
+	pixman_region32_fini(&u);
+	if (!ok)
+		errno = ENOMEM;
+	return rc;
+}
+
+/*
+ * Takes the windows that may see pixels e's window saw (rule 3), and adds the pixels they may
+ * gain to exposed: what it saw less what it sees now, when that is exact and its subtree kept
+ * its parent (a window that still sees a pixel hides it as before, wtree.h), else all it saw.
+ * 0, or -1 (ENOMEM), or OVER_BUDGET.
+ */
+int wtree_live_walk_exposed(struct vis_wtree *tree, struct vis_wtree_live *lv,
+			    const struct exposure *e, void *exposed)
+{
+	if (e->seen.n == 0)
+		return 0;
+	pixman_region32_t u;
+	if (!seen_region(&u, &e->seen, tree->root.clip)) {
+		errno = ENOMEM;
+		return -1;
+	}
+	bool ok = true;
+	if (e->w && moved(lv, e->w) && wtree_live_kept_parent(e->w)) {
+		const struct candidate *now = &lv->cands[e->w->live_cand - 1];
+		if (now->state != STATE_UNKNOWN && seen_exact(&now->seen))
+			ok = subtract_seen(&u, &now->seen, tree->root.clip);
+	}
+	ok = ok && pixman_region32_union(exposed, exposed, &u);
+	int rc = ok ? walk_down(lv, &u, e->key, false) : -1;
+	pixman_region32_fini(&u);
+	if (!ok)
+		errno = ENOMEM;
+	return rc;
+}
+
+/* Past this many changed windows, each candidate's query walks the grid over all its pixels. */
+#define SINCE_MOVED_MAX 32
+
+int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *exposed)
+{
+	const struct vis_window *w = c->w;
+	const struct seen *old = wtree_live_old_seen(lv, w);
+	if ((old && !seen_exact(old)) || lv->n_moved > SINCE_MOVED_MAX || vis_box_empty(w->clip))
+		return wtree_live_walk_query(lv, c);
+	struct vis_box screen = w->clip;
+	pixman_region32_t u;
+	bool ok = old ? seen_region(&u, old, screen) : (pixman_region32_init(&u), true);
+	if (!ok) {
+		errno = ENOMEM;
+		return -1;
+	}
+	/* What it saw and still sees: no unchanged window above it hid those pixels. */
+	uint64_t end = wtree_live_subtree_end(w);
+	for (size_t i = 0; ok && i < lv->n_moved && pixman_region32_not_empty(&u); i++) {
+		const struct vis_window *v = lv->cands[i].w;
+		if (v->live_indexed && v->key > end)
+			cut(&u, v, &ok);
+	}
+	/* What it sees of the exposed pixels, by walking the grid over those alone. */
+	int rc = 0;
+	if (ok && c->gain) {
+		pixman_region32_t g;
+		pixman_box32_t b = pbox(w->clip);
+		pixman_region32_init_rect(&g, b.x1, b.y1, (unsigned)(b.x2 - b.x1),
+					  (unsigned)(b.y2 - b.y1));
+		ok = pixman_region32_intersect(&g, &g, exposed);
+		bool hit;
+		if (ok && pixman_region32_not_empty(&g))
+			rc = hide(lv, end, &g, &hit, &lv->steps, lv->budget);
+		ok = ok && rc == 0 && pixman_region32_union(&u, &u, &g);
+		pixman_region32_fini(&g);
+	}
+	if (rc == 0 && !ok) {
+		errno = ENOMEM;
+		rc = -1;
+	}
+	c->seen.n = 0;
+	c->state = VIS_FULLY_OBSCURED;
+	if (rc == 0 && pixman_region32_not_empty(&u)) {
+		const pixman_box32_t *e = pixman_region32_extents(&u);
+		bool whole = pixman_region32_n_rects(&u) == 1 && e->x1 == w->box.x1 &&
+			     e->y1 == w->box.y1 && e->x2 == w->box.x2 && e->y2 == w->box.y2;
+		c->state = whole ? VIS_UNOBSCURED : VIS_PARTIALLY_OBSCURED;
+		keep_seen(&u, &c->seen);
+	}
+	pixman_region32_fini(&u);
+	return rc;
 }

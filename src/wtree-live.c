@@ -115,6 +115,7 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *w)
 		lv->damage[lv->n_damage++] = vis_wtree_box(w);
 	if (w->live_dirty)
 		return;
+	w->live_parent = w->parent;
 	if (grow(&lv->dirty, &lv->cap_dirty, lv->n_dirty, sizeof *lv->dirty) < 0) {
 		lv->damage_all = true;
 		lv->valid = false;
@@ -124,14 +125,15 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *w)
 	w->live_dirty = (uint32_t)lv->n_dirty;
 }
 
-/* Keeps what a window saw as an exposure for the next update. */
-static void expose(struct vis_wtree_live *lv, uint64_t key, const struct seen *seen)
+/* Keeps what a window saw as an exposure for the next update (w: NULL once destroyed). */
+static void expose(struct vis_wtree_live *lv, uint64_t key, struct vis_window *w,
+		   const struct seen *seen)
 {
 	if (grow(&lv->exposures, &lv->cap_exposures, lv->n_exposures, sizeof *lv->exposures) < 0) {
 		lv->valid = false;
 		return;
 	}
-	lv->exposures[lv->n_exposures++] = (struct exposure){ key, *seen };
+	lv->exposures[lv->n_exposures++] = (struct exposure){ key, w, *seen };
 }
 
 void wtree_live_forget(struct vis_wtree *tree, struct vis_window *w)
@@ -148,7 +150,7 @@ void wtree_live_forget(struct vis_wtree *tree, struct vis_window *w)
 	if (w->live_indexed)
 		vis_zgrid_remove(&lv->grid, w->clip, w->key);
 	if (w->live_seen) {
-		expose(lv, w->key, &lv->seen[w->live_seen - 1].seen);
+		expose(lv, w->key, NULL, &lv->seen[w->live_seen - 1].seen);
 		seen_remove(lv, w);
 	}
 }
@@ -385,16 +387,29 @@ static void place(struct vis_window *w)
 	w->inner = vis_box_intersect(in, w->clip);
 }
 
-/* Takes a window to recompute (once), its state given or STATE_UNKNOWN. 0, or -1 (ENOMEM). */
-int wtree_live_take(struct vis_wtree_live *lv, struct vis_window *w, uint8_t state)
+int wtree_live_take(struct vis_wtree_live *lv, struct vis_window *w, uint8_t state, bool gain)
 {
-	if (w->live_mark == lv->mark || w->look.input_only)
+	if (w->look.input_only)
 		return 0;
+	if (w->live_mark == lv->mark) {
+		lv->cands[w->live_cand - 1].gain |= gain;
+		return 0;
+	}
 	if (grow(&lv->cands, &lv->cap_cands, lv->n_cands, sizeof *lv->cands) < 0)
 		return -1;
 	w->live_mark = lv->mark;
-	lv->cands[lv->n_cands++] = (struct candidate){ .w = w, .state = state };
+	lv->cands[lv->n_cands++] = (struct candidate){ .w = w, .state = state, .gain = gain };
+	w->live_cand = (uint32_t)lv->n_cands;
 	return 0;
+}
+
+bool wtree_live_kept_parent(const struct vis_window *w)
+{
+	const struct vis_window *root = w;
+	for (const struct vis_window *a = w; a->parent; a = a->parent)
+		if (a->live_dirty)
+			root = a;
+	return root->live_parent == root->parent;
 }
 
 
@@ -466,7 +481,7 @@ static int unindex(struct vis_wtree_live *lv, size_t roots)
 			if (v->live_seen && wtree_live_walk_refine(lv, v) < 0)
 				return -1;
 			if (v->live_seen)
-				expose(lv, v->key, &lv->seen[v->live_seen - 1].seen);
+				expose(lv, v->key, v, &lv->seen[v->live_seen - 1].seen);
 			if (v->live_indexed)
 				vis_zgrid_remove(&lv->grid, v->clip, v->key);
 			v->live_indexed = false;
@@ -484,7 +499,7 @@ static int reindex(struct vis_wtree_live *lv, size_t roots)
 		for (struct vis_window *v = d; v; v = vis_wtree_next_within(v, d)) {
 			if (!v->live_viewable) {
 				if (v->state != VIS_WTREE_STATE_NONE &&
-				    wtree_live_take(lv, v, VIS_WTREE_STATE_NONE) < 0)
+				    wtree_live_take(lv, v, VIS_WTREE_STATE_NONE, true) < 0)
 					return -1;
 				continue;
 			}
@@ -500,7 +515,7 @@ static int reindex(struct vis_wtree_live *lv, size_t roots)
 					return -1;
 				v->live_indexed = true;
 			}
-			if (wtree_live_take(lv, v, STATE_UNKNOWN) < 0)
+			if (wtree_live_take(lv, v, STATE_UNKNOWN, true) < 0)
 				return -1;
 		}
 	}
@@ -590,18 +605,23 @@ static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 	if (rc == 0 && many)
 		rc = OVER_BUDGET;
 	/* The changed windows first: what they see now bounds what others lose. */
-	size_t changed = lv->n_cands;
+	size_t changed = lv->n_moved = lv->n_cands;
 	for (size_t i = 0; rc == 0 && i < changed; i++)
 		if (lv->cands[i].state == STATE_UNKNOWN)
 			rc = wtree_live_walk_query(lv, &lv->cands[i]);
 	/* Each one: under an input-only root, descendants see what their root does not. */
 	for (size_t i = 0; rc == 0 && i < changed; i++)
 		rc = wtree_live_walk_cover(tree, lv, &lv->cands[i]);
+	/* The pixels windows may gain: the others' queries look for gains there alone. */
+	pixman_region32_t exposed;
+	pixman_region32_init(&exposed);
 	for (size_t e = 0; rc == 0 && e < lv->n_exposures; e++)
-		rc = wtree_live_walk_down(tree, lv, &lv->exposures[e].seen, lv->exposures[e].key, false);
+		rc = wtree_live_walk_exposed(tree, lv, &lv->exposures[e], &exposed);
 	for (size_t i = changed; rc == 0 && i < lv->n_cands; i++)
 		if (lv->cands[i].state == STATE_UNKNOWN)
-			rc = wtree_live_walk_query(lv, &lv->cands[i]);
+			rc = wtree_live_walk_since(lv, &lv->cands[i], &exposed);
+	pixman_region32_fini(&exposed);
+	lv->n_moved = 0;
 	if (rc == OVER_BUDGET)
 		return through_tree_keeping(tree, lv);
 	if (rc < 0)

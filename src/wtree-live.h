@@ -33,16 +33,31 @@ struct seen_window {
 	struct seen seen;
 };
 
-/* Pixels that windows saw until a change: the windows below key may see them now. */
+/* Whether a seen region is exact (its boxes), not a box holding it. */
+static inline bool seen_exact(const struct seen *s)
+{
+	return s->n != SEEN_EXTENTS;
+}
+
+/*
+ * Pixels that a window saw until a change: the windows below key may see them now. w: the
+ * window, still there (a changed one), or NULL (destroyed).
+ */
 struct exposure {
 	uint64_t key;
+	struct vis_window *w;
 	struct seen seen;
 };
 
-/* A window whose state the update recomputes, with the result until it commits. */
+/*
+ * A window whose state the update recomputes, with the result until it commits. gain: it may
+ * see pixels it did not (rule 3 took it), so its query must look for them; one taken by rule 2
+ * alone sees what it saw less what changed windows now hide.
+ */
 struct candidate {
 	struct vis_window *w;
 	uint8_t state;
+	bool gain;
 	struct seen seen;
 };
 
@@ -76,6 +91,8 @@ struct vis_wtree_live {
 	uint32_t mark;
 	/* An update's walks take at most budget steps in all, past which it gives up (NOT_LIVE). */
 	size_t steps, budget;
+	/* The windows of the changed subtrees: cands[0 … n_moved) during an update. */
+	size_t n_moved;
 	size_t fixed_budget; /* a budget set by wtree_live_tune(), or 0 */
 	size_t min_windows;  /* the windows below which updates go through the tree */
 	/* Updates left to go through the tree after one could not go live, before the structures
@@ -102,8 +119,24 @@ static inline uint64_t wtree_key_of(size_t i, size_t n)
 	return WTREE_KEY_BASE + (uint64_t)(i + 1) * (WTREE_KEY_SPAN / ((uint64_t)n + 1));
 }
 
-/* Takes a window to recompute (once), its state given or STATE_UNKNOWN. 0, or -1 (ENOMEM). */
-int wtree_live_take(struct vis_wtree_live *lv, struct vis_window *w, uint8_t state);
+/*
+ * Takes a window to recompute (once), its state given or STATE_UNKNOWN, flagged as one that may
+ * gain pixels (gain, which sticks). 0, or -1 (ENOMEM).
+ */
+int wtree_live_take(struct vis_wtree_live *lv, struct vis_window *w, uint8_t state, bool gain);
+
+/* What a window saw at the last recompute, or NULL when it saw nothing. */
+static inline const struct seen *wtree_live_old_seen(const struct vis_wtree_live *lv,
+						     const struct vis_window *w)
+{
+	return w->live_seen ? &lv->seen[w->live_seen - 1].seen : NULL;
+}
+
+/* Whether w's changed subtree kept its parent: no window of it left or joined another's. */
+bool wtree_live_kept_parent(const struct vis_window *w);
+
+/* The key of the last viewable window of w's subtree (w's own without viewable descendants). */
+uint64_t wtree_live_subtree_end(const struct vis_window *w);
 
 /*
  * The walks (wtree-live-walk.c): a window's state and seen region (query); the windows that see
@@ -115,9 +148,18 @@ int wtree_live_take(struct vis_wtree_live *lv, struct vis_window *w, uint8_t sta
 int wtree_live_walk_query(struct vis_wtree_live *lv, struct candidate *c);
 int wtree_live_walk_cover(struct vis_wtree *tree, struct vis_wtree_live *lv,
 			  const struct candidate *c);
-int wtree_live_walk_down(struct vis_wtree *tree, struct vis_wtree_live *lv,
-			 const struct seen *seen, uint64_t key, bool losing);
+int wtree_live_walk_exposed(struct vis_wtree *tree, struct vis_wtree_live *lv,
+			    const struct exposure *e, void *exposed);
 int wtree_live_walk_refine(struct vis_wtree_live *lv, struct vis_window *v);
+
+/*
+ * An unchanged window's state and seen region from what it saw (when that is exact): less the
+ * clips of the changed windows now above its subtree, plus, if it may gain pixels, what it sees
+ * of exposed (a pixman region holding every pixel a window may gain: wtree_live_walk_exposed()'s
+ * pixels), found by walking the grid over that alone. Else as wtree_live_walk_query().
+ * 0, or -1 (ENOMEM), or OVER_BUDGET.
+ */
+int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *exposed);
 int wtree_live_walk_region(const struct vis_wtree *tree, const struct vis_window *w,
 			   void *region);
 

@@ -52,9 +52,11 @@ struct vis_window {
 	/* vis_wtree_update()'s (wtree-live.c): slots in its lists (1-based, 0: in none), a mark for
 	 * the windows it has taken, whether it indexed the clip and counted the window as having a
 	 * look, whether the window is viewable (while it works), and whether it had no viewable
-	 * descendants at the last recompute (or may have had: false). */
-	uint32_t live_seen, live_dirty, live_changed, live_mark;
+	 * descendants at the last recompute (or may have had: false); the parent it had when first
+	 * noted since the last recompute (a reparented window's subtree saw pixels elsewhere). */
+	uint32_t live_seen, live_dirty, live_changed, live_mark, live_cand;
 	bool live_indexed, live_viewable, live_leaf;
+	struct vis_window *live_parent;
 	void *data; /* the daemon's */
 };
 
@@ -303,9 +305,21 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  * hide w at p now, unless they are w's descendants: so p is still left when w or a descendant is
  * reached, and w is taken, (3). In both walks a window reached at p takes off p for the windows
  * below it, but for its ancestors, which its pixels never hide and which are taken with it.
- * The recomputed windows get their seen regions exactly, by walking the grid over the windows
+ * Pixels a changed window h saw before and sees now need no walk, unless its changed subtree
+ * has a new parent: if w lost such a pixel p to h, h was not above w's subtree before (or w
+ * would not have seen p) nor below it (w would have hidden p from h), so h was w's descendant
+ * and is not now; if w gained p, h hid it before and, seeing p now above w, would hide it still
+ * unless it has just become w's descendant. So rule 2 walks over what h sees less what it saw,
+ * rule 3 over what h saw less what it sees, where those are exact (kept as boxes, not a box
+ * holding them); a destroyed window's walk is over all it saw. The pixels walked in rule 3,
+ * exposed, hold every pixel any window gains.
+ * The changed windows get their seen regions exactly, by walking the grid over the windows
  * after their subtree from both ends of that range, until their pixels are all hidden or the
- * walks meet. The unit test holds the result to vis_wtree_compute()'s after every batch of edits
+ * walks meet; so do the others whose last seen region is not exact. Another window w, whose
+ * last seen region s is exact, sees s less the clips of the changed windows now after its
+ * subtree (no unchanged window there hid s before, and none hides it now), plus, if rule 3 took
+ * it, what the same walk finds it sees of exposed: it gains no pixel elsewhere. The unit test
+ * holds the result to vis_wtree_compute()'s after every batch of edits
  * on random trees, and the structures to their invariants.
  *
  * Where the live structures do not apply, it recomputes through the tree instead, with the same

@@ -587,6 +587,14 @@ static const char *edit(struct vis_rng *r)
 		int p = pick(r);
 		if (p >= 0 && vis_wtree_is_ancestor(a, wins[p]))
 			p = -1;
+		/* Half the time where it was on the screen: its pixels stay, whom they hide does not. */
+		struct vis_box at = vis_wtree_box(a);
+		struct vis_box in = p < 0 ? (struct vis_box){ 0, 0, 0, 0 } : vis_wtree_box(wins[p]);
+		int64_t b = p < 0 ? 0 : wins[p]->look.border;
+		int64_t x = at.x1 - in.x1 - b, y = at.y1 - in.y1 - b;
+		if (vis_rng_below(r, 2) && x >= INT32_MIN && x <= INT32_MAX && y >= INT32_MIN &&
+		    y <= INT32_MAX)
+			return change(REPARENT, i, p, (int32_t)x, (int32_t)y);
 		return change(REPARENT, i, p, g[0], g[1]);
 	}
 	case 4:
@@ -741,6 +749,19 @@ static void scripted(void)
 	check_both(0, change(RAISE, chain[0], 0, 0, 0));
 	check_both(0, change(REPARENT, chain[5], chain[1], 0, 0));
 	check_both(0, change(DESTROY, chain[2], 0, 0, 0));
+	scene_end();
+
+	/* A child reparented on top of its parent where it was, and back: the parent loses and
+	 * gains the pixels the child sees all along. */
+	scene_begin();
+	int parent = put(-1, 0, 0, 10, 10), child = put(parent, 2, 2, 4, 4);
+	check_both(0, "a child");
+	check_both(0, change(MOVE, child, 0, 2, 2));
+	check_both(0, change(REPARENT, child, -1, 2, 2));
+	assert(state(parent) == P && state(child) == U);
+	check_both(0, change(MOVE, parent, 0, 0, 0));
+	check_both(0, change(REPARENT, child, parent, 2, 2));
+	assert(state(parent) == U && state(child) == U);
 	scene_end();
 
 	scene_begin();
