@@ -196,6 +196,22 @@ static bool moved(const struct vis_wtree_live *lv, const struct vis_window *w)
 	return w->live_mark == lv->mark && w->live_cand && w->live_cand <= lv->n_moved;
 }
 
+/* Lists the pixels of u that v's clip holds as what candidate c gains. false without memory. */
+static bool gained(struct vis_wtree_live *lv, struct candidate *c, const struct vis_window *v,
+		   pixman_region32_t *u)
+{
+	pixman_region32_t r;
+	pixman_box32_t b = pbox(v->clip);
+	pixman_region32_init_rect(&r, b.x1, b.y1, (unsigned)(b.x2 - b.x1), (unsigned)(b.y2 - b.y1));
+	bool ok = pixman_region32_intersect(&r, &r, u);
+	int n = 0;
+	const pixman_box32_t *boxes = ok ? pixman_region32_rectangles(&r, &n) : NULL;
+	for (int i = 0; ok && i < n; i++)
+		ok = wtree_live_gained(lv, c, vbox(&boxes[i])) == 0;
+	pixman_region32_fini(&r);
+	return ok;
+}
+
 /* Sets u (not initialized) to a seen region's pixels on the screen. false without memory. */
 static bool seen_region(pixman_region32_t *u, const struct seen *seen, struct vis_box screen)
 {
@@ -223,10 +239,13 @@ static bool subtract_seen(pixman_region32_t *u, const struct seen *seen, struct 
  * one's clip off what is left, until nothing is left. losing (rule 2 of vis_wtree_update()): the
  * pixels are a changed window's, changed windows are passed over, and only the windows that saw
  * some of what is left are taken; else (rule 3) the pixels are what a window saw before it
- * changed, and every window met is taken, as one that may gain pixels. Empties u.
+ * changed, and every window met is taken, as one that may gain pixels; where those are exact
+ * (so no window above key hides them), each one without descendants gets the pixels of what is
+ * left that its clip holds listed as what it gains. Empties u.
  * 0, or -1 (ENOMEM), or OVER_BUDGET.
  */
-static int walk_down(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t key, bool losing)
+static int walk_down(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t key, bool losing,
+		     bool exact)
 {
 	if (!pixman_region32_not_empty(u))
 		return 0;
@@ -246,6 +265,14 @@ static int walk_down(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t k
 		for (struct vis_window *a = v; ok && a->parent; a = a->parent)
 			if (!losing || saw(lv, a, u))
 				ok = wtree_live_take(lv, a, STATE_UNKNOWN, !losing) == 0;
+		/* Without descendants, it sees what is left that its clip holds, but for what
+		 * changed windows hide now (wtree_live_walk_since()). */
+		if (ok && !losing && !moved(lv, v)) {
+			struct candidate *c = &lv->cands[v->live_cand - 1];
+			c->unlisted |= !exact;
+			if (exact && v->live_leaf)
+				ok = gained(lv, c, v, u);
+		}
 		cut(u, v, &ok);
 		narrow(&walk, u);
 	}
@@ -285,6 +312,28 @@ int wtree_live_walk_refine(struct vis_wtree_live *lv, struct vis_window *v)
 }
 
 /*
+ * walk_down() over each box of u apart: a walk is narrowed to the extents of what is left, which
+ * for an L-shaped difference of two boxes would be the whole of the larger one. Each pixel is
+ * walked over as in one walk over u (wtree.h's argument is pixel by pixel).
+ */
+static int walk_boxes(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t key, bool losing,
+		      bool exact)
+{
+	int n;
+	const pixman_box32_t *boxes = pixman_region32_rectangles(u, &n);
+	int rc = 0;
+	for (int i = 0; rc == 0 && i < n; i++) {
+		pixman_region32_t one;
+		pixman_region32_init_rect(&one, boxes[i].x1, boxes[i].y1,
+					  (unsigned)(boxes[i].x2 - boxes[i].x1),
+					  (unsigned)(boxes[i].y2 - boxes[i].y1));
+		rc = walk_down(lv, &one, key, losing, exact);
+		pixman_region32_fini(&one);
+	}
+	return rc;
+}
+
+/*
  * Takes the windows that may see fewer pixels because of a changed window that now sees c->seen
  * (rule 2 of vis_wtree_update()). Pixels it saw before as well are left out when its subtree
  * kept its parent: no window lost them to it (wtree.h). 0, or -1 (ENOMEM), or OVER_BUDGET.
@@ -305,7 +354,7 @@ int wtree_live_walk_cover(struct vis_wtree *tree, struct vis_wtree_live *lv,
 	bool ok = true;
 	if (old && seen_exact(old) && wtree_live_kept_parent(w))
 		ok = subtract_seen(&u, old, tree->root.clip);
-	int rc = ok ? walk_down(lv, &u, w->key, true) : -1;
+	int rc = ok ? walk_boxes(lv, &u, w->key, true, false) : -1;
 	pixman_region32_fini(&u);
 	if (!ok)
 		errno = ENOMEM;
@@ -335,7 +384,7 @@ int wtree_live_walk_exposed(struct vis_wtree *tree, struct vis_wtree_live *lv,
 			ok = subtract_seen(&u, &now->seen, tree->root.clip);
 	}
 	ok = ok && pixman_region32_union(exposed, exposed, &u);
-	int rc = ok ? walk_down(lv, &u, e->key, false) : -1;
+	int rc = ok ? walk_boxes(lv, &u, e->key, false, seen_exact(&e->seen)) : -1;
 	pixman_region32_fini(&u);
 	if (!ok)
 		errno = ENOMEM;
@@ -365,9 +414,21 @@ int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *
 		if (v->live_indexed && v->key > end)
 			cut(&u, v, &ok);
 	}
-	/* What it sees of the exposed pixels, by walking the grid over those alone. */
+	/* What it sees of the exposed pixels: listed by rule 3's walks, else found by walking the
+	 * grid over those alone. */
 	int rc = 0;
-	if (ok && c->gain) {
+	if (ok && c->gain && w->live_leaf && !c->unlisted) {
+		for (uint32_t g = c->gained; ok && g; g = lv->gains[g - 1].next) {
+			pixman_box32_t b = pbox(lv->gains[g - 1].box);
+			ok = pixman_region32_union_rect(&u, &u, b.x1, b.y1, (unsigned)(b.x2 - b.x1),
+							(unsigned)(b.y2 - b.y1));
+		}
+		for (size_t i = 0; ok && i < lv->n_moved && pixman_region32_not_empty(&u); i++) {
+			const struct vis_window *v = lv->cands[i].w;
+			if (v->live_indexed && v->key > end)
+				cut(&u, v, &ok);
+		}
+	} else if (ok && c->gain) {
 		pixman_region32_t g;
 		pixman_box32_t b = pbox(w->clip);
 		pixman_region32_init_rect(&g, b.x1, b.y1, (unsigned)(b.x2 - b.x1),
@@ -394,4 +455,49 @@ int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *
 	}
 	pixman_region32_fini(&u);
 	return rc;
+}
+
+int wtree_live_seen_from_order(const struct vis_wtree *tree, struct vis_wtree_live *lv,
+			       uint64_t budget)
+{
+	/* Two regions in turn, each union written into the other (see region.c). */
+	pixman_region32_t regions[2], *above = &regions[0], *spare = &regions[1], u;
+	pixman_region32_init(above);
+	pixman_region32_init(spare);
+	pixman_region32_init(&u);
+	uint64_t work = 0;
+	bool ok = true;
+	for (size_t i = tree->n_order; ok && i-- > 0;) {
+		const struct vis_window *w = tree->order[i];
+		if (!w->live_indexed)
+			continue;
+		uint64_t boxes = (uint64_t)pixman_region32_n_rects(above);
+		pixman_box32_t b = pbox(w->clip);
+		if (w->live_seen && w->live_leaf) {
+			/* Its descendants, which never hide it, are not in the union yet. */
+			work += 1 + boxes;
+			if (work > budget)
+				break;
+			pixman_region32_fini(&u);
+			pixman_region32_init_rect(&u, b.x1, b.y1, (unsigned)(b.x2 - b.x1),
+						  (unsigned)(b.y2 - b.y1));
+			ok = pixman_region32_subtract(&u, &u, above);
+			if (ok)
+				keep_seen(&u, &lv->seen[w->live_seen - 1].seen);
+		}
+		work += 1 + boxes;
+		if (!ok || work > budget)
+			break;
+		ok = pixman_region32_union_rect(spare, above, b.x1, b.y1, (unsigned)(b.x2 - b.x1),
+						(unsigned)(b.y2 - b.y1));
+		pixman_region32_t *t = above;
+		above = spare;
+		spare = t;
+	}
+	pixman_region32_fini(above);
+	pixman_region32_fini(spare);
+	pixman_region32_fini(&u);
+	if (!ok)
+		errno = ENOMEM;
+	return ok ? 0 : -1;
 }

@@ -52,13 +52,23 @@ struct exposure {
 /*
  * A window whose state the update recomputes, with the result until it commits. gain: it may
  * see pixels it did not (rule 3 took it), so its query must look for them; one taken by rule 2
- * alone sees what it saw less what changed windows now hide.
+ * alone sees what it saw less what changed windows now hide. gained: for one without viewable
+ * descendants that rule 3 met, the first of the boxes it sees of the pixels exposed (1-based in
+ * the update's gains, chained; 0: none), unless unlisted: a walk over pixels not known exactly
+ * met it.
  */
 struct candidate {
 	struct vis_window *w;
 	uint8_t state;
-	bool gain;
+	bool gain, unlisted;
+	uint32_t gained;
 	struct seen seen;
+};
+
+/* A box of pixels a window gains, and the next of its boxes (1-based; 0: none). */
+struct gained_box {
+	struct vis_box box;
+	uint32_t next;
 };
 
 /*
@@ -84,6 +94,8 @@ struct vis_wtree_live {
 	size_t n_exposures, cap_exposures;
 	struct candidate *cands;
 	size_t n_cands, cap_cands;
+	struct gained_box *gains;
+	size_t n_gains, cap_gains;
 	struct vis_box damage[LIVE_DAMAGE];
 	size_t n_damage;
 	bool damage_all;
@@ -125,6 +137,9 @@ static inline uint64_t wtree_key_of(size_t i, size_t n)
  */
 int wtree_live_take(struct vis_wtree_live *lv, struct vis_window *w, uint8_t state, bool gain);
 
+/* Adds a box of pixels a candidate gains. 0, or -1 (ENOMEM). */
+int wtree_live_gained(struct vis_wtree_live *lv, struct candidate *c, struct vis_box box);
+
 /* What a window saw at the last recompute, or NULL when it saw nothing. */
 static inline const struct seen *wtree_live_old_seen(const struct vis_wtree_live *lv,
 						     const struct vis_window *w)
@@ -162,6 +177,15 @@ int wtree_live_walk_refine(struct vis_wtree_live *lv, struct vis_window *v);
 int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *exposed);
 int wtree_live_walk_region(const struct vis_wtree *tree, const struct vis_window *w,
 			   void *region);
+
+/*
+ * After a rebuild, makes the seen regions of the windows without viewable descendants exact,
+ * from the top of the order down (the region method: the union of the clips above each), until
+ * the work (the union's boxes, read at each step) passes budget: the windows below keep their
+ * clips. 0, or -1 (ENOMEM).
+ */
+int wtree_live_seen_from_order(const struct vis_wtree *tree, struct vis_wtree_live *lv,
+			       uint64_t budget);
 
 /* Frees a tree's live structures; NULL is a no-op. */
 void vis_wtree_live_destroy(struct vis_wtree_live *live);

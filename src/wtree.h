@@ -318,7 +318,11 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  * walks meet; so do the others whose last seen region is not exact. Another window w, whose
  * last seen region s is exact, sees s less the clips of the changed windows now after its
  * subtree (no unchanged window there hid s before, and none hides it now), plus, if rule 3 took
- * it, what the same walk finds it sees of exposed: it gains no pixel elsewhere. The unit test
+ * it, what it sees of exposed (it gains no pixel elsewhere): without viewable descendants, the
+ * pixels its clip holds of what was left of exact walks over it, less those changed clips (the
+ * windows above the walk's start did not hide those pixels, and those between are cut off what
+ * is left), else what a grid walk over exposed alone finds. Seen regions start exact when the
+ * structures are built, by the region method from the top of the order down, within a bound. The unit test
  * holds the result to vis_wtree_compute()'s after every batch of edits
  * on random trees, and the structures to their invariants.
  *
