@@ -7,29 +7,26 @@
  * change's damage (vis_wtree_compute_damaged, the window's box before and after) and live from
  * the notes (vis_wtree_update). The changed window is any window, or the top one (a drag). The
  * shaped and translucent kinds keep their looks (borders, shapes, opaque regions). Prints the
- * median, the 99th percentile and the mean per change. Not a test: run it from a release build,
+ * median, the 99th percentile and the mean per change; --svg also draws the medians of the first
+ * op against n, log-log, one panel per kind (bench-wtree-svg.c), with TEXT from --note under the
+ * title (say where the machine was shared). Not a test: run it from a release build,
  *   build-release/tests/bench-wtree [--kinds K,…] [--sizes N,…] [--ops O,…] [--engines E,…]
- *                                   [--moves M] [--seed S]
+ *                                   [--moves M] [--seed S] [--svg FILE] [--note TEXT]
  * (ops: move, raise, lower, unmap, map; engines: full, damaged, live) or
  * `meson test -C build-release --benchmark`.
  */
+#include <errno.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-#include "gen.h"
+#include "bench-wtree.h"
 #include "rng.h"
 #include "wtree.h"
 
-/* Which windows change: any window, or the top one (a drag). */
-enum who { ANY, TOP };
-
-/* The changes, and the recomputes. */
-enum op { MOVE, RAISE, LOWER, UNMAP, MAP, OP_COUNT };
 static const char *const op_names[] = { "move", "raise", "lower", "unmap", "map" };
-enum engine { FULL, DAMAGED, LIVE, ENGINE_COUNT };
 static const char *const engine_names[] = { "full", "damaged", "live" };
 
 static double now_us(void)
@@ -147,6 +144,31 @@ static int run(const struct vis_scene *scene, enum who who, enum op op, enum eng
 	return 0;
 }
 
+/* Appends r to the results kept for the plot, growing them by doubling. */
+static int keep(struct wtree_result **results, size_t *n, size_t *cap, struct wtree_result r)
+{
+	if (*n == *cap) {
+		size_t c = *cap ? 2 * *cap : 64;
+		struct wtree_result *more = realloc(*results, c * sizeof *more);
+		if (!more)
+			return -1;
+		*results = more;
+		*cap = c;
+	}
+	(*results)[(*n)++] = r;
+	return 0;
+}
+
+/* Writes the plot to f (path) and closes it; 0, or 1 after saying why on stderr. */
+static int write_plot(FILE *f, const char *path, const struct wtree_plot *plot)
+{
+	if ((bench_wtree_svg_write(f, plot) < 0) | (fclose(f) != 0)) {
+		fprintf(stderr, "bench-wtree: %s: write error\n", path);
+		return 1;
+	}
+	return 0;
+}
+
 /* Parses a comma-separated list of names into a set of bits; -1 for an unknown name. */
 static int parse_set(char *list, const char *const *names, int count)
 {
@@ -181,6 +203,7 @@ int main(int argc, char **argv)
 	char ops_default[] = "move", engines_default[] = "full,damaged,live";
 	char *kinds = kinds_default, *sizes = sizes_default, *ops = ops_default;
 	char *engines = engines_default;
+	const char *svg = NULL, *note = NULL;
 	size_t moves = 2000;
 	uint64_t seed = 1;
 	for (int i = 1; i + 1 < argc; i += 2) {
@@ -196,6 +219,10 @@ int main(int argc, char **argv)
 			moves = strtoul(argv[i + 1], NULL, 10);
 		else if (strcmp(argv[i], "--seed") == 0)
 			seed = strtoull(argv[i + 1], NULL, 10);
+		else if (strcmp(argv[i], "--svg") == 0)
+			svg = argv[i + 1];
+		else if (strcmp(argv[i], "--note") == 0)
+			note = argv[i + 1];
 		else
 			break;
 	}
@@ -204,12 +231,25 @@ int main(int argc, char **argv)
 	if (argc % 2 == 0 || moves == 0 || op_set <= 0 || engine_set <= 0) {
 		fprintf(stderr, "usage: bench-wtree [--kinds K,…] [--sizes N,…] [--ops O,…] "
 				"[--engines E,…] [--moves M] [--seed S]\n"
+				"                   [--svg FILE] [--note TEXT]\n"
 				"  ops: move, raise, lower, unmap, map; engines: full, damaged, live\n");
 		return 2;
+	}
+	/* Opened first, so that a bad path fails before the run rather than after it. */
+	FILE *svg_file = svg ? fopen(svg, "w") : NULL;
+	if (svg && !svg_file) {
+		fprintf(stderr, "bench-wtree: %s: cannot write: %s\n", svg, strerror(errno));
+		return 1;
 	}
 	double *us = malloc(moves * sizeof *us);
 	if (!us)
 		return 1;
+	/* The plot keeps the first op's cells (move's, unless --ops leaves it out). */
+	int plot_op = 0;
+	while (!(op_set & 1 << plot_op))
+		plot_op++;
+	struct wtree_result *results = NULL;
+	size_t nresults = 0, cap = 0;
 	printf("one recompute after one change (µs): median / p99 / mean; seed %llu, %zu changes\n",
 	       (unsigned long long)seed, moves);
 	printf("%-8s %7s  %-5s %-4s", "kind", "n", "op", "who");
@@ -253,6 +293,12 @@ int main(int argc, char **argv)
 						double sum = 0;
 						for (size_t i = 0; i < moves; i++)
 							sum += us[i];
+						if (svg && op == plot_op &&
+						    keep(&results, &nresults, &cap, (struct wtree_result){
+							    .kind = kind, .n = n, .who = (enum who)who,
+							    .engine = (enum engine)e, .median_us = us[moves / 2],
+							    .p99_us = us[moves * 99 / 100] }) < 0)
+							return 1;
 						printf("  %8.1f / %6.1f / %6.1f", us[moves / 2],
 						       us[moves * 99 / 100], sum / (double)moves);
 						fflush(stdout);
@@ -264,5 +310,10 @@ int main(int argc, char **argv)
 		}
 	}
 	free(us);
-	return 0;
+	const struct wtree_plot plot = { .results = results, .count = nresults,
+					 .op = op_names[plot_op], .moves = moves, .seed = seed,
+					 .note = note };
+	int rc = svg_file ? write_plot(svg_file, svg, &plot) : 0;
+	free(results);
+	return rc;
 }

@@ -119,9 +119,9 @@ int bench_svg_write(const struct bench *b, FILE *f)
 	fprintf(f, "<text x=\"%d\" y=\"34\" font-size=\"20\" font-weight=\"bold\">"
 		"visctl bench: vis_compute time against window count (log-log)</text>\n"
 		"<text x=\"%d\" y=\"58\" font-size=\"13\" fill=\"#333333\">", SVG_PAD, SVG_PAD);
-	svg_text(f, b->cpu);
-	fprintf(f, ", %ld CPUs · %s · seed %llu · minimum over repetitions</text>\n", b->ncpu,
-		b->date, (unsigned long long)b->seed);
+	svg_text(f, b->machine.cpu);
+	fprintf(f, ", %ld CPUs · %s · seed %llu · minimum over repetitions</text>\n", b->machine.ncpu,
+		b->machine.date, (unsigned long long)b->seed);
 	for (size_t k = 0; k < b->nkinds; k++)
 		svg_panel(b, f, k, SVG_PAD + (double)(k % cols) * SVG_PW,
 			  SVG_TOP + (double)(k / cols) * SVG_PH, xr, yr);

@@ -9,6 +9,7 @@
 
 #include "engine.h"
 #include "gen.h"
+#include "machine.h"
 
 #define MAX_SIZES 64
 
@@ -40,9 +41,7 @@ struct bench {
 	double target_s;  /* adaptive: repeat until this much time is spent on a cell */
 	double limit_s;   /* a cell predicted or measured past this is skipped at larger sizes */
 	uint64_t seed;
-	long ncpu;
-	char cpu[128];
-	char date[64];
+	struct machine machine;
 	struct cell *cells;
 };
 

@@ -8,7 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "bench.h"
 #include "scene.h"
@@ -142,35 +141,6 @@ static void usage(FILE *f)
 		"coordinates. Defaults: all kinds; engines auto,gmv,gmv-heap,region;\n"
 		"sizes 1000,2000,10000,100000,200000,400000,1000000; seed 1; limit 60 s.\n"
 		"--quick: sizes up to 10000 and 0.02 s per cell, a smoke run.\n");
-}
-
-/* Reads the CPU model and the date, so a table or plot says where and when it was made. */
-static void describe_machine(struct bench *b)
-{
-	FILE *f = fopen("/proc/cpuinfo", "r");
-	char line[512];
-	time_t t = time(NULL);
-	struct tm tm;
-
-	snprintf(b->cpu, sizeof(b->cpu), "unknown CPU");
-	while (f != NULL && fgets(line, sizeof(line), f) != NULL) {
-		char *colon = strchr(line, ':');
-
-		/* x86 says "model name", some ARM kernels only "Hardware" or "Processor". */
-		if (colon == NULL || (strncmp(line, "model name", 10) != 0 &&
-				      strncmp(line, "Processor", 9) != 0))
-			continue;
-		colon += strspn(colon + 1, " \t") + 1;
-		colon[strcspn(colon, "\n")] = '\0';
-		snprintf(b->cpu, sizeof(b->cpu), "%s", colon);
-		break;
-	}
-	if (f != NULL)
-		fclose(f);
-	b->ncpu = sysconf(_SC_NPROCESSORS_ONLN);
-	if (localtime_r(&t, &tm) == NULL ||
-	    strftime(b->date, sizeof(b->date), "%Y-%m-%d %H:%M %Z", &tm) == 0)
-		snprintf(b->date, sizeof(b->date), "unknown date");
 }
 
 /*
@@ -593,8 +563,9 @@ int cmd_bench(int argc, char **argv)
 		fprintf(stderr, "visctl bench: out of memory\n");
 		goto out;
 	}
-	describe_machine(&b);
-	printf("visctl bench: %s, %ld CPUs, %s\n", b.cpu, b.ncpu, b.date);
+	machine_describe(&b.machine);
+	printf("visctl bench: %s, %ld CPUs, %s\n", b.machine.cpu, b.machine.ncpu,
+	       b.machine.date);
 #ifdef NDEBUG
 	printf("build: release; ");
 #else

@@ -51,12 +51,12 @@ const char *svg_decade_count(char *buf, size_t len, int d)
 /* A decade of milliseconds in the unit that keeps it a small round number. */
 const char *svg_decade_ms(char *buf, size_t len, int d)
 {
-	static const char *const unit[] = { "µs", "ms", "s" };
+	static const char *const unit[] = { "ns", "µs", "ms", "s" };
 
-	if (d < -3 || d > 5)
+	if (d < -6 || d > 5)
 		snprintf(buf, len, "1e%d ms", d);
 	else
-		snprintf(buf, len, "%.0f %s", pow(10, (d + 3) % 3), unit[(d + 3) / 3]);
+		snprintf(buf, len, "%.0f %s", pow(10, (d + 6) % 3), unit[(d + 6) / 3]);
 	return buf;
 }
 

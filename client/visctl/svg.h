@@ -29,7 +29,7 @@ struct svg_axes {
 /* Labels decade d of an axis into buf: "1k", "100 µs", …. */
 typedef const char *(*svg_decade_fn)(char *buf, size_t len, int d);
 
-/* Decade labels of counts (1, 10, 100, 1k, …) and of milliseconds (1 µs … 100 s). */
+/* Decade labels of counts (1, 10, 100, 1k, …) and of milliseconds (1 ns … 100 s). */
 const char *svg_decade_count(char *buf, size_t len, int d);
 const char *svg_decade_ms(char *buf, size_t len, int d);
 
