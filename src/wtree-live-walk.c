@@ -501,3 +501,56 @@ int wtree_live_seen_from_order(const struct vis_wtree *tree, struct vis_wtree_li
 		errno = ENOMEM;
 	return ok ? 0 : -1;
 }
+
+int wtree_live_walk_moved(struct vis_wtree_live *lv, struct candidate *c, struct vis_box old_clip)
+{
+	const struct vis_window *w = c->w;
+	const struct seen *old = wtree_live_old_seen(lv, w);
+	if ((old && !seen_exact(old)) || vis_box_empty(w->clip))
+		return wtree_live_walk_query(lv, c);
+	pixman_region32_t u, rest;
+	bool ok = old ? seen_region(&u, old, w->clip) : (pixman_region32_init(&u), true);
+	if (!ok) {
+		errno = ENOMEM;
+		return -1;
+	}
+	pixman_box32_t b = pbox(w->clip), o = pbox(old_clip);
+	pixman_region32_init_rect(&rest, b.x1, b.y1, (unsigned)(b.x2 - b.x1), (unsigned)(b.y2 - b.y1));
+	if (!vis_box_empty(old_clip)) {
+		pixman_region32_t r;
+		pixman_region32_init_rect(&r, o.x1, o.y1, (unsigned)(o.x2 - o.x1),
+					  (unsigned)(o.y2 - o.y1));
+		ok = pixman_region32_subtract(&rest, &rest, &r);
+		pixman_region32_fini(&r);
+	}
+	/* The pixels new to its clip, a box at a time: hide() narrows to what is left's extents. */
+	int rc = 0, n = 0;
+	const pixman_box32_t *boxes = ok ? pixman_region32_rectangles(&rest, &n) : NULL;
+	uint64_t end = wtree_live_subtree_end(w);
+	for (int i = 0; ok && rc == 0 && i < n; i++) {
+		pixman_region32_t g;
+		pixman_region32_init_rect(&g, boxes[i].x1, boxes[i].y1,
+					  (unsigned)(boxes[i].x2 - boxes[i].x1),
+					  (unsigned)(boxes[i].y2 - boxes[i].y1));
+		bool hit;
+		rc = hide(lv, end, &g, &hit, &lv->steps, lv->budget);
+		ok = rc != 0 || pixman_region32_union(&u, &u, &g);
+		pixman_region32_fini(&g);
+	}
+	pixman_region32_fini(&rest);
+	if (rc == 0 && !ok) {
+		errno = ENOMEM;
+		rc = -1;
+	}
+	c->seen.n = 0;
+	c->state = VIS_FULLY_OBSCURED;
+	if (rc == 0 && pixman_region32_not_empty(&u)) {
+		const pixman_box32_t *e = pixman_region32_extents(&u);
+		bool whole = pixman_region32_n_rects(&u) == 1 && e->x1 == w->box.x1 &&
+			     e->y1 == w->box.y1 && e->x2 == w->box.x2 && e->y2 == w->box.y2;
+		c->state = whole ? VIS_UNOBSCURED : VIS_PARTIALLY_OBSCURED;
+		keep_seen(&u, &c->seen);
+	}
+	pixman_region32_fini(&u);
+	return rc;
+}

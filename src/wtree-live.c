@@ -499,7 +499,8 @@ static int unindex(struct vis_wtree_live *lv, size_t roots)
 		for (struct vis_window *v = d; v; v = vis_wtree_next_within(v, d)) {
 			if (grow(&lv->saved, &lv->cap_saved, lv->n_saved, sizeof *lv->saved) < 0)
 				return -1;
-			lv->saved[lv->n_saved++] = (struct saved_boxes){ v, v->box, v->clip, v->inner };
+			lv->saved[lv->n_saved++] =
+				(struct saved_boxes){ v, v->key, v->box, v->clip, v->inner };
 			if (v->live_seen && wtree_live_walk_refine(lv, v) < 0)
 				return -1;
 			if (v->live_seen)
@@ -595,6 +596,25 @@ static int through_tree_keeping(struct vis_wtree *tree, struct vis_wtree_live *l
 	return rc;
 }
 
+/*
+ * Whether the one window an update changed (none destroyed), viewable before and now and without
+ * viewable descendants, lies between the same windows in the order as before: its old key lies
+ * between the keys of the windows before and after it now, which kept theirs.
+ */
+static bool kept_place(const struct vis_wtree *tree, const struct vis_wtree_live *lv)
+{
+	if (lv->n_saved != 1 || !lv->saved[0].key)
+		return false;
+	for (size_t e = 0; e < lv->n_exposures; e++)
+		if (!lv->exposures[e].w)
+			return false; /* a window destroyed too */
+	const struct vis_window *w = lv->saved[0].w, *p = prev_viewable(w),
+				*n = vis_wtree_next_viewable(tree, w);
+	uint64_t old = lv->saved[0].key;
+	return w->key && w->state != VIS_WTREE_STATE_NONE && (!p || p->key < old) &&
+	       (!n || n->key > old);
+}
+
 /* The live update proper: 0, NOT_LIVE, or -1 (ENOMEM, the structures then no longer valid). */
 static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 {
@@ -631,7 +651,9 @@ static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 	size_t changed = lv->n_moved = lv->n_cands;
 	for (size_t i = 0; rc == 0 && i < changed; i++)
 		if (lv->cands[i].state == STATE_UNKNOWN)
-			rc = wtree_live_walk_query(lv, &lv->cands[i]);
+			rc = changed == 1 && kept_place(tree, lv)
+				     ? wtree_live_walk_moved(lv, &lv->cands[i], lv->saved[0].clip)
+				     : wtree_live_walk_query(lv, &lv->cands[i]);
 	/* Each one: under an input-only root, descendants see what their root does not. */
 	for (size_t i = 0; rc == 0 && i < changed; i++)
 		rc = wtree_live_walk_cover(tree, lv, &lv->cands[i]);

@@ -119,6 +119,7 @@ struct vis_wtree_live {
 
 struct saved_boxes {
 	struct vis_window *w;
+	uint64_t key; /* 0: none (not viewable) */
 	struct vis_box box, clip, inner;
 };
 
@@ -186,6 +187,14 @@ int wtree_live_walk_region(const struct vis_wtree *tree, const struct vis_window
  */
 int wtree_live_seen_from_order(const struct vis_wtree *tree, struct vis_wtree_live *lv,
 			       uint64_t budget);
+
+/*
+ * The state and seen region of the one window an update changed, whose clip was old_clip, that
+ * kept its place among the others in the order (the same windows lie above it): if what it saw
+ * is exact, it sees what it saw inside its new clip and what a walk finds of the rest of its
+ * clip. Else as wtree_live_walk_query(). 0, or -1 (ENOMEM), or OVER_BUDGET.
+ */
+int wtree_live_walk_moved(struct vis_wtree_live *lv, struct candidate *c, struct vis_box old_clip);
 
 /* Frees a tree's live structures; NULL is a no-op. */
 void vis_wtree_live_destroy(struct vis_wtree_live *live);
