@@ -14,9 +14,13 @@ struct chunk {
 	void *items[CHUNK];
 };
 
-/* A cell: its entries in key order, chunk after chunk, none of them empty. */
+/*
+ * A cell: its entries in key order, chunk after chunk, none of them empty, and each chunk's last
+ * key beside its pointer, so that finding a key's chunk reads one array, not every chunk probed.
+ */
 struct vis_zgrid_cell {
 	struct chunk **chunks;
+	uint64_t *lasts;
 	size_t n, cap;
 };
 
@@ -44,6 +48,7 @@ void vis_zgrid_finish(struct vis_zgrid *g)
 		for (size_t i = 0; i < g->cells[c].n; i++)
 			free(g->cells[c].chunks[i]);
 		free(g->cells[c].chunks);
+		free(g->cells[c].lasts);
 	}
 	free(g->cells);
 	g->cells = NULL;
@@ -69,7 +74,7 @@ static size_t find_chunk(const struct vis_zgrid_cell *c, uint64_t key, bool abov
 	size_t lo = 0, hi = c->n;
 	while (lo < hi) {
 		size_t mid = lo + (hi - lo) / 2;
-		uint64_t last = c->chunks[mid]->keys[c->chunks[mid]->n - 1];
+		uint64_t last = c->lasts[mid];
 		if (last < key || (above && last == key))
 			lo = mid + 1;
 		else
@@ -101,6 +106,10 @@ static struct chunk *add_chunk(struct vis_zgrid_cell *c, size_t i)
 		if (!t)
 			return NULL;
 		c->chunks = t;
+		uint64_t *l = realloc(c->lasts, cap * sizeof *l);
+		if (!l)
+			return NULL; /* the table grew: the cell stays as it was */
+		c->lasts = l;
 		c->cap = cap;
 	}
 	struct chunk *k = malloc(sizeof *k);
@@ -108,7 +117,9 @@ static struct chunk *add_chunk(struct vis_zgrid_cell *c, size_t i)
 		return NULL;
 	k->n = 0;
 	memmove(&c->chunks[i + 1], &c->chunks[i], (c->n - i) * sizeof *c->chunks);
+	memmove(&c->lasts[i + 1], &c->lasts[i], (c->n - i) * sizeof *c->lasts);
 	c->chunks[i] = k;
+	c->lasts[i] = 0;
 	c->n++;
 	return k;
 }
@@ -133,8 +144,13 @@ static int cell_insert(struct vis_zgrid_cell *c, uint64_t key, void *item)
 			memcpy(m->keys, &k->keys[k->n], m->n * sizeof *m->keys);
 			memcpy(m->items, &k->items[k->n], m->n * sizeof *m->items);
 		}
-		if (last || key > k->keys[k->n - 1])
+		if (!last)
+			c->lasts[i + 1] = m->keys[m->n - 1];
+		c->lasts[i] = k->keys[k->n - 1];
+		if (last || key > k->keys[k->n - 1]) {
 			k = m;
+			i++;
+		}
 	}
 	size_t at = find_at(k, key, false);
 	memmove(&k->keys[at + 1], &k->keys[at], (k->n - at) * sizeof *k->keys);
@@ -142,6 +158,7 @@ static int cell_insert(struct vis_zgrid_cell *c, uint64_t key, void *item)
 	k->keys[at] = key;
 	k->items[at] = item;
 	k->n++;
+	c->lasts[i] = k->keys[k->n - 1];
 	return 0;
 }
 
@@ -161,6 +178,9 @@ static void cell_remove(struct vis_zgrid_cell *c, uint64_t key)
 		free(k);
 		c->n--;
 		memmove(&c->chunks[i], &c->chunks[i + 1], (c->n - i) * sizeof *c->chunks);
+		memmove(&c->lasts[i], &c->lasts[i + 1], (c->n - i) * sizeof *c->lasts);
+	} else {
+		c->lasts[i] = k->keys[k->n - 1];
 	}
 }
 
@@ -376,6 +396,8 @@ size_t vis_zgrid_size(const struct vis_zgrid *g)
 		for (size_t i = 0; i < g->cells[c].n; i++) {
 			const struct chunk *k = g->cells[c].chunks[i];
 			n += k->n;
+			if (g->cells[c].lasts[i] != k->keys[k->n - 1])
+				return SIZE_MAX; /* the table's last key is stale */
 			for (size_t j = 1; j < k->n; j++)
 				if (k->keys[j - 1] >= k->keys[j])
 					return SIZE_MAX; /* out of order */

@@ -85,7 +85,8 @@ void vis_zgrid_walk_finish(struct vis_zgrid_walk *walk);
 /* For self-checks: whether every cell box meets holds key (and how many those are). O(cells). */
 bool vis_zgrid_holds(const struct vis_zgrid *g, struct vis_box box, uint64_t key, size_t *cells);
 
-/* For self-checks: the entries the cells hold, or SIZE_MAX when a cell is out of order. */
+/* For self-checks: the entries the cells hold, or SIZE_MAX when a cell is out of order (or
+ * its table of last keys is stale). */
 size_t vis_zgrid_size(const struct vis_zgrid *g);
 
 #endif
