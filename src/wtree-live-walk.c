@@ -112,6 +112,24 @@ static void keep_seen(pixman_region32_t *u, struct seen *s)
 		s->boxes[i] = vbox(&b[i]);
 }
 
+/*
+ * A candidate's state and seen region from the pixels it sees, u (NULL: none, as after a
+ * failed walk): unobscured when they are its whole box.
+ */
+static void settle(struct candidate *c, pixman_region32_t *u)
+{
+	const struct vis_window *w = c->w;
+	c->seen.n = 0;
+	c->state = VIS_FULLY_OBSCURED;
+	if (!u || !pixman_region32_not_empty(u))
+		return;
+	const pixman_box32_t *e = pixman_region32_extents(u);
+	bool whole = pixman_region32_n_rects(u) == 1 && e->x1 == w->box.x1 && e->y1 == w->box.y1 &&
+		     e->x2 == w->box.x2 && e->y2 == w->box.y2;
+	c->state = whole ? VIS_UNOBSCURED : VIS_PARTIALLY_OBSCURED;
+	keep_seen(u, &c->seen);
+}
+
 /* The key of the last viewable window of w's subtree (w's own without viewable descendants). */
 uint64_t wtree_live_subtree_end(const struct vis_window *w)
 {
@@ -215,11 +233,15 @@ static bool gained(struct vis_wtree_live *lv, struct candidate *c, const struct 
 /* Sets u (not initialized) to a seen region's pixels on the screen. false without memory. */
 static bool seen_region(pixman_region32_t *u, const struct seen *seen, struct vis_box screen)
 {
-	int n = seen->n == SEEN_EXTENTS ? 1 : seen->n;
+	int n = seen->n == SEEN_EXTENTS ? 1 : seen->n, k = 0;
 	pixman_box32_t boxes[SEEN_BOXES];
-	for (int i = 0; i < n; i++)
-		boxes[i] = pbox(vis_box_intersect(seen->boxes[i], screen));
-	return pixman_region32_init_rects(u, boxes, n);
+	/* pixman takes one box, even an empty one, as a rectangle to check. */
+	for (int i = 0; i < n; i++) {
+		struct vis_box b = vis_box_intersect(seen->boxes[i], screen);
+		if (!vis_box_empty(b))
+			boxes[k++] = pbox(b);
+	}
+	return pixman_region32_init_rects(u, boxes, k);
 }
 
 /* Takes a seen region's pixels off u. false without memory. */
@@ -444,15 +466,7 @@ int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *
 		errno = ENOMEM;
 		rc = -1;
 	}
-	c->seen.n = 0;
-	c->state = VIS_FULLY_OBSCURED;
-	if (rc == 0 && pixman_region32_not_empty(&u)) {
-		const pixman_box32_t *e = pixman_region32_extents(&u);
-		bool whole = pixman_region32_n_rects(&u) == 1 && e->x1 == w->box.x1 &&
-			     e->y1 == w->box.y1 && e->x2 == w->box.x2 && e->y2 == w->box.y2;
-		c->state = whole ? VIS_UNOBSCURED : VIS_PARTIALLY_OBSCURED;
-		keep_seen(&u, &c->seen);
-	}
+	settle(c, rc == 0 ? &u : NULL);
 	pixman_region32_fini(&u);
 	return rc;
 }
@@ -542,15 +556,41 @@ int wtree_live_walk_moved(struct vis_wtree_live *lv, struct candidate *c, struct
 		errno = ENOMEM;
 		rc = -1;
 	}
-	c->seen.n = 0;
-	c->state = VIS_FULLY_OBSCURED;
-	if (rc == 0 && pixman_region32_not_empty(&u)) {
-		const pixman_box32_t *e = pixman_region32_extents(&u);
-		bool whole = pixman_region32_n_rects(&u) == 1 && e->x1 == w->box.x1 &&
-			     e->y1 == w->box.y1 && e->x2 == w->box.x2 && e->y2 == w->box.y2;
-		c->state = whole ? VIS_UNOBSCURED : VIS_PARTIALLY_OBSCURED;
-		keep_seen(&u, &c->seen);
+	settle(c, rc == 0 ? &u : NULL);
+	pixman_region32_fini(&u);
+	return rc;
+}
+
+int wtree_live_walk_lowered(struct vis_wtree_live *lv, struct candidate *c, uint64_t old_key)
+{
+	const struct vis_window *w = c->w;
+	const struct seen *old = wtree_live_old_seen(lv, w);
+	if (old && !seen_exact(old))
+		return wtree_live_walk_query(lv, c);
+	if (!old) {
+		settle(c, NULL); /* hidden above, hidden below */
+		return 0;
 	}
+	pixman_region32_t u;
+	if (!seen_region(&u, old, w->clip)) {
+		errno = ENOMEM;
+		return -1;
+	}
+	struct vis_zgrid_walk walk;
+	bool ok = vis_zgrid_walk_init(&walk, &lv->grid, vbox(pixman_region32_extents(&u)), old_key,
+				      false) == 0;
+	uint64_t k;
+	void *item;
+	while (ok && pixman_region32_not_empty(&u) && ++lv->steps <= lv->budget &&
+	       vis_zgrid_walk_next(&walk, &k, &item) && k > w->key) {
+		if (cut(&u, item, &ok))
+			narrow(&walk, &u);
+	}
+	vis_zgrid_walk_finish(&walk);
+	int rc = lv->steps > lv->budget ? OVER_BUDGET : ok ? 0 : -1;
+	if (rc == -1)
+		errno = ENOMEM;
+	settle(c, rc == 0 ? &u : NULL);
 	pixman_region32_fini(&u);
 	return rc;
 }

@@ -596,23 +596,47 @@ static int through_tree_keeping(struct vis_wtree *tree, struct vis_wtree_live *l
 	return rc;
 }
 
+/* How the one window an update changed, if that is all, moved among the others in the order. */
+enum lone { LONE_NO, LONE_IN_PLACE, LONE_LOWERED };
+
 /*
- * Whether the one window an update changed (none destroyed), viewable before and now and without
- * viewable descendants, lies between the same windows in the order as before: its old key lies
- * between the keys of the windows before and after it now, which kept theirs.
+ * Whether the update changed one window alone (none destroyed), viewable before and now and
+ * without viewable descendants, and how: in place when its old key lies between the keys of the
+ * windows before and after it now, which kept theirs; lowered when its key fell and its clip
+ * stayed.
  */
-static bool kept_place(const struct vis_wtree *tree, const struct vis_wtree_live *lv)
+static enum lone lone(const struct vis_wtree *tree, const struct vis_wtree_live *lv)
 {
 	if (lv->n_saved != 1 || !lv->saved[0].key)
-		return false;
+		return LONE_NO;
 	for (size_t e = 0; e < lv->n_exposures; e++)
 		if (!lv->exposures[e].w)
-			return false; /* a window destroyed too */
+			return LONE_NO; /* a window destroyed too */
 	const struct vis_window *w = lv->saved[0].w, *p = prev_viewable(w),
 				*n = vis_wtree_next_viewable(tree, w);
 	uint64_t old = lv->saved[0].key;
-	return w->key && w->state != VIS_WTREE_STATE_NONE && (!p || p->key < old) &&
-	       (!n || n->key > old);
+	struct vis_box was = lv->saved[0].clip;
+	if (!w->key || w->state == VIS_WTREE_STATE_NONE)
+		return LONE_NO;
+	if ((!p || p->key < old) && (!n || n->key > old))
+		return LONE_IN_PLACE;
+	bool same_clip = was.x1 == w->clip.x1 && was.y1 == w->clip.y1 && was.x2 == w->clip.x2 &&
+			 was.y2 == w->clip.y2;
+	return same_clip && w->key < old ? LONE_LOWERED : LONE_NO;
+}
+
+/* A changed window's state and seen region (0, -1 or OVER_BUDGET), as lone() allows. */
+static int query_changed(const struct vis_wtree *tree, struct vis_wtree_live *lv,
+			 struct candidate *c, size_t changed)
+{
+	switch (changed == 1 ? lone(tree, lv) : LONE_NO) {
+	case LONE_IN_PLACE:
+		return wtree_live_walk_moved(lv, c, lv->saved[0].clip);
+	case LONE_LOWERED:
+		return wtree_live_walk_lowered(lv, c, lv->saved[0].key);
+	default:
+		return wtree_live_walk_query(lv, c);
+	}
 }
 
 /* The live update proper: 0, NOT_LIVE, or -1 (ENOMEM, the structures then no longer valid). */
@@ -651,9 +675,7 @@ static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 	size_t changed = lv->n_moved = lv->n_cands;
 	for (size_t i = 0; rc == 0 && i < changed; i++)
 		if (lv->cands[i].state == STATE_UNKNOWN)
-			rc = changed == 1 && kept_place(tree, lv)
-				     ? wtree_live_walk_moved(lv, &lv->cands[i], lv->saved[0].clip)
-				     : wtree_live_walk_query(lv, &lv->cands[i]);
+			rc = query_changed(tree, lv, &lv->cands[i], changed);
 	/* Each one: under an input-only root, descendants see what their root does not. */
 	for (size_t i = 0; rc == 0 && i < changed; i++)
 		rc = wtree_live_walk_cover(tree, lv, &lv->cands[i]);

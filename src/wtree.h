@@ -318,7 +318,8 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  * walks meet; so do the others whose last seen region is not exact. A lone changed window
  * without descendants (none destroyed) whose old key lies between the keys of the windows now
  * before and after it has the same windows above it: it sees what it saw inside its new clip,
- * and the walks go over the rest of its clip alone. Another window w, whose
+ * and the walks go over the rest of its clip alone; one lowered, its clip as it was, has above
+ * it the windows that were and those between its keys: it sees what it saw less their clips. Another window w, whose
  * last seen region s is exact, sees s less the clips of the changed windows now after its
  * subtree (no unchanged window there hid s before, and none hides it now), plus, if rule 3 took
  * it, what it sees of exposed (it gains no pixel elsewhere): without viewable descendants, the

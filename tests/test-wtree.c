@@ -764,6 +764,19 @@ static void scripted(void)
 	assert(state(parent) == U && state(child) == U);
 	scene_end();
 
+	/* A window lowered past one that misses what it sees, onto one that holds all of it: the
+	 * windows now above it are those between its places, not those below. */
+	scene_begin();
+	int floor_ = put(-1, 0, 0, 10, 10), aside = put(-1, 8, 8, 4, 4);
+	int lowered = put(-1, 2, 2, 4, 4), over = put(-1, 3, 3, 4, 4);
+	check_both(0, "a stack");
+	check_both(0, change(MOVE, lowered, 0, 2, 2));
+	check_both(0, change(RESTACK, lowered, aside, 0, 0));
+	assert(state(lowered) == P && state(floor_) == P && state(over) == U);
+	check_both(0, change(RESTACK, lowered, floor_, 0, 0));
+	assert(state(lowered) == F);
+	scene_end();
+
 	scene_begin();
 	int top = put(-1, 0, 0, 12, 10);
 	int k1 = put(top, 0, 0, 6, 6), k2 = put(top, 3, 3, 6, 6), k3 = put(top, 5, 1, 6, 6);
