@@ -59,6 +59,13 @@ int vis_region_compute(const struct vis_stack *stack, uint8_t *states);
  */
 int vis_region_compute_within(const struct vis_stack *stack, uint8_t *states, uint64_t budget);
 
+/*
+ * The region method that gives up once its remaining work, forecast from the work it has done
+ * (region.c says how), is predicted to exceed rival units of the same work: returns 1 then, with
+ * states partly written; otherwise as vis_region_compute(). O(log n) forecasts of O(r) each.
+ */
+int vis_region_compute_against(const struct vis_stack *stack, uint8_t *states, uint64_t rival);
+
 /* Painting on the compressed grid: O(n³) time, O(n²) space. For tests only. */
 int vis_brute_compute(const struct vis_stack *stack, uint8_t *states);
 
