@@ -11,16 +11,17 @@
  * many boxes as windows walked (uniform n = 10^3: 493 boxes after 76 windows; cascade 131 after
  * 66; grid 68 after 68), so sweeping the rest under the union would cost more than the whole stack.
  *
- * REGION_UNITS_PER_STEP prices one sweep step (a window times a tree level, n ⌈log2 2n⌉ steps) in
- * units of region work. Measured (docs/ENGINES.md): a unit costs 1.8–3 ns where unions dominate
- * and 5–9 ns where tests do; a step 13–40 ns on scenes whose sweep tree stays in the cache
- * (random, tiles, nested, cascade, grid: 3–13 units) and 90–120 ns on uniform (36–60 units).
- * The price is set at the dear end: a hand-over is then never to a sweep that costs more than the
- * region method's rest, and auto is never much slower than region (the floor); the cost is that
- * where the sweep is cheap per step and the union stays small, auto keeps the region method at up
- * to ~10 times the sweep's time where a cheap sweep would have won.
+ * The price of one sweep step (a window times a tree level, n ⌈log2 2n⌉ steps) in units of region
+ * work is measured (docs/ENGINES.md): a unit costs 1.8–3 ns where unions dominate and 5–9 ns where
+ * tests do; a step costs 13–40 ns on a screen (random, tiles, nested, cascade, grid: 3–13 units),
+ * where the sweep's tree has at most as many leaves as the screen has lines, and 90–120 ns on the
+ * unclipped uniform scene (36–60 units). Each price is the dear end of its range, so that auto
+ * never hands over to a sweep that costs more than the region method's rest; the cost is that
+ * where the sweep is cheaper than priced (a cascade's, 3–5 units a step), auto keeps the region
+ * method while it is forecast to cost up to 3 times the sweep.
  */
-#define REGION_UNITS_PER_STEP 40
+#define UNITS_PER_STEP_ON_SCREEN 12
+#define UNITS_PER_STEP_UNCLIPPED 40
 
 /* The steps of the sweep over n windows: n times the levels of a tree over their 2n edges. */
 static uint64_t sweep_steps(size_t n)
@@ -44,5 +45,6 @@ int vis_auto_compute_priced(const struct vis_stack *stack, uint8_t *states, uint
 
 int vis_auto_compute(const struct vis_stack *stack, uint8_t *states)
 {
-	return vis_auto_compute_priced(stack, states, REGION_UNITS_PER_STEP);
+	return vis_auto_compute_priced(stack, states, stack->has_screen ? UNITS_PER_STEP_ON_SCREEN
+									 : UNITS_PER_STEP_UNCLIPPED);
 }

@@ -81,9 +81,12 @@ static uint64_t ilog2(uint64_t x)
  * both are damped by e^-λt, t windows on: each window costs its test, 1 + log2 r, and is added at
  * the rate f e^-λt, at the cost of the union's r + rho (1 - e^-λt) / λ boxes then. So a union that
  * keeps growing (the grid, a cascade's first round: λ = 0) is extrapolated quadratically, one that
- * has stopped (a cascade after its first round) linearly, and one that is closing the uncovered
- * part (uniform) is summed to where it does: on the benchmark's scenes the forecast made at the
- * first decision (k ≈ 64) is within 0.5–1.3 times the work that remains (docs/ENGINES.md).
+ * has stopped growing linearly, and one that is closing the uncovered part (uniform) is summed to
+ * where it closes. It is rough (measured: 0.3–0.8 times the rest on uniform at the first forecast,
+ * far above it on a cascade's first round, far below it on the grid, whose growth itself grows),
+ * but it need only fall on the right side of the rival, which on the benchmark's scenes it does
+ * by 1.1 to 200 times at the first forecast (docs/ENGINES.md); a miss costs at most the work to
+ * the next checkpoint, one doubling.
  */
 #define FORECAST_MAX 130 /* checkpoints: k and the work double at most 64 times each */
 
@@ -98,6 +101,7 @@ struct forecast {
 	size_t k_next;      /* the next checkpoint: windows walked, */
 	uint64_t work_next; /* or work done */
 	size_t count, base; /* checkpoints so far; the latest at or before half the current k */
+	unsigned agreed;    /* forecasts in a row that the rival is cheaper: two are needed */
 	struct checkpoint at[FORECAST_MAX];
 };
 
@@ -129,7 +133,9 @@ static double damped(double a, double m)
  * A checkpoint after k of n windows, added of them added to the union, work units in all:
  * returns whether the rest is predicted to cost more than the rival, or the work done has passed
  * twice the rival (a forecast can be wrong: this bounds what trusting it can cost), and sets the
- * next checkpoint, no later than that bound.
+ * next checkpoint, no later than that bound. Two forecasts in a row must agree: the windows
+ * walked since the last one can be a single window's pieces (a shaped window's rows, disjoint,
+ * each added to the union), which look like the grid's bars.
  */
 static bool forecast_exceeds(struct forecast *f, pixman_region32_t *above, size_t k, size_t n,
 			     size_t added, uint64_t work)
@@ -152,12 +158,19 @@ static bool forecast_exceeds(struct forecast *f, pixman_region32_t *above, size_
 		double rho = now.r > b->r ? (now.r - b->r) / dk : 0;
 		double lambda, grown;
 
-		if (now.q <= 0)
+		if (now.q <= 0 || share <= 0)
 			lambda = INFINITY;
 		else if (now.q < b->q)
 			lambda = log(b->q / now.q) / dk;
 		else
 			lambda = 0;
+		/*
+		 * The share added is itself a measure of coverage: had windows been landing on
+		 * the union at rate λ since the top, it would be e^-λk. A union that holds most
+		 * windows already (a desktop's, q's changes being noise there) stops growing.
+		 */
+		if (share < 1 && -log(share) / (double)k > lambda)
+			lambda = -log(share) / (double)k;
 		/* Σ e^-λt (1 - e^-λt) / λ = (D(λ) - D(2λ)) / λ, which tends to m² / 2 with λ. */
 		if (isinf(lambda))
 			grown = 0;
@@ -165,8 +178,11 @@ static bool forecast_exceeds(struct forecast *f, pixman_region32_t *above, size_
 			grown = m * m / 2;
 		else
 			grown = (damped(lambda, m) - damped(2 * lambda, m)) / lambda;
-		over = m * (1 + (double)ilog2((uint64_t)now.r)) +
-		       share * (now.r * damped(lambda, m) + rho * grown) > (double)f->rival;
+		if (m * (1 + (double)ilog2((uint64_t)now.r)) +
+		    share * (now.r * damped(lambda, m) + rho * grown) > (double)f->rival)
+			over = ++f->agreed >= 2;
+		else
+			f->agreed = 0;
 	}
 	if (f->count < FORECAST_MAX)
 		f->at[f->count++] = now;
