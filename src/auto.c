@@ -6,18 +6,19 @@
  * or cascading stacks; the sweep is O(n log n) on all of them. So run the region method while the
  * forecast of its remaining work (region.c) stays within what the sweep costs, and hand over to
  * the sweep when it does not: a hand-over costs only the work already done, which the forecast
- * keeps small by deciding early (the grid and cascades are recognised after 64–80 windows).
- * The region's finished work is not kept: at every hand-over measured the union had at least as
- * many boxes as windows walked (uniform n = 10^3: 493 boxes after 76 windows; cascade 131 after
- * 66; grid 68 after 68), so sweeping the rest under the union would cost more than the whole stack.
+ * keeps small by deciding early (the grid, cascades and small uniform stacks are recognised after
+ * 90–180 windows). The region's finished work is not kept: at every hand-over measured the union
+ * had at least as many boxes as windows walked (uniform n = 10^3: 767 boxes after 102 windows;
+ * cascade 189 after 95; grid 98 after 98), so sweeping the rest under the union would cost as much
+ * as sweeping the whole stack.
  *
  * The price of one sweep step (a window times a tree level, n ⌈log2 2n⌉ steps) in units of region
- * work is measured (docs/ENGINES.md): a unit costs 1.8–3 ns where unions dominate and 5–9 ns where
- * tests do; a step costs 13–40 ns on a screen (random, tiles, nested, cascade, grid: 3–13 units),
+ * work is measured (docs/ENGINES.md): a unit costs 1.8–3 ns where unions dominate and 5–10 ns where
+ * tests do; a step costs 13–78 ns on a screen (random, tiles, nested, cascade, grid: 3–13 units),
  * where the sweep's tree has at most as many leaves as the screen has lines, and 90–120 ns on the
- * unclipped uniform scene (36–60 units). Each price is the dear end of its range, so that auto
+ * unclipped uniform scene (24–60 units). Each price is near the dear end of its range, so that auto
  * never hands over to a sweep that costs more than the region method's rest; the cost is that
- * where the sweep is cheaper than priced (a cascade's, 3–5 units a step), auto keeps the region
+ * where the sweep is cheaper than priced (a cascade's, 4–7 units a step), auto keeps the region
  * method while it is forecast to cost up to 3 times the sweep.
  */
 #define UNITS_PER_STEP_ON_SCREEN 12

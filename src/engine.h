@@ -78,7 +78,7 @@ int vis_auto_compute(const struct vis_stack *stack, uint8_t *states);
 
 /*
  * vis_auto_compute() with a sweep step priced at units_per_step units of region work instead of
- * the measured price: the tests force an early hand-over with a low one (1) and none with
+ * the measured price: the tests force an early hand-over with a low one (0 or 1) and none with
  * UINT64_MAX.
  */
 int vis_auto_compute_priced(const struct vis_stack *stack, uint8_t *states, uint64_t units_per_step);
