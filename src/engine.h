@@ -7,7 +7,7 @@
 #include "stack.h"
 
 enum vis_engine {
-	VIS_ENGINE_AUTO,     /* region method until it grows costly, then the sweep */
+	VIS_ENGINE_AUTO,     /* region method until it is forecast to cost more than the sweep */
 	VIS_ENGINE_GMV,      /* section 6 sweep: offline top-of-heap lists */
 	VIS_ENGINE_GMV_HEAP, /* sections 4–5 sweep: per-node max-heaps */
 	VIS_ENGINE_REGION,   /* top-down pixman region subtraction, as X.Org does */
@@ -59,13 +59,28 @@ int vis_region_compute(const struct vis_stack *stack, uint8_t *states);
  */
 int vis_region_compute_within(const struct vis_stack *stack, uint8_t *states, uint64_t budget);
 
+/*
+ * The region method that gives up once its remaining work, forecast from the work it has done
+ * (region.c says how), is predicted to exceed rival units of the same work: returns 1 then, with
+ * states partly written; otherwise as vis_region_compute(). O(log n) forecasts of O(r) each.
+ */
+int vis_region_compute_against(const struct vis_stack *stack, uint8_t *states, uint64_t rival);
+
 /* Painting on the compressed grid: O(n³) time, O(n²) space. For tests only. */
 int vis_brute_compute(const struct vis_stack *stack, uint8_t *states);
 
 /*
- * The region method under a work budget of O(n log n) units; past the budget, the gmv-heap sweep.
- * O(n log² n) time in the worst case; the region method's time when that is cheaper.
+ * The region method while the forecast of its remaining work stays within the gmv-heap sweep's
+ * cost, the sweep past that (auto.c). O(n log² n) time in the worst case (the region method gives
+ * up by twice the sweep's estimated cost); the region method's time when that is cheaper.
  */
 int vis_auto_compute(const struct vis_stack *stack, uint8_t *states);
+
+/*
+ * vis_auto_compute() with a sweep step priced at units_per_step units of region work instead of
+ * the measured price: the tests force an early hand-over with a low one (0 or 1) and none with
+ * UINT64_MAX.
+ */
+int vis_auto_compute_priced(const struct vis_stack *stack, uint8_t *states, uint64_t units_per_step);
 
 #endif

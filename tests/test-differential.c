@@ -166,6 +166,29 @@ static int region_within(const struct vis_stack *stack, uint8_t *states)
 }
 
 /*
+ * auto with its sweep step priced at price units (vis_auto_compute_priced()), on the windows'
+ * pieces when they have looks: a price of 0 hands over at the first checkpoint (32 windows), one
+ * of 1 wherever a forecast is made on a costly union, UINT64_MAX never, though it still forecasts.
+ */
+static int auto_priced(const struct vis_stack *stack, uint8_t *states, uint64_t price)
+{
+	if (stack->looks == NULL)
+		return vis_auto_compute_priced(stack, states, price);
+	struct vis_pieces pieces;
+	if (vis_pieces_init(&pieces, stack) < 0)
+		return -1;
+	uint8_t *piece_states = malloc(pieces.stack.n + 1);
+	int rc = -1;
+	if (piece_states != NULL)
+		rc = vis_auto_compute_priced(&pieces.stack, piece_states, price);
+	if (rc == 0)
+		vis_pieces_join(&pieces, stack, piece_states, states);
+	free(piece_states);
+	vis_pieces_finish(&pieces);
+	return rc;
+}
+
+/*
  * Runs one engine, reporting an error return; states are poisoned first to catch gaps. The
  * region method runs under a work budget: returns 1 when it gave up, else 0, or -1 on error.
  */
@@ -224,7 +247,7 @@ static bool check_scene(const struct options *o, unsigned kind, size_t n, uint64
 	struct vis_scene scene;
 	struct vis_stack stack;
 	uint8_t *want = NULL, *got = NULL;
-	bool ok = true, have_ref = false;
+	bool ok = true, have_ref = false, region_over = false;
 	enum vis_engine ref = VIS_ENGINE_BRUTE;
 
 	vis_scene_init(&scene);
@@ -260,6 +283,7 @@ static bool check_scene(const struct options *o, unsigned kind, size_t n, uint64
 		if (rc < 0) {
 			ok = false;
 		} else if (rc > 0) {
+			region_over = true;
 			if (o->verbose)
 				printf("     region method over budget: not checked\n");
 		} else if (!have_ref) {
@@ -267,6 +291,24 @@ static bool check_scene(const struct options *o, unsigned kind, size_t n, uint64
 			ref = e;
 		} else {
 			ok = compare(o, &scene, kind, seed, e, ref, want, got) && ok;
+		}
+	}
+	/*
+	 * auto's two outcomes forced, so that each is checked on every kind and size; never handing
+	 * over only where the region method kept within its budget, or the grids would take minutes.
+	 */
+	static const uint64_t prices[] = { 0, 1, UINT64_MAX };
+	for (size_t k = 0; have_ref && o->engines[VIS_ENGINE_AUTO] && k < (region_over ? 2u : 3u); k++) {
+		memset(got, 0xff, stack.n);
+		if (auto_priced(&stack, got, prices[k]) < 0) {
+			if (reports++ < MAX_REPORTS)
+				printf("ERROR kind %s, n %zu, seed %" PRIu64 ", auto priced at %" PRIu64
+				       ": %s\n", scenes_kind_name(kind), stack.n, seed, prices[k],
+				       strerror(errno));
+			ok = false;
+		} else if (!compare(o, &scene, kind, seed, VIS_ENGINE_AUTO, ref, want, got)) {
+			printf("  (auto with a sweep step priced at %" PRIu64 " units)\n", prices[k]);
+			ok = false;
 		}
 	}
 	if (o->verbose && o->has_seed)
