@@ -234,7 +234,7 @@ bool wtree_live_order_stale(const struct vis_wtree *tree);
  * is wrong. O(n · cells). */
 const char *wtree_live_check(const struct vis_wtree *tree);
 
-/* For tests: the steps an update's walks may take (0: the default, n / 4 + 256), so that updates
+/* For tests: the steps an update's walks may take (0: the default, n + 256), so that updates
  * can be made to give up. */
 void wtree_live_tune(struct vis_wtree *tree, size_t steps);
 

@@ -341,8 +341,8 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  * Returns 0, or -1 with errno ENOMEM (states are then unchanged, and the next recompute is full).
  * Cost, live: O(r · log n) per window recomputed and per walk, r the clips the walk passes over
  * (those in the grid cells its pixels meet, between its key and the first that hide them), plus
- * the subtrees changed. Past a budget of n / 4 + 256 steps in all (a walk step costs about what the
- * recompute through the tree spends on 4 to 16 windows), or more changed windows than 64 + n / 32,
+ * the subtrees changed. Past a budget of n + 256 steps in all (a walk step costs about what the
+ * recompute through the tree spends on 0.3 to 2.5 windows), or more changed windows than 64 + n / 32,
  * the states come from vis_wtree_compute_damaged() instead, the structures kept up to date.
  */
 int vis_wtree_update(struct vis_wtree *tree);
