@@ -130,6 +130,21 @@ static void settle(struct candidate *c, pixman_region32_t *u)
 	keep_seen(u, &c->seen);
 }
 
+/*
+ * Ends a query that found the pixels u (freed here): walk's result rc, ok false when memory ran
+ * out (-1 then). Returns rc.
+ */
+static int finish(struct candidate *c, pixman_region32_t *u, int rc, bool ok)
+{
+	if (rc == 0 && !ok) {
+		errno = ENOMEM;
+		rc = -1;
+	}
+	settle(c, rc == 0 ? u : NULL);
+	pixman_region32_fini(u);
+	return rc;
+}
+
 /* The key of the last viewable window of w's subtree (w's own without viewable descendants). */
 uint64_t wtree_live_subtree_end(const struct vis_window *w)
 {
@@ -462,13 +477,7 @@ int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *
 		ok = ok && rc == 0 && pixman_region32_union(&u, &u, &g);
 		pixman_region32_fini(&g);
 	}
-	if (rc == 0 && !ok) {
-		errno = ENOMEM;
-		rc = -1;
-	}
-	settle(c, rc == 0 ? &u : NULL);
-	pixman_region32_fini(&u);
-	return rc;
+	return finish(c, &u, rc, ok);
 }
 
 int wtree_live_seen_from_order(const struct vis_wtree *tree, struct vis_wtree_live *lv,
@@ -552,13 +561,7 @@ int wtree_live_walk_moved(struct vis_wtree_live *lv, struct candidate *c, struct
 		pixman_region32_fini(&g);
 	}
 	pixman_region32_fini(&rest);
-	if (rc == 0 && !ok) {
-		errno = ENOMEM;
-		rc = -1;
-	}
-	settle(c, rc == 0 ? &u : NULL);
-	pixman_region32_fini(&u);
-	return rc;
+	return finish(c, &u, rc, ok);
 }
 
 int wtree_live_walk_lowered(struct vis_wtree_live *lv, struct candidate *c, uint64_t old_key)

@@ -146,18 +146,22 @@ static bool compare(const struct options *o, const struct vis_scene *scene, unsi
 	return bad == 0;
 }
 
-/* The region method within its budget, on the windows' pieces when they have looks. */
-static int region_within(const struct vis_stack *stack, uint8_t *states)
+/*
+ * An engine that takes an argument (a budget, a price), run on the windows' pieces when they have
+ * looks, as vis_compute() runs the others.
+ */
+static int on_pieces(const struct vis_stack *stack, uint8_t *states,
+		     int (*engine)(const struct vis_stack *, uint8_t *, uint64_t), uint64_t arg)
 {
 	if (stack->looks == NULL)
-		return vis_region_compute_within(stack, states, REGION_MAX_WORK);
+		return engine(stack, states, arg);
 	struct vis_pieces pieces;
 	if (vis_pieces_init(&pieces, stack) < 0)
 		return -1;
 	uint8_t *piece_states = malloc(pieces.stack.n + 1);
 	int rc = -1;
 	if (piece_states != NULL)
-		rc = vis_region_compute_within(&pieces.stack, piece_states, REGION_MAX_WORK);
+		rc = engine(&pieces.stack, piece_states, arg);
 	if (rc == 0)
 		vis_pieces_join(&pieces, stack, piece_states, states);
 	free(piece_states);
@@ -165,27 +169,20 @@ static int region_within(const struct vis_stack *stack, uint8_t *states)
 	return rc;
 }
 
+/* The region method within its budget. */
+static int region_within(const struct vis_stack *stack, uint8_t *states)
+{
+	return on_pieces(stack, states, vis_region_compute_within, REGION_MAX_WORK);
+}
+
 /*
- * auto with its sweep step priced at price units (vis_auto_compute_priced()), on the windows'
- * pieces when they have looks: a price of 0 hands over at the first checkpoint (32 windows), one
- * of 1 wherever a forecast is made on a costly union, UINT64_MAX never, though it still forecasts.
+ * auto with its sweep step priced at price units (vis_auto_compute_priced()): a price of 0 hands
+ * over at the first checkpoint (32 windows), one of 1 wherever a forecast is made on a costly
+ * union, UINT64_MAX never, though it still forecasts.
  */
 static int auto_priced(const struct vis_stack *stack, uint8_t *states, uint64_t price)
 {
-	if (stack->looks == NULL)
-		return vis_auto_compute_priced(stack, states, price);
-	struct vis_pieces pieces;
-	if (vis_pieces_init(&pieces, stack) < 0)
-		return -1;
-	uint8_t *piece_states = malloc(pieces.stack.n + 1);
-	int rc = -1;
-	if (piece_states != NULL)
-		rc = vis_auto_compute_priced(&pieces.stack, piece_states, price);
-	if (rc == 0)
-		vis_pieces_join(&pieces, stack, piece_states, states);
-	free(piece_states);
-	vis_pieces_finish(&pieces);
-	return rc;
+	return on_pieces(stack, states, vis_auto_compute_priced, price);
 }
 
 /*
