@@ -15,6 +15,13 @@ static pixman_box32_t pbox(struct vis_box b)
 	return (pixman_box32_t){ (int32_t)b.x1, (int32_t)b.y1, (int32_t)b.x2, (int32_t)b.y2 };
 }
 
+/* Sets r (not initialized) to a box, not empty. */
+static void init_box(pixman_region32_t *r, struct vis_box box)
+{
+	pixman_box32_t b = pbox(box);
+	pixman_region32_init_rect(r, b.x1, b.y1, (unsigned)(b.x2 - b.x1), (unsigned)(b.y2 - b.y1));
+}
+
 /* A pixman box as ours. */
 static struct vis_box vbox(const pixman_box32_t *b)
 {
@@ -28,7 +35,7 @@ static bool cut(pixman_region32_t *u, const struct vis_window *v, bool *ok)
 	if (pixman_region32_contains_rectangle(u, &b) == PIXMAN_REGION_OUT)
 		return false;
 	pixman_region32_t r;
-	pixman_region32_init_rect(&r, b.x1, b.y1, (unsigned)(b.x2 - b.x1), (unsigned)(b.y2 - b.y1));
+	init_box(&r, v->clip);
 	*ok &= pixman_region32_subtract(u, u, &r);
 	pixman_region32_fini(&r);
 	return true;
@@ -170,8 +177,7 @@ int wtree_live_walk_query(struct vis_wtree_live *lv, struct candidate *c)
 	if (vis_box_empty(w->clip))
 		return 0;
 	pixman_region32_t u;
-	pixman_box32_t b = pbox(w->clip);
-	pixman_region32_init_rect(&u, b.x1, b.y1, (unsigned)(b.x2 - b.x1), (unsigned)(b.y2 - b.y1));
+	init_box(&u, w->clip);
 	bool hit;
 	int rc = hide(lv, wtree_live_subtree_end(w), &u, &hit, &lv->steps, lv->budget);
 	if (rc == 0 && pixman_region32_not_empty(&u)) {
@@ -190,9 +196,8 @@ int wtree_live_walk_region(const struct vis_wtree *tree, const struct vis_window
 	pixman_region32_clear(region);
 	if (vis_box_empty(w->clip) || w->look.input_only)
 		return 0;
-	pixman_box32_t b = pbox(w->clip);
 	pixman_region32_t u;
-	pixman_region32_init_rect(&u, b.x1, b.y1, (unsigned)(b.x2 - b.x1), (unsigned)(b.y2 - b.y1));
+	init_box(&u, w->clip);
 	bool hit;
 	/* As X's clip list, its descendants hide it here: every window after it. */
 	size_t steps = 0;
@@ -234,8 +239,7 @@ static bool gained(struct vis_wtree_live *lv, struct candidate *c, const struct 
 		   pixman_region32_t *u)
 {
 	pixman_region32_t r;
-	pixman_box32_t b = pbox(v->clip);
-	pixman_region32_init_rect(&r, b.x1, b.y1, (unsigned)(b.x2 - b.x1), (unsigned)(b.y2 - b.y1));
+	init_box(&r, v->clip);
 	bool ok = pixman_region32_intersect(&r, &r, u);
 	int n = 0;
 	const pixman_box32_t *boxes = ok ? pixman_region32_rectangles(&r, &n) : NULL;
@@ -337,8 +341,7 @@ int wtree_live_walk_refine(struct vis_wtree_live *lv, struct vis_window *v)
 	if (vis_box_empty(b))
 		return 0;
 	pixman_region32_t u;
-	pixman_region32_init_rect(&u, (int)b.x1, (int)b.y1, (unsigned)(b.x2 - b.x1),
-				  (unsigned)(b.y2 - b.y1));
+	init_box(&u, b);
 	bool hit;
 	size_t steps = 0;
 	int rc = hide(lv, v->key, &u, &hit, &steps, lv->budget);
@@ -361,9 +364,7 @@ static int walk_boxes(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t 
 	int rc = 0;
 	for (int i = 0; rc == 0 && i < n; i++) {
 		pixman_region32_t one;
-		pixman_region32_init_rect(&one, boxes[i].x1, boxes[i].y1,
-					  (unsigned)(boxes[i].x2 - boxes[i].x1),
-					  (unsigned)(boxes[i].y2 - boxes[i].y1));
+		init_box(&one, vbox(&boxes[i]));
 		rc = walk_down(lv, &one, key, losing, exact);
 		pixman_region32_fini(&one);
 	}
@@ -437,39 +438,31 @@ int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *
 	const struct seen *old = wtree_live_old_seen(lv, w);
 	if ((old && !seen_exact(old)) || lv->n_moved > SINCE_MOVED_MAX || vis_box_empty(w->clip))
 		return wtree_live_walk_query(lv, c);
-	struct vis_box screen = w->clip;
 	pixman_region32_t u;
-	bool ok = old ? seen_region(&u, old, screen) : (pixman_region32_init(&u), true);
+	bool ok = old ? seen_region(&u, old, w->clip) : (pixman_region32_init(&u), true);
 	if (!ok) {
 		errno = ENOMEM;
 		return -1;
 	}
-	/* What it saw and still sees: no unchanged window above it hid those pixels. */
+	/* What rule 3's walks listed as seen of the exposed pixels, for one without descendants. */
+	bool listed = c->gain && w->live_leaf && !c->unlisted;
+	for (uint32_t g = listed ? c->gained : 0; ok && g; g = lv->gains[g - 1].next) {
+		pixman_box32_t b = pbox(lv->gains[g - 1].box);
+		ok = pixman_region32_union_rect(&u, &u, b.x1, b.y1, (unsigned)(b.x2 - b.x1),
+						(unsigned)(b.y2 - b.y1));
+	}
+	/* Less what changed windows now hide: no unchanged window above it hid those pixels. */
 	uint64_t end = wtree_live_subtree_end(w);
 	for (size_t i = 0; ok && i < lv->n_moved && pixman_region32_not_empty(&u); i++) {
 		const struct vis_window *v = lv->cands[i].w;
 		if (v->live_indexed && v->key > end)
 			cut(&u, v, &ok);
 	}
-	/* What it sees of the exposed pixels: listed by rule 3's walks, else found by walking the
-	 * grid over those alone. */
+	/* Else what it sees of the exposed pixels, by walking the grid over those alone. */
 	int rc = 0;
-	if (ok && c->gain && w->live_leaf && !c->unlisted) {
-		for (uint32_t g = c->gained; ok && g; g = lv->gains[g - 1].next) {
-			pixman_box32_t b = pbox(lv->gains[g - 1].box);
-			ok = pixman_region32_union_rect(&u, &u, b.x1, b.y1, (unsigned)(b.x2 - b.x1),
-							(unsigned)(b.y2 - b.y1));
-		}
-		for (size_t i = 0; ok && i < lv->n_moved && pixman_region32_not_empty(&u); i++) {
-			const struct vis_window *v = lv->cands[i].w;
-			if (v->live_indexed && v->key > end)
-				cut(&u, v, &ok);
-		}
-	} else if (ok && c->gain) {
+	if (ok && c->gain && !listed) {
 		pixman_region32_t g;
-		pixman_box32_t b = pbox(w->clip);
-		pixman_region32_init_rect(&g, b.x1, b.y1, (unsigned)(b.x2 - b.x1),
-					  (unsigned)(b.y2 - b.y1));
+		init_box(&g, w->clip);
 		ok = pixman_region32_intersect(&g, &g, exposed);
 		bool hit;
 		if (ok && pixman_region32_not_empty(&g))
@@ -502,8 +495,7 @@ int wtree_live_seen_from_order(const struct vis_wtree *tree, struct vis_wtree_li
 			if (work > budget)
 				break;
 			pixman_region32_fini(&u);
-			pixman_region32_init_rect(&u, b.x1, b.y1, (unsigned)(b.x2 - b.x1),
-						  (unsigned)(b.y2 - b.y1));
+			init_box(&u, w->clip);
 			ok = pixman_region32_subtract(&u, &u, above);
 			if (ok)
 				keep_seen(&u, &lv->seen[w->live_seen - 1].seen);
@@ -537,12 +529,10 @@ int wtree_live_walk_moved(struct vis_wtree_live *lv, struct candidate *c, struct
 		errno = ENOMEM;
 		return -1;
 	}
-	pixman_box32_t b = pbox(w->clip), o = pbox(old_clip);
-	pixman_region32_init_rect(&rest, b.x1, b.y1, (unsigned)(b.x2 - b.x1), (unsigned)(b.y2 - b.y1));
+	init_box(&rest, w->clip);
 	if (!vis_box_empty(old_clip)) {
 		pixman_region32_t r;
-		pixman_region32_init_rect(&r, o.x1, o.y1, (unsigned)(o.x2 - o.x1),
-					  (unsigned)(o.y2 - o.y1));
+		init_box(&r, old_clip);
 		ok = pixman_region32_subtract(&rest, &rest, &r);
 		pixman_region32_fini(&r);
 	}
@@ -552,9 +542,7 @@ int wtree_live_walk_moved(struct vis_wtree_live *lv, struct candidate *c, struct
 	uint64_t end = wtree_live_subtree_end(w);
 	for (int i = 0; ok && rc == 0 && i < n; i++) {
 		pixman_region32_t g;
-		pixman_region32_init_rect(&g, boxes[i].x1, boxes[i].y1,
-					  (unsigned)(boxes[i].x2 - boxes[i].x1),
-					  (unsigned)(boxes[i].y2 - boxes[i].y1));
+		init_box(&g, vbox(&boxes[i]));
 		bool hit;
 		rc = hide(lv, end, &g, &hit, &lv->steps, lv->budget);
 		ok = rc != 0 || pixman_region32_union(&u, &u, &g);
