@@ -4,6 +4,7 @@
  */
 #include <errno.h>
 #include <pixman.h>
+#include <stdlib.h>
 
 #include "wtree-live.h"
 #include "zgrid.h"
@@ -473,44 +474,86 @@ int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *
 	return finish(c, &u, rc, ok);
 }
 
+/* The union of the clips above, in one cell of the grid; full once it is the whole cell. */
+struct cell_above {
+	pixman_region32_t above;
+	bool full;
+};
+
+/*
+ * Adds the part of w's clip in cell c to what lies above there; if u, first adds to u what that
+ * part shows. The work: the boxes read. false without memory.
+ */
+static bool seen_in_cell(struct cell_above *c, struct vis_box cell, const struct vis_window *w,
+			 pixman_region32_t *u, uint64_t *work)
+{
+	pixman_box32_t b = pbox(vis_box_intersect(w->clip, cell));
+	unsigned width = (unsigned)(b.x2 - b.x1), height = (unsigned)(b.y2 - b.y1);
+	uint64_t boxes = (uint64_t)pixman_region32_n_rects(&c->above);
+	bool ok = true;
+	if (u) {
+		pixman_region32_t part;
+		pixman_region32_init_rect(&part, b.x1, b.y1, width, height);
+		ok = pixman_region32_subtract(&part, &part, &c->above) &&
+		     pixman_region32_union(u, u, &part);
+		pixman_region32_fini(&part);
+		*work += 1 + boxes;
+	}
+	*work += 1 + boxes;
+	ok = ok && pixman_region32_union_rect(&c->above, &c->above, b.x1, b.y1, width, height);
+	const pixman_box32_t *e = pixman_region32_extents(&c->above);
+	if (ok && pixman_region32_n_rects(&c->above) == 1 && e->x1 == cell.x1 && e->y1 == cell.y1 &&
+	    e->x2 == cell.x2 && e->y2 == cell.y2) {
+		c->full = true; /* nothing below shows here */
+		pixman_region32_fini(&c->above);
+		pixman_region32_init(&c->above);
+	}
+	return ok;
+}
+
+/*
+ * The region method, a grid cell at a time: a union of clips cut by cells has the boxes of its
+ * cell alone (a cascade's union of all the windows above has hundreds), and a cell once covered
+ * is passed over by every window below, which in a cascade is most cells for most windows.
+ */
 int wtree_live_seen_from_order(const struct vis_wtree *tree, struct vis_wtree_live *lv,
 			       uint64_t budget)
 {
-	/* Two regions in turn, each union written into the other (see region.c). */
-	pixman_region32_t regions[2], *above = &regions[0], *spare = &regions[1], u;
-	pixman_region32_init(above);
-	pixman_region32_init(spare);
+	const struct vis_zgrid *g = &lv->grid;
+	size_t n_cells = (size_t)g->cols * g->rows;
+	struct cell_above *cells = calloc(n_cells, sizeof *cells);
+	if (!cells) {
+		errno = ENOMEM;
+		return -1;
+	}
+	for (size_t c = 0; c < n_cells; c++)
+		pixman_region32_init(&cells[c].above);
+	pixman_region32_t u;
 	pixman_region32_init(&u);
 	uint64_t work = 0;
 	bool ok = true;
-	for (size_t i = tree->n_order; ok && i-- > 0;) {
+	for (size_t i = tree->n_order; ok && work <= budget && i-- > 0;) {
 		const struct vis_window *w = tree->order[i];
-		if (!w->live_indexed)
+		uint32_t r[4];
+		if (!w->live_indexed || !vis_zgrid_cells(g, w->clip, r))
 			continue;
-		uint64_t boxes = (uint64_t)pixman_region32_n_rects(above);
-		pixman_box32_t b = pbox(w->clip);
-		if (w->live_seen && w->live_leaf) {
-			/* Its descendants, which never hide it, are not in the union yet. */
-			work += 1 + boxes;
-			if (work > budget)
-				break;
-			pixman_region32_fini(&u);
-			init_box(&u, w->clip);
-			ok = pixman_region32_subtract(&u, &u, above);
-			if (ok)
-				keep_seen(&u, &lv->seen[w->live_seen - 1].seen);
-		}
-		work += 1 + boxes;
-		if (!ok || work > budget)
-			break;
-		ok = pixman_region32_union_rect(spare, above, b.x1, b.y1, (unsigned)(b.x2 - b.x1),
-						(unsigned)(b.y2 - b.y1));
-		pixman_region32_t *t = above;
-		above = spare;
-		spare = t;
+		/* Its descendants, which never hide it, lie above it already: only windows without
+		 * any get their seen region. */
+		bool leaf = w->live_seen && w->live_leaf;
+		pixman_region32_clear(&u);
+		for (uint32_t y = r[1]; ok && y <= r[3]; y++)
+			for (uint32_t x = r[0]; ok && x <= r[2]; x++) {
+				struct cell_above *c = &cells[(size_t)y * g->cols + x];
+				if (!c->full)
+					ok = seen_in_cell(c, vis_zgrid_cell_box(g, x, y), w,
+							  leaf ? &u : NULL, &work);
+			}
+		if (ok && leaf)
+			keep_seen(&u, &lv->seen[w->live_seen - 1].seen);
 	}
-	pixman_region32_fini(above);
-	pixman_region32_fini(spare);
+	for (size_t c = 0; c < n_cells; c++)
+		pixman_region32_fini(&cells[c].above);
+	free(cells);
 	pixman_region32_fini(&u);
 	if (!ok)
 		errno = ENOMEM;

@@ -55,8 +55,7 @@ void vis_zgrid_finish(struct vis_zgrid *g)
 	g->entries = 0;
 }
 
-/* The cells box meets, as column and row ranges [c1, c2] × [r1, r2]; false when none. */
-static bool cell_range(const struct vis_zgrid *g, struct vis_box b, uint32_t r[4])
+bool vis_zgrid_cells(const struct vis_zgrid *g, struct vis_box b, uint32_t r[4])
 {
 	b = vis_box_intersect(b, g->area);
 	if (vis_box_empty(b))
@@ -187,7 +186,7 @@ static void cell_remove(struct vis_zgrid_cell *c, uint64_t key)
 int vis_zgrid_insert(struct vis_zgrid *g, struct vis_box box, uint64_t key, void *item)
 {
 	uint32_t r[4];
-	if (!cell_range(g, box, r))
+	if (!vis_zgrid_cells(g, box, r))
 		return 0;
 	for (uint32_t y = r[1]; y <= r[3]; y++)
 		for (uint32_t x = r[0]; x <= r[2]; x++) {
@@ -203,13 +202,21 @@ int vis_zgrid_insert(struct vis_zgrid *g, struct vis_box box, uint64_t key, void
 void vis_zgrid_remove(struct vis_zgrid *g, struct vis_box box, uint64_t key)
 {
 	uint32_t r[4];
-	if (!cell_range(g, box, r))
+	if (!vis_zgrid_cells(g, box, r))
 		return;
 	for (uint32_t y = r[1]; y <= r[3]; y++)
 		for (uint32_t x = r[0]; x <= r[2]; x++) {
 			cell_remove(&g->cells[(size_t)y * g->cols + x], key);
 			g->entries--;
 		}
+}
+
+struct vis_box vis_zgrid_cell_box(const struct vis_zgrid *g, uint32_t col, uint32_t row)
+{
+	int64_t side = (int64_t)1 << g->shift;
+	struct vis_box b = { g->area.x1 + col * side, g->area.y1 + row * side,
+			     g->area.x1 + (col + 1) * side, g->area.y1 + (row + 1) * side };
+	return vis_box_intersect(b, g->area);
 }
 
 /* Whether cursor a comes before b in the walk's order. */
@@ -302,7 +309,7 @@ int vis_zgrid_walk_init(struct vis_zgrid_walk *walk, const struct vis_zgrid *g, 
 {
 	*walk = (struct vis_zgrid_walk){ .up = up, .heap = walk->inline_heap };
 	uint32_t r[4];
-	if (!cell_range(g, box, r))
+	if (!vis_zgrid_cells(g, box, r))
 		return 0;
 	size_t cells = (size_t)(r[2] - r[0] + 1) * (r[3] - r[1] + 1);
 	if (cells > sizeof walk->inline_heap / sizeof *walk->inline_heap &&
@@ -311,14 +318,11 @@ int vis_zgrid_walk_init(struct vis_zgrid_walk *walk, const struct vis_zgrid *g, 
 		errno = ENOMEM;
 		return -1;
 	}
-	int64_t side = (int64_t)1 << g->shift;
 	for (uint32_t y = r[1]; y <= r[3]; y++)
 		for (uint32_t x = r[0]; x <= r[2]; x++) {
 			struct vis_zgrid_cursor *c = &walk->heap[walk->n];
 			c->cell = &g->cells[(size_t)y * g->cols + x];
-			c->bounds = (struct vis_box){ g->area.x1 + x * side, g->area.y1 + y * side,
-						      g->area.x1 + (x + 1) * side,
-						      g->area.y1 + (y + 1) * side };
+			c->bounds = vis_zgrid_cell_box(g, x, y);
 			walk->n += place(walk, c, from);
 		}
 	for (size_t i = walk->n / 2; i-- > 0;)
@@ -373,7 +377,7 @@ bool vis_zgrid_holds(const struct vis_zgrid *g, struct vis_box box, uint64_t key
 {
 	uint32_t r[4];
 	*cells = 0;
-	if (!cell_range(g, box, r))
+	if (!vis_zgrid_cells(g, box, r))
 		return true;
 	for (uint32_t y = r[1]; y <= r[3]; y++)
 		for (uint32_t x = r[0]; x <= r[2]; x++) {

@@ -82,6 +82,12 @@ void vis_zgrid_walk_narrow(struct vis_zgrid_walk *walk, struct vis_box box);
 /* Frees a walk's memory. */
 void vis_zgrid_walk_finish(struct vis_zgrid_walk *walk);
 
+/* The cells box meets, as column and row ranges [r[0], r[2]] × [r[1], r[3]]; false when none. */
+bool vis_zgrid_cells(const struct vis_zgrid *g, struct vis_box box, uint32_t r[4]);
+
+/* A cell's pixels (those in the area). */
+struct vis_box vis_zgrid_cell_box(const struct vis_zgrid *g, uint32_t col, uint32_t row);
+
 /* For self-checks: whether every cell box meets holds key (and how many those are). O(cells). */
 bool vis_zgrid_holds(const struct vis_zgrid *g, struct vis_box box, uint64_t key, size_t *cells);
 
