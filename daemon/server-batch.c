@@ -9,17 +9,15 @@
 #include "vis/protocol.h"
 #include "wire.h"
 
-/* Appends an answer record, from data or (when not NULL) all of from. */
+/* Appends an answer record holding data. */
 static void add_answer(struct client *c, uint32_t kind, uint32_t seq, const void *data,
-		       size_t size, struct evbuffer *from)
+		       size_t size)
 {
 	uint8_t h[SERVER_ANSWER_HEADER];
 	vis_wire_put_u32(h, kind);
 	vis_wire_put_u32(h + 4, seq);
 	vis_wire_put_u32(h + 8, (uint32_t)size);
-	if (evbuffer_add(c->answers, h, sizeof h) < 0 ||
-	    (from ? evbuffer_add_buffer(c->answers, from) : evbuffer_add(c->answers, data, size)) <
-		    0) {
+	if (evbuffer_add(c->answers, h, sizeof h) < 0 || evbuffer_add(c->answers, data, size) < 0) {
 		log_error("client %u: out of memory holding a batch's answers", c->id);
 		server_client_close(c);
 	}
@@ -57,12 +55,11 @@ void server_batch_commit(struct client *c)
 {
 	struct server *server = c->server;
 	size_t bound = (size_t)server->opt.max_pending + server->opt.max_batch;
-	struct evbuffer *capture = evbuffer_new();
+	/* A buffer of bytes, not an evbuffer: moving an evbuffer's chain into the answers at each
+	 * change cost a 1 KiB chain per reply (100 MiB for 10^5 creates). */
+	struct vis_buf capture;
+	vis_buf_init(&capture);
 	c->in_batch = false;
-	if (!capture) {
-		log_error("client %u: out of memory committing a batch", c->id);
-		server_client_close(c);
-	}
 	server->deferring = true;
 	server->walk_left = SERVER_BATCH_WORK;
 	while (evbuffer_get_length(c->batch) && !c->closing && !c->close_after_answers) {
@@ -74,9 +71,9 @@ void server_batch_commit(struct client *c)
 		if (vis_msg_decode(p + 4, size, size, 1, &m, why, sizeof why) != VIS_DECODE_OK) {
 			log_error("client %u: a held request no longer decodes: %s", c->id, why);
 		} else if (!server_batch_change(m.type->opcode)) {
-			add_answer(c, SERVER_ANSWER_REQUEST, seq, p + 4, size, NULL);
+			add_answer(c, SERVER_ANSWER_REQUEST, seq, p + 4, size);
 		} else {
-			c->capture = capture;
+			c->capture = &capture;
 			if (evbuffer_get_length(c->answers) > bound) {
 				/* Replies are never dropped: past this, the connection ends. */
 				server_client_error(c, seq, m.type->opcode, VIS_ERROR_LIMIT,
@@ -91,15 +88,14 @@ void server_batch_commit(struct client *c)
 				server_client_dispatch(c, seq, &m);
 			}
 			c->capture = NULL;
-			if (evbuffer_get_length(capture))
-				add_answer(c, SERVER_ANSWER_REPLY, seq, NULL, evbuffer_get_length(capture),
-					   capture);
+			if (capture.len)
+				add_answer(c, SERVER_ANSWER_REPLY, seq, capture.data, capture.len);
+			capture.len = 0;
 		}
 		evbuffer_drain(c->batch, 4 + (size_t)size);
 	}
 	evbuffer_drain(c->batch, evbuffer_get_length(c->batch));
-	if (capture)
-		evbuffer_free(capture);
+	vis_buf_finish(&capture);
 	server->walk_left = UINT64_MAX;
 	server->deferring = false;
 	server_flush(server);

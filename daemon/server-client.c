@@ -190,9 +190,7 @@ void server_client_send(struct client *c, uint32_t opcode, const union vis_arg *
 {
 	if (c->capture) {
 		/* A batch's change: the reply waits in answers for the replies before it. */
-		struct vis_buf *b = &c->server->scratch;
-		b->len = 0;
-		if (vis_msg_encode(b, opcode, args) < 0 || evbuffer_add(c->capture, b->data, b->len) < 0) {
+		if (vis_msg_encode(c->capture, opcode, args) < 0) {
 			log_error("client %u: cannot hold a %s reply", c->id,
 				  vis_msg_type_find(opcode)->name);
 			server_client_close(c);

@@ -145,7 +145,7 @@ struct client {
 	uint64_t serial;
 	struct evbuffer *batch;
 	struct evbuffer *answers;
-	struct evbuffer *capture; /* while a batch's change runs: where its reply goes */
+	struct vis_buf *capture; /* while a batch's change runs: where its reply goes */
 	struct sub *subs;
 	size_t n_subs, cap_subs;
 	bool all_exposure; /* holds a subscription to every window with exposures */
