@@ -283,11 +283,12 @@ static bool subtract_seen(pixman_region32_t *u, const struct seen *seen, struct 
  * some of what is left are taken; else (rule 3) the pixels are what a window saw before it
  * changed, and every window met is taken, as one that may gain pixels; where those are exact
  * (so no window above key hides them), each one without descendants gets the pixels of what is
- * left that its clip holds listed as what it gains. Empties u.
+ * left that its clip holds listed as what it gains. The walk stops at stop (0: at the bottom),
+ * leaving in u what no window above stop hides.
  * 0, or -1 (ENOMEM), or OVER_BUDGET.
  */
 static int walk_down(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t key, bool losing,
-		     bool exact)
+		     bool exact, uint64_t stop)
 {
 	if (!pixman_region32_not_empty(u))
 		return 0;
@@ -297,7 +298,7 @@ static int walk_down(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t k
 	uint64_t k;
 	void *item;
 	while (ok && pixman_region32_not_empty(u) && ++lv->steps <= lv->budget &&
-	       vis_zgrid_walk_next(&walk, &k, &item)) {
+	       vis_zgrid_walk_next(&walk, &k, &item) && k > stop) {
 		struct vis_window *v = item;
 		pixman_box32_t b = pbox(v->clip);
 		if (pixman_region32_contains_rectangle(u, &b) == PIXMAN_REGION_OUT)
@@ -366,7 +367,7 @@ static int walk_boxes(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t 
 	for (int i = 0; rc == 0 && i < n; i++) {
 		pixman_region32_t one;
 		init_box(&one, vbox(&boxes[i]));
-		rc = walk_down(lv, &one, key, losing, exact);
+		rc = walk_down(lv, &one, key, losing, exact, 0);
 		pixman_region32_fini(&one);
 	}
 	return rc;
@@ -595,7 +596,8 @@ int wtree_live_walk_moved(struct vis_wtree_live *lv, struct candidate *c, struct
 	return finish(c, &u, rc, ok);
 }
 
-int wtree_live_walk_lowered(struct vis_wtree_live *lv, struct candidate *c, uint64_t old_key)
+int wtree_live_walk_lowered(struct vis_wtree_live *lv, struct candidate *c, struct exposure *e,
+			    void *exposed)
 {
 	const struct vis_window *w = c->w;
 	const struct seen *old = wtree_live_old_seen(lv, w);
@@ -605,26 +607,31 @@ int wtree_live_walk_lowered(struct vis_wtree_live *lv, struct candidate *c, uint
 		settle(c, NULL); /* hidden above, hidden below */
 		return 0;
 	}
-	pixman_region32_t u;
-	if (!seen_region(&u, old, w->clip)) {
+	size_t at = (size_t)(c - lv->cands); /* the walks take windows, which may move cands */
+	/* What it saw, a box at a time: each walk is narrowed to what is left of its box. */
+	pixman_region32_t saw, sees;
+	if (!seen_region(&saw, old, w->clip)) {
 		errno = ENOMEM;
 		return -1;
 	}
-	struct vis_zgrid_walk walk;
-	bool ok = vis_zgrid_walk_init(&walk, &lv->grid, vbox(pixman_region32_extents(&u)), old_key,
-				      false) == 0;
-	uint64_t k;
-	void *item;
-	while (ok && pixman_region32_not_empty(&u) && ++lv->steps <= lv->budget &&
-	       vis_zgrid_walk_next(&walk, &k, &item) && k > w->key) {
-		if (cut(&u, item, &ok))
-			narrow(&walk, &u);
+	pixman_region32_init(&sees);
+	int n, rc = 0;
+	bool ok = true;
+	const pixman_box32_t *boxes = pixman_region32_rectangles(&saw, &n);
+	for (int i = 0; ok && rc == 0 && i < n; i++) {
+		pixman_region32_t one;
+		init_box(&one, vbox(&boxes[i]));
+		rc = walk_down(lv, &one, e->key, false, true, w->key);
+		ok = rc != 0 || pixman_region32_union(&sees, &sees, &one);
+		pixman_region32_fini(&one);
 	}
-	vis_zgrid_walk_finish(&walk);
-	int rc = lv->steps > lv->budget ? OVER_BUDGET : ok ? 0 : -1;
-	if (rc == -1)
-		errno = ENOMEM;
-	settle(c, rc == 0 ? &u : NULL);
-	pixman_region32_fini(&u);
-	return rc;
+	/* The windows between its keys were taken, with the pixels each gains: the exposure is
+	 * walked, and what it saw less what it sees is exposed for the other queries. */
+	if (ok && rc == 0) {
+		e->seen.n = 0;
+		ok = pixman_region32_subtract(&saw, &saw, &sees) &&
+		     pixman_region32_union(exposed, exposed, &saw);
+	}
+	pixman_region32_fini(&saw);
+	return finish(&lv->cands[at], &sees, rc, ok);
 }

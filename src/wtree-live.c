@@ -619,15 +619,30 @@ static enum lone lone(const struct vis_wtree *tree, const struct vis_wtree_live 
 	return same_clip && w->key < old ? LONE_LOWERED : LONE_NO;
 }
 
-/* A changed window's state and seen region (0, -1 or OVER_BUDGET), as lone() allows. */
-static int query_changed(const struct vis_wtree *tree, struct vis_wtree_live *lv,
-			 struct candidate *c, size_t changed)
+/* The exposure of what a changed window saw, or NULL. */
+static struct exposure *exposure_of(struct vis_wtree_live *lv, const struct vis_window *w)
 {
+	for (size_t e = 0; e < lv->n_exposures; e++)
+		if (lv->exposures[e].w == w)
+			return &lv->exposures[e];
+	return NULL;
+}
+
+/*
+ * A changed window's state and seen region (0, -1 or OVER_BUDGET), as lone() allows; one lowered
+ * takes the windows its exposure would, adding to exposed.
+ */
+static int query_changed(const struct vis_wtree *tree, struct vis_wtree_live *lv,
+			 struct candidate *c, size_t changed, pixman_region32_t *exposed)
+{
+	struct exposure *e;
 	switch (changed == 1 ? lone(tree, lv) : LONE_NO) {
 	case LONE_IN_PLACE:
 		return wtree_live_walk_moved(lv, c, lv->saved[0].clip);
 	case LONE_LOWERED:
-		return wtree_live_walk_lowered(lv, c, lv->saved[0].key);
+		if ((e = exposure_of(lv, c->w)))
+			return wtree_live_walk_lowered(lv, c, e, exposed);
+		return wtree_live_walk_query(lv, c);
 	default:
 		return wtree_live_walk_query(lv, c);
 	}
@@ -667,17 +682,17 @@ static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 	int rc = reindex(lv, (size_t)roots);
 	if (rc == 0 && many)
 		rc = OVER_BUDGET;
+	/* The pixels windows may gain: the others' queries look for gains there alone. */
+	pixman_region32_t exposed;
+	pixman_region32_init(&exposed);
 	/* The changed windows first: what they see now bounds what others lose. */
 	size_t changed = lv->n_moved = lv->n_cands;
 	for (size_t i = 0; rc == 0 && i < changed; i++)
 		if (lv->cands[i].state == STATE_UNKNOWN)
-			rc = query_changed(tree, lv, &lv->cands[i], changed);
+			rc = query_changed(tree, lv, &lv->cands[i], changed, &exposed);
 	/* Each one: under an input-only root, descendants see what their root does not. */
 	for (size_t i = 0; rc == 0 && i < changed; i++)
 		rc = wtree_live_walk_cover(tree, lv, &lv->cands[i]);
-	/* The pixels windows may gain: the others' queries look for gains there alone. */
-	pixman_region32_t exposed;
-	pixman_region32_init(&exposed);
 	for (size_t e = 0; rc == 0 && e < lv->n_exposures; e++)
 		rc = wtree_live_walk_exposed(tree, lv, &lv->exposures[e], &exposed);
 	for (size_t i = changed; rc == 0 && i < lv->n_cands; i++)

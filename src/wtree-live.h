@@ -197,10 +197,13 @@ int wtree_live_seen_from_order(const struct vis_wtree *tree, struct vis_wtree_li
 int wtree_live_walk_moved(struct vis_wtree_live *lv, struct candidate *c, struct vis_box old_clip);
 
 /*
- * The same for one lowered, its clip as it was, whose old key was old_key: the windows above it
- * are those that were and those between its keys, so it sees what it saw less their clips.
+ * The same for one lowered, its clip as it was, whose exposure is e (under its old key): the
+ * windows above it are those that were and those between its keys, so it sees what it saw less
+ * their clips. The one walk that finds them takes them as rule 3's walk over e would (which it
+ * replaces: e is emptied, and what the window no longer sees is added to exposed).
  */
-int wtree_live_walk_lowered(struct vis_wtree_live *lv, struct candidate *c, uint64_t old_key);
+int wtree_live_walk_lowered(struct vis_wtree_live *lv, struct candidate *c, struct exposure *e,
+			    void *exposed);
 
 /* Frees a tree's live structures; NULL is a no-op. */
 void vis_wtree_live_destroy(struct vis_wtree_live *live);

@@ -777,6 +777,22 @@ static void scripted(void)
 	assert(state(lowered) == F);
 	scene_end();
 
+	/* A window lowered to the bottom past 48 tiles that each gain what it hid of them: the walk
+	 * that takes them grows the candidates as it goes. */
+	scene_begin();
+	for (int i = 0; i < 48; i++)
+		put(-1, (i % 8) * 2, (i / 8) * 2, 2, 2);
+	int cover = put(-1, 0, 0, SW, SH);
+	check_both(0, "tiles under a cover");
+	check_both(0, change(MOVE, cover, 0, 0, 0));
+	check_both(0, change(LOWER, cover, 0, 0, 0));
+	assert(state(cover) == F && state(0) == U);
+	check_both(0, change(RAISE, cover, 0, 0, 0));
+	check_both(0, change(UNMAP, 20, 0, 0, 0));
+	check_both(0, change(LOWER, cover, 0, 0, 0));
+	assert(state(cover) == P && state(21) == U);
+	scene_end();
+
 	scene_begin();
 	int top = put(-1, 0, 0, 12, 10);
 	int k1 = put(top, 0, 0, 6, 6), k2 = put(top, 3, 3, 6, 6), k3 = put(top, 5, 1, 6, 6);
