@@ -112,12 +112,12 @@ static void keep_seen(pixman_region32_t *u, struct seen *s)
 	const pixman_box32_t *b = pixman_region32_rectangles(u, &n);
 	if (n > SEEN_BOXES) {
 		s->n = SEEN_EXTENTS;
-		s->boxes[0] = vbox(pixman_region32_extents(u));
+		s->boxes[0] = *pixman_region32_extents(u);
 		return;
 	}
 	s->n = (uint8_t)n;
 	for (int i = 0; i < n; i++)
-		s->boxes[i] = vbox(&b[i]);
+		s->boxes[i] = b[i];
 }
 
 /*
@@ -222,7 +222,7 @@ static bool saw(const struct vis_wtree_live *lv, const struct vis_window *v, pix
 	const struct seen *s = &lv->seen[v->live_seen - 1].seen;
 	int n = s->n == SEEN_EXTENTS ? 1 : s->n;
 	for (int i = 0; i < n; i++) {
-		pixman_box32_t b = pbox(s->boxes[i]);
+		pixman_box32_t b = s->boxes[i];
 		if (pixman_region32_contains_rectangle(u, &b) != PIXMAN_REGION_OUT)
 			return true;
 	}
@@ -257,7 +257,7 @@ static bool seen_region(pixman_region32_t *u, const struct seen *seen, struct vi
 	pixman_box32_t boxes[SEEN_BOXES];
 	/* pixman takes one box, even an empty one, as a rectangle to check. */
 	for (int i = 0; i < n; i++) {
-		struct vis_box b = vis_box_intersect(seen->boxes[i], screen);
+		struct vis_box b = vis_box_intersect(seen_box_vis(&seen->boxes[i]), screen);
 		if (!vis_box_empty(b))
 			boxes[k++] = pbox(b);
 	}
@@ -339,7 +339,7 @@ int wtree_live_walk_refine(struct vis_wtree_live *lv, struct vis_window *v)
 	struct seen *s = &lv->seen[v->live_seen - 1].seen;
 	if (s->n != SEEN_EXTENTS || !v->live_leaf || !v->live_indexed)
 		return 0;
-	struct vis_box b = vis_box_intersect(s->boxes[0], v->clip);
+	struct vis_box b = vis_box_intersect(seen_box_vis(&s->boxes[0]), v->clip);
 	if (vis_box_empty(b))
 		return 0;
 	pixman_region32_t u;

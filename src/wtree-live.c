@@ -252,7 +252,7 @@ static int seen_after(struct vis_wtree_live *lv, struct vis_window *w, struct vi
 		const struct seen *old = &lv->seen[w->live_seen - 1].seen;
 		int n = old->n == SEEN_EXTENTS ? 1 : old->n;
 		for (int i = 0; i < n; i++)
-			box = vis_box_hull(box, old->boxes[i]);
+			box = vis_box_hull(box, seen_box_vis(&old->boxes[i]));
 	} else {
 		if (grow(&lv->seen, &lv->cap_seen, lv->n_seen, sizeof *lv->seen) < 0)
 			return -1;
@@ -261,7 +261,7 @@ static int seen_after(struct vis_wtree_live *lv, struct vis_window *w, struct vi
 	}
 	box = vis_box_intersect(box, w->clip);
 	lv->seen[w->live_seen - 1].seen =
-		(struct seen){ SEEN_EXTENTS, { vis_box_empty(box) ? w->clip : box } };
+		(struct seen){ SEEN_EXTENTS, { seen_box(vis_box_empty(box) ? w->clip : box) } };
 	return 0;
 }
 
@@ -325,7 +325,8 @@ static int rebuild(struct vis_wtree *tree, struct vis_wtree_live *lv)
 			continue;
 		if (grow(&lv->seen, &lv->cap_seen, lv->n_seen, sizeof *lv->seen) < 0)
 			return -1;
-		lv->seen[lv->n_seen++] = (struct seen_window){ w, { SEEN_EXTENTS, { w->clip } } };
+		lv->seen[lv->n_seen++] =
+			(struct seen_window){ w, { SEEN_EXTENTS, { seen_box(w->clip) } } };
 		w->live_seen = (uint32_t)lv->n_seen;
 	}
 	if (wtree_live_seen_from_order(tree, lv, SEEN_WORK * tree->n_order + 4096) < 0)

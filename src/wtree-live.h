@@ -5,14 +5,19 @@
 #ifndef VIS_WTREE_LIVE_H
 #define VIS_WTREE_LIVE_H
 
+#include <pixman.h>
+
 #include "wtree-work.h"
 #include "zgrid.h"
 
 /* The damage boxes kept for a recompute that does not go live; past them, a full one. */
 #define LIVE_DAMAGE 64
 
-/* A seen region is kept as up to SEEN_BOXES boxes, or as its extents (n = SEEN_EXTENTS). */
-#define SEEN_BOXES 4
+/*
+ * A seen region is kept as up to SEEN_BOXES boxes, or as its extents (n = SEEN_EXTENTS). Boxes
+ * on the screen fit in 32 bits: 8 take the room of 4 of ours.
+ */
+#define SEEN_BOXES 8
 #define SEEN_EXTENTS 0xff
 
 /* A state not known yet, for a window taken to be recomputed. */
@@ -24,8 +29,19 @@
 /* Pixels that a window (or a destroyed one) saw: its seen region, or a box holding it. */
 struct seen {
 	uint8_t n;
-	struct vis_box boxes[SEEN_BOXES];
+	pixman_box32_t boxes[SEEN_BOXES];
 };
+
+/* A box on the screen as a seen region's, and back. */
+static inline pixman_box32_t seen_box(struct vis_box b)
+{
+	return (pixman_box32_t){ (int32_t)b.x1, (int32_t)b.y1, (int32_t)b.x2, (int32_t)b.y2 };
+}
+
+static inline struct vis_box seen_box_vis(const pixman_box32_t *b)
+{
+	return (struct vis_box){ b->x1, b->y1, b->x2, b->y2 };
+}
 
 /* A viewable window that is not fully obscured, with what it saw at the last recompute. */
 struct seen_window {
