@@ -278,7 +278,7 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  * It keeps, from one recompute to the next, every viewable window's key (growing in pre-order,
  * keys spaced so that a change renumbers only its own subtree), a grid of the windows' clips in
  * key order (zgrid.h), and the viewable windows that are not fully obscured with what they saw:
- * their seen region (the clip less the clips of the windows after their subtree), as up to four
+ * their seen region (the clip less the clips of the windows after their subtree), as up to eight
  * boxes or a box holding it. A window's state follows from its seen region: none, fully
  * obscured; its whole box, unobscured; else partially obscured.
  *
@@ -319,14 +319,20 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  * without descendants (none destroyed) whose old key lies between the keys of the windows now
  * before and after it has the same windows above it: it sees what it saw inside its new clip,
  * and the walks go over the rest of its clip alone; one lowered, its clip as it was, has above
- * it the windows that were and those between its keys: it sees what it saw less their clips. Another window w, whose
+ * it the windows that were and those between its keys: it sees what it saw less their clips,
+ * found by one walk over what it saw, down from its old key to its new one, which also takes the
+ * windows rule 3 would and stands for that walk: the pixels it no longer sees are each hidden by
+ * a window between its keys, so rule 3's walk over them ends above its new key, and the windows
+ * between never meet the pixels it still sees, so walking those too takes none more and lists
+ * no other gains. Another window w, whose
  * last seen region s is exact, sees s less the clips of the changed windows now after its
  * subtree (no unchanged window there hid s before, and none hides it now), plus, if rule 3 took
  * it, what it sees of exposed (it gains no pixel elsewhere): without viewable descendants, the
  * pixels its clip holds of what was left of exact walks over it, less those changed clips (the
  * windows above the walk's start did not hide those pixels, and those between are cut off what
  * is left), else what a grid walk over exposed alone finds. Seen regions start exact when the
- * structures are built, by the region method from the top of the order down, within a bound. The unit test
+ * structures are built, by the region method from the top of the order down, a grid cell at a
+ * time (a cell once covered is passed over below), within a bound. The unit test
  * holds the result to vis_wtree_compute()'s after every batch of edits
  * on random trees, and the structures to their invariants.
  *
