@@ -29,14 +29,14 @@ static struct vis_box vbox(const pixman_box32_t *b)
 	return (struct vis_box){ b->x1, b->y1, b->x2, b->y2 };
 }
 
-/* Whether window v's clip covers pixels of u (whose extents are ext); if so, takes them off. */
-static bool cut(pixman_region32_t *u, const struct vis_window *v, bool *ok)
+/* Whether a clip (on the screen) covers pixels of u; if so, takes them off. */
+static bool cut(pixman_region32_t *u, pixman_box32_t clip, bool *ok)
 {
-	pixman_box32_t b = pbox(v->clip);
-	if (pixman_region32_contains_rectangle(u, &b) == PIXMAN_REGION_OUT)
+	if (pixman_region32_contains_rectangle(u, &clip) == PIXMAN_REGION_OUT)
 		return false;
 	pixman_region32_t r;
-	init_box(&r, v->clip);
+	pixman_region32_init_rect(&r, clip.x1, clip.y1, (unsigned)(clip.x2 - clip.x1),
+				  (unsigned)(clip.y2 - clip.y1));
 	*ok &= pixman_region32_subtract(u, u, &r);
 	pixman_region32_fini(&r);
 	return true;
@@ -74,20 +74,20 @@ static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t
 		for (int side = 0; side < 2; side++) {
 			bool *go = side ? &go_down : &go_up;
 			uint64_t key;
-			void *item;
+			uint32_t slot;
 			if (!*go)
 				continue;
 			if (++*steps > budget) {
 				ok = false;
 				break;
 			}
-			if (!vis_zgrid_walk_next(side ? &down : &up, &key, &item) ||
+			if (!vis_zgrid_walk_next(side ? &down : &up, &key, &slot) ||
 			    (side ? key <= lo : key >= hi)) {
 				*go = false; /* the two walks met: every key between was seen */
 				continue;
 			}
 			*(side ? &hi : &lo) = key;
-			if (cut(u, item, &ok)) {
+			if (cut(u, lv->slots[slot].clip, &ok)) {
 				*hit = true;
 				if (!pixman_region32_not_empty(u))
 					break;
@@ -296,13 +296,14 @@ static int walk_down(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t k
 	bool ok = vis_zgrid_walk_init(&walk, &lv->grid, vbox(pixman_region32_extents(u)), key,
 				      false) == 0;
 	uint64_t k;
-	void *item;
+	uint32_t slot;
 	while (ok && pixman_region32_not_empty(u) && ++lv->steps <= lv->budget &&
-	       vis_zgrid_walk_next(&walk, &k, &item) && k > stop) {
-		struct vis_window *v = item;
-		pixman_box32_t b = pbox(v->clip);
+	       vis_zgrid_walk_next(&walk, &k, &slot) && k > stop) {
+		/* The window itself is read only when its clip meets what is left. */
+		pixman_box32_t b = lv->slots[slot].clip;
 		if (pixman_region32_contains_rectangle(u, &b) == PIXMAN_REGION_OUT)
 			continue;
+		struct vis_window *v = lv->slots[slot].w;
 		if (losing && moved(lv, v))
 			continue; /* changed: recomputed already, and it hides what it did not before */
 		for (struct vis_window *a = v; ok && a->parent; a = a->parent)
@@ -316,7 +317,7 @@ static int walk_down(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t k
 			if (exact && v->live_leaf)
 				ok = gained(lv, c, v, u);
 		}
-		cut(u, v, &ok);
+		cut(u, b, &ok);
 		narrow(&walk, u);
 	}
 	vis_zgrid_walk_finish(&walk);
@@ -458,7 +459,7 @@ int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *
 	for (size_t i = 0; ok && i < lv->n_moved && pixman_region32_not_empty(&u); i++) {
 		const struct vis_window *v = lv->cands[i].w;
 		if (v->live_indexed && v->key > end)
-			cut(&u, v, &ok);
+			cut(&u, seen_box(v->clip), &ok);
 	}
 	/* Else what it sees of the exposed pixels, by walking the grid over those alone. */
 	int rc = 0;

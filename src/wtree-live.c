@@ -78,6 +78,8 @@ void vis_wtree_live_destroy(struct vis_wtree_live *lv)
 		return;
 	if (lv->grid.cells)
 		vis_zgrid_finish(&lv->grid);
+	free(lv->slots);
+	free(lv->free_slots);
 	free(lv->seen);
 	free(lv->dirty);
 	free(lv->changed);
@@ -86,6 +88,46 @@ void vis_wtree_live_destroy(struct vis_wtree_live *lv)
 	free(lv->gains);
 	free(lv->saved);
 	free(lv);
+}
+
+/* Indexes w's clip under its key, in a slot of its own. 0, or -1 (ENOMEM: the grid must then be
+ * rebuilt). */
+static int index_window(struct vis_wtree_live *lv, struct vis_window *w)
+{
+	uint32_t slot;
+	if (lv->n_free) {
+		slot = lv->free_slots[--lv->n_free];
+	} else {
+		if (lv->n_slots == UINT32_MAX) {
+			errno = ENOMEM;
+			return -1;
+		}
+		size_t cap = lv->cap_slots;
+		if (grow(&lv->slots, &cap, lv->n_slots, sizeof *lv->slots) < 0)
+			return -1;
+		/* Room to free every slot, so that freeing one cannot fail. */
+		uint32_t *f = cap > lv->cap_slots ? realloc(lv->free_slots, cap * sizeof *f)
+						  : lv->free_slots;
+		if (!f) {
+			errno = ENOMEM;
+			return -1;
+		}
+		lv->free_slots = f;
+		lv->cap_slots = cap;
+		slot = (uint32_t)lv->n_slots++;
+	}
+	lv->slots[slot] = (struct live_slot){ seen_box(w->clip), w };
+	w->live_slot = slot;
+	w->live_indexed = true;
+	return vis_zgrid_insert(&lv->grid, w->clip, w->key, slot);
+}
+
+/* Takes an indexed window's clip out of the grid and frees its slot. */
+static void unindex_window(struct vis_wtree_live *lv, struct vis_window *w)
+{
+	vis_zgrid_remove(&lv->grid, w->clip, w->key);
+	lv->free_slots[lv->n_free++] = w->live_slot;
+	w->live_indexed = false;
 }
 
 /* Whether the window's pixels are other than its clip, all opaque (input-only ones have none). */
@@ -159,7 +201,7 @@ void wtree_live_forget(struct vis_wtree *tree, struct vis_window *w)
 	if (!lv->valid)
 		return;
 	if (w->live_indexed)
-		vis_zgrid_remove(&lv->grid, w->clip, w->key);
+		unindex_window(lv, w);
 	if (w->live_seen) {
 		expose(lv, w->key, NULL, &lv->seen[w->live_seen - 1].seen);
 		seen_remove(lv, w);
@@ -305,6 +347,8 @@ static int rebuild(struct vis_wtree *tree, struct vis_wtree_live *lv)
 	if (lv->grid.cells)
 		vis_zgrid_finish(&lv->grid);
 	lv->n_seen = 0;
+	lv->n_slots = 0;
+	lv->n_free = 0;
 	for (struct vis_window *w = tree->root.bottom; w; w = vis_wtree_next(w)) {
 		w->live_seen = 0;
 		w->live_indexed = false;
@@ -318,9 +362,8 @@ static int rebuild(struct vis_wtree *tree, struct vis_wtree_live *lv)
 		struct vis_window *w = tree->order[i];
 		if (w->look.input_only || vis_box_empty(w->clip))
 			continue;
-		if (vis_zgrid_insert(&lv->grid, w->clip, w->key, w) < 0)
+		if (index_window(lv, w) < 0)
 			return -1;
-		w->live_indexed = true;
 		if (w->state == VIS_FULLY_OBSCURED)
 			continue;
 		if (grow(&lv->seen, &lv->cap_seen, lv->n_seen, sizeof *lv->seen) < 0)
@@ -501,8 +544,7 @@ static int unindex(struct vis_wtree_live *lv, size_t roots)
 			if (v->live_seen)
 				expose(lv, v->key, v, &lv->seen[v->live_seen - 1].seen);
 			if (v->live_indexed)
-				vis_zgrid_remove(&lv->grid, v->clip, v->key);
-			v->live_indexed = false;
+				unindex_window(lv, v);
 			v->key = 0;
 		}
 	}
@@ -528,11 +570,8 @@ static int reindex(struct vis_wtree_live *lv, size_t roots)
 				a->live_leaf = false;
 			if (v->look.input_only)
 				continue;
-			if (!vis_box_empty(v->clip)) {
-				if (vis_zgrid_insert(&lv->grid, v->clip, v->key, v) < 0)
-					return -1;
-				v->live_indexed = true;
-			}
+			if (!vis_box_empty(v->clip) && index_window(lv, v) < 0)
+				return -1;
 			if (wtree_live_take(lv, v, STATE_UNKNOWN, true) < 0)
 				return -1;
 		}
@@ -771,7 +810,7 @@ const char *wtree_live_check(const struct vis_wtree *tree)
 	if (!lv || !lv->valid)
 		return NULL;
 	uint64_t last = 0;
-	size_t cells = 0;
+	size_t cells = 0, indexed = 0;
 	for (const struct vis_window *w = tree->root.bottom; w; w = vis_wtree_next(w)) {
 		bool viewable = vis_wtree_viewable(w);
 		if (!viewable) {
@@ -790,6 +829,15 @@ const char *wtree_live_check(const struct vis_wtree *tree)
 		size_t k;
 		if (pixels && !vis_zgrid_holds(&lv->grid, w->clip, w->key, &k))
 			return "a window is missing from a cell its clip meets";
+		if (pixels) {
+			pixman_box32_t c = seen_box(w->clip);
+			const struct live_slot *sl =
+				w->live_slot < lv->n_slots ? &lv->slots[w->live_slot] : NULL;
+			if (!sl || sl->w != w || sl->clip.x1 != c.x1 || sl->clip.y1 != c.y1 ||
+			    sl->clip.x2 != c.x2 || sl->clip.y2 != c.y2)
+				return "an indexed window's slot does not hold it and its clip";
+			indexed++;
+		}
 		cells += pixels ? k : 0;
 		bool sees = w->state == VIS_UNOBSCURED || w->state == VIS_PARTIALLY_OBSCURED;
 		if (sees != (w->live_seen != 0) ||
@@ -798,6 +846,8 @@ const char *wtree_live_check(const struct vis_wtree *tree)
 	}
 	if (vis_zgrid_size(&lv->grid) != cells)
 		return "the grid holds stale entries, or a cell is out of order";
+	if (indexed + lv->n_free != lv->n_slots)
+		return "a slot is neither an indexed window's nor free";
 	return NULL;
 }
 

@@ -88,9 +88,18 @@ struct gained_box {
 };
 
 /*
+ * An indexed window, in a dense array the grid's entries point into: walks test the clip here,
+ * in a few MiB, and read the window (a cache miss) only when the clip meets their pixels.
+ */
+struct live_slot {
+	pixman_box32_t clip;
+	struct vis_window *w;
+};
+
+/*
  * The invariants, while valid: every viewable window has a key, growing in pre-order (the others
  * 0); the grid holds the clip of every viewable window with pixels (not input-only), under its
- * key, flagged live_indexed; seen lists every viewable window that is not fully obscured, with a
+ * key, flagged live_indexed, with its slot (live_slot) holding its clip; seen lists every viewable window that is not fully obscured, with a
  * region holding the pixels it saw at the last recompute (exact, or its clip when not known);
  * no viewable window has a look (its pixels are its clip, all opaque). Whatever the validity, dirty
  * lists the windows noted since the last recompute, changed those the last one may have changed
@@ -99,6 +108,10 @@ struct gained_box {
 struct vis_wtree_live {
 	bool valid;
 	struct vis_zgrid grid;
+	struct live_slot *slots; /* the grid's values index these */
+	size_t n_slots, cap_slots;
+	uint32_t *free_slots; /* room for cap_slots */
+	size_t n_free;
 	struct seen_window *seen;
 	size_t n_seen, cap_seen;
 	struct vis_window **dirty;

@@ -50,11 +50,12 @@ struct vis_window {
 	 * so that "is a below b" is a comparison: positions are not kept by vis_wtree_update(). */
 	uint64_t key;
 	/* vis_wtree_update()'s (wtree-live.c): slots in its lists (1-based, 0: in none), a mark for
-	 * the windows it has taken, whether it indexed the clip and counted the window as having a
-	 * look, whether the window is viewable (while it works), and whether it had no viewable
+	 * the windows it has taken, its slot among the indexed windows (while live_indexed), whether
+	 * it indexed the clip and counted the window as having a look, whether the window is
+	 * viewable (while it works), and whether it had no viewable
 	 * descendants at the last recompute (or may have had: false); the parent it had when first
 	 * noted since the last recompute (a reparented window's subtree saw pixels elsewhere). */
-	uint32_t live_seen, live_dirty, live_changed, live_mark, live_cand;
+	uint32_t live_seen, live_dirty, live_changed, live_mark, live_cand, live_slot;
 	bool live_indexed, live_viewable, live_leaf;
 	struct vis_window *live_parent;
 	void *data; /* the daemon's */

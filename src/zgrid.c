@@ -11,7 +11,7 @@
 struct chunk {
 	uint32_t n;
 	uint64_t keys[CHUNK];
-	void *items[CHUNK];
+	uint32_t vals[CHUNK];
 };
 
 /*
@@ -123,7 +123,7 @@ static struct chunk *add_chunk(struct vis_zgrid_cell *c, size_t i)
 	return k;
 }
 
-static int cell_insert(struct vis_zgrid_cell *c, uint64_t key, void *item)
+static int cell_insert(struct vis_zgrid_cell *c, uint64_t key, uint32_t val)
 {
 	size_t i = c->n ? find_chunk(c, key, false) : 0;
 	if (i == c->n && i > 0)
@@ -141,7 +141,7 @@ static int cell_insert(struct vis_zgrid_cell *c, uint64_t key, void *item)
 			m->n = CHUNK / 2;
 			k->n = CHUNK - m->n;
 			memcpy(m->keys, &k->keys[k->n], m->n * sizeof *m->keys);
-			memcpy(m->items, &k->items[k->n], m->n * sizeof *m->items);
+			memcpy(m->vals, &k->vals[k->n], m->n * sizeof *m->vals);
 		}
 		if (!last)
 			c->lasts[i + 1] = m->keys[m->n - 1];
@@ -153,9 +153,9 @@ static int cell_insert(struct vis_zgrid_cell *c, uint64_t key, void *item)
 	}
 	size_t at = find_at(k, key, false);
 	memmove(&k->keys[at + 1], &k->keys[at], (k->n - at) * sizeof *k->keys);
-	memmove(&k->items[at + 1], &k->items[at], (k->n - at) * sizeof *k->items);
+	memmove(&k->vals[at + 1], &k->vals[at], (k->n - at) * sizeof *k->vals);
 	k->keys[at] = key;
-	k->items[at] = item;
+	k->vals[at] = val;
 	k->n++;
 	c->lasts[i] = k->keys[k->n - 1];
 	return 0;
@@ -172,7 +172,7 @@ static void cell_remove(struct vis_zgrid_cell *c, uint64_t key)
 		return;
 	k->n--;
 	memmove(&k->keys[at], &k->keys[at + 1], (k->n - at) * sizeof *k->keys);
-	memmove(&k->items[at], &k->items[at + 1], (k->n - at) * sizeof *k->items);
+	memmove(&k->vals[at], &k->vals[at + 1], (k->n - at) * sizeof *k->vals);
 	if (k->n == 0) {
 		free(k);
 		c->n--;
@@ -183,14 +183,14 @@ static void cell_remove(struct vis_zgrid_cell *c, uint64_t key)
 	}
 }
 
-int vis_zgrid_insert(struct vis_zgrid *g, struct vis_box box, uint64_t key, void *item)
+int vis_zgrid_insert(struct vis_zgrid *g, struct vis_box box, uint64_t key, uint32_t val)
 {
 	uint32_t r[4];
 	if (!vis_zgrid_cells(g, box, r))
 		return 0;
 	for (uint32_t y = r[1]; y <= r[3]; y++)
 		for (uint32_t x = r[0]; x <= r[2]; x++) {
-			if (cell_insert(&g->cells[(size_t)y * g->cols + x], key, item) < 0) {
+			if (cell_insert(&g->cells[(size_t)y * g->cols + x], key, val) < 0) {
 				errno = ENOMEM;
 				return -1;
 			}
@@ -330,12 +330,12 @@ int vis_zgrid_walk_init(struct vis_zgrid_walk *walk, const struct vis_zgrid *g, 
 	return 0;
 }
 
-bool vis_zgrid_walk_next(struct vis_zgrid_walk *walk, uint64_t *key, void **item)
+bool vis_zgrid_walk_next(struct vis_zgrid_walk *walk, uint64_t *key, uint32_t *val)
 {
 	while (walk->n) {
 		struct vis_zgrid_cursor *top = &walk->heap[0];
 		uint64_t k = top->key;
-		void *it = top->cell->chunks[top->chunk]->items[top->at];
+		uint32_t v = top->cell->chunks[top->chunk]->vals[top->at];
 		if (!step(walk, top))
 			walk->heap[0] = walk->heap[--walk->n];
 		sift_down(walk, 0);
@@ -344,7 +344,7 @@ bool vis_zgrid_walk_next(struct vis_zgrid_walk *walk, uint64_t *key, void **item
 		walk->started = true;
 		walk->last = k;
 		*key = k;
-		*item = it;
+		*val = v;
 		return true;
 	}
 	return false;

@@ -12,7 +12,7 @@ struct vis_zgrid_cell;
 
 /*
  * The area (a screen) is cut into cells of 2^shift × 2^shift pixels, at most ZGRID_SIDE along
- * each side; an entry (a box inside the area, a key, an item) is in every cell its box meets,
+ * each side; an entry (a box inside the area, a key, a value) is in every cell its box meets,
  * and each cell keeps its entries ordered by key, in chunks of a few hundred (so that inserting
  * and removing cost a chunk's length, not a cell's). Keys are unique among the entries: an
  * entry is its key. Walking the entries that meet a box in key order merges the cells the box
@@ -42,7 +42,7 @@ void vis_zgrid_finish(struct vis_zgrid *g);
  * ENOMEM, having added it to some of its cells: the index must then be rebuilt. O(cells it meets
  * × (chunk + log entries)); O(cells) when the key is the highest of its cells (building in order).
  */
-int vis_zgrid_insert(struct vis_zgrid *g, struct vis_box box, uint64_t key, void *item);
+int vis_zgrid_insert(struct vis_zgrid *g, struct vis_box box, uint64_t key, uint32_t val);
 
 /* Removes the entry added for box under key. O(cells it meets × (chunk + log entries)). */
 void vis_zgrid_remove(struct vis_zgrid *g, struct vis_box box, uint64_t key);
@@ -73,8 +73,8 @@ struct vis_zgrid_walk {
 int vis_zgrid_walk_init(struct vis_zgrid_walk *walk, const struct vis_zgrid *g, struct vis_box box,
 			uint64_t from, bool up);
 
-/* The next entry: true with its key and item, or false at the end. O(log cells) amortized. */
-bool vis_zgrid_walk_next(struct vis_zgrid_walk *walk, uint64_t *key, void **item);
+/* The next entry: true with its key and value, or false at the end. O(log cells) amortized. */
+bool vis_zgrid_walk_next(struct vis_zgrid_walk *walk, uint64_t *key, uint32_t *val);
 
 /* Leaves out the cells outside box from now on: what the caller still asks about has shrunk. */
 void vis_zgrid_walk_narrow(struct vis_zgrid_walk *walk, struct vis_box box);
