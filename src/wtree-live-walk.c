@@ -106,16 +106,19 @@ static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t
 }
 
 /* Keeps a region as a seen: its boxes when few, else its extents. */
-static void keep_seen(pixman_region32_t *u, struct seen *s)
+static void keep_seen(const struct vis_wtree_live *lv, pixman_region32_t *u, struct seen *s)
 {
 	int n;
 	const pixman_box32_t *b = pixman_region32_rectangles(u, &n);
-	if (n > SEEN_BOXES) {
+	if ((unsigned)n > lv->seen_boxes) {
+		/* The extents of a region touch it on every edge. */
 		s->n = SEEN_EXTENTS;
+		s->edges = EDGE_LEFT | EDGE_TOP | EDGE_RIGHT | EDGE_BOTTOM;
 		s->boxes[0] = *pixman_region32_extents(u);
 		return;
 	}
 	s->n = (uint8_t)n;
+	s->edges = 0;
 	for (int i = 0; i < n; i++)
 		s->boxes[i] = b[i];
 }
@@ -124,7 +127,7 @@ static void keep_seen(pixman_region32_t *u, struct seen *s)
  * A candidate's state and seen region from the pixels it sees, u (NULL: none, as after a
  * failed walk): unobscured when they are its whole box.
  */
-static void settle(struct candidate *c, pixman_region32_t *u)
+static void settle(const struct vis_wtree_live *lv, struct candidate *c, pixman_region32_t *u)
 {
 	const struct vis_window *w = c->w;
 	c->seen.n = 0;
@@ -135,20 +138,21 @@ static void settle(struct candidate *c, pixman_region32_t *u)
 	bool whole = pixman_region32_n_rects(u) == 1 && e->x1 == w->box.x1 && e->y1 == w->box.y1 &&
 		     e->x2 == w->box.x2 && e->y2 == w->box.y2;
 	c->state = whole ? VIS_UNOBSCURED : VIS_PARTIALLY_OBSCURED;
-	keep_seen(u, &c->seen);
+	keep_seen(lv, u, &c->seen);
 }
 
 /*
  * Ends a query that found the pixels u (freed here): walk's result rc, ok false when memory ran
  * out (-1 then). Returns rc.
  */
-static int finish(struct candidate *c, pixman_region32_t *u, int rc, bool ok)
+static int finish(const struct vis_wtree_live *lv, struct candidate *c, pixman_region32_t *u,
+		  int rc, bool ok)
 {
 	if (rc == 0 && !ok) {
 		errno = ENOMEM;
 		rc = -1;
 	}
-	settle(c, rc == 0 ? u : NULL);
+	settle(lv, c, rc == 0 ? u : NULL);
 	pixman_region32_fini(u);
 	return rc;
 }
@@ -185,7 +189,7 @@ int wtree_live_walk_query(struct vis_wtree_live *lv, struct candidate *c)
 		bool whole = !hit && w->clip.x1 == w->box.x1 && w->clip.y1 == w->box.y1 &&
 			     w->clip.x2 == w->box.x2 && w->clip.y2 == w->box.y2;
 		c->state = whole ? VIS_UNOBSCURED : VIS_PARTIALLY_OBSCURED;
-		keep_seen(&u, &c->seen);
+		keep_seen(lv, &u, &c->seen);
 	}
 	pixman_region32_fini(&u);
 	return rc;
@@ -348,8 +352,10 @@ int wtree_live_walk_refine(struct vis_wtree_live *lv, struct vis_window *v)
 	bool hit;
 	size_t steps = 0;
 	int rc = hide(lv, v->key, &u, &hit, &steps, lv->budget);
-	if (rc == 0)
-		keep_seen(&u, s);
+	if (rc == 0) {
+		keep_seen(lv, &u, s);
+		s->edges = 0; /* it may hold more than it saw */
+	}
 	pixman_region32_fini(&u);
 	return rc == OVER_BUDGET ? 0 : rc;
 }
@@ -435,12 +441,55 @@ int wtree_live_walk_exposed(struct vis_wtree *tree, struct vis_wtree_live *lv,
 /* Past this many changed windows, each candidate's query walks the grid over all its pixels. */
 #define SINCE_MOVED_MAX 32
 
+/*
+ * A window that may only lose pixels (rule 2 alone), partially obscured, whose seen region is
+ * loose: a box, with edges known to hold pixels it saw. Those pixels it still sees, unless a
+ * changed window now after its subtree covers them: while one such edge meets no changed clip,
+ * it sees some pixel still, and not its whole box (which a loose region never was), so it stays
+ * partially obscured, and the box still holds what it sees. Returns whether that settled it.
+ */
+static bool keeps_an_edge(const struct vis_wtree_live *lv, struct candidate *c,
+			  const struct seen *old)
+{
+	if (c->gain || c->w->state != VIS_PARTIALLY_OBSCURED || !old->edges)
+		return false;
+	pixman_box32_t e = old->boxes[0];
+	unsigned edges = old->edges;
+	uint64_t end = wtree_live_subtree_end(c->w);
+	for (size_t i = 0; edges && i < lv->n_moved; i++) {
+		const struct vis_window *v = lv->cands[i].w;
+		if (!v->live_indexed || v->key <= end)
+			continue;
+		pixman_box32_t k = lv->slots[v->live_slot].clip;
+		if (k.y1 < e.y2 && e.y1 < k.y2) {
+			if (k.x1 <= e.x1 && e.x1 < k.x2)
+				edges &= ~(unsigned)EDGE_LEFT;
+			if (k.x1 < e.x2 && e.x2 <= k.x2)
+				edges &= ~(unsigned)EDGE_RIGHT;
+		}
+		if (k.x1 < e.x2 && e.x1 < k.x2) {
+			if (k.y1 <= e.y1 && e.y1 < k.y2)
+				edges &= ~(unsigned)EDGE_TOP;
+			if (k.y1 < e.y2 && e.y2 <= k.y2)
+				edges &= ~(unsigned)EDGE_BOTTOM;
+		}
+	}
+	if (!edges)
+		return false;
+	c->state = VIS_PARTIALLY_OBSCURED;
+	c->seen = *old;
+	c->seen.edges = (uint8_t)edges;
+	return true;
+}
+
 int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *exposed)
 {
 	const struct vis_window *w = c->w;
 	const struct seen *old = wtree_live_old_seen(lv, w);
-	if ((old && !seen_exact(old)) || lv->n_moved > SINCE_MOVED_MAX || vis_box_empty(w->clip))
+	if (lv->n_moved > SINCE_MOVED_MAX || vis_box_empty(w->clip))
 		return wtree_live_walk_query(lv, c);
+	if (old && !seen_exact(old))
+		return keeps_an_edge(lv, c, old) ? 0 : wtree_live_walk_query(lv, c);
 	pixman_region32_t u;
 	bool ok = old ? seen_region(&u, old, w->clip) : (pixman_region32_init(&u), true);
 	if (!ok) {
@@ -473,7 +522,7 @@ int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *
 		ok = ok && rc == 0 && pixman_region32_union(&u, &u, &g);
 		pixman_region32_fini(&g);
 	}
-	return finish(c, &u, rc, ok);
+	return finish(lv, c, &u, rc, ok);
 }
 
 /* The union of the clips above, in one cell of the grid; full once it is the whole cell. */
@@ -551,7 +600,7 @@ int wtree_live_seen_from_order(const struct vis_wtree *tree, struct vis_wtree_li
 							  leaf ? &u : NULL, &work);
 			}
 		if (ok && leaf)
-			keep_seen(&u, &lv->seen[w->live_seen - 1].seen);
+			keep_seen(lv, &u, &lv->seen[w->live_seen - 1].seen);
 	}
 	for (size_t c = 0; c < n_cells; c++)
 		pixman_region32_fini(&cells[c].above);
@@ -594,7 +643,7 @@ int wtree_live_walk_moved(struct vis_wtree_live *lv, struct candidate *c, struct
 		pixman_region32_fini(&g);
 	}
 	pixman_region32_fini(&rest);
-	return finish(c, &u, rc, ok);
+	return finish(lv, c, &u, rc, ok);
 }
 
 int wtree_live_walk_lowered(struct vis_wtree_live *lv, struct candidate *c, struct exposure *e,
@@ -605,7 +654,7 @@ int wtree_live_walk_lowered(struct vis_wtree_live *lv, struct candidate *c, stru
 	if (old && !seen_exact(old))
 		return wtree_live_walk_query(lv, c);
 	if (!old) {
-		settle(c, NULL); /* hidden above, hidden below */
+		settle(lv, c, NULL); /* hidden above, hidden below */
 		return 0;
 	}
 	size_t at = (size_t)(c - lv->cands); /* the walks take windows, which may move cands */
@@ -634,5 +683,5 @@ int wtree_live_walk_lowered(struct vis_wtree_live *lv, struct candidate *c, stru
 		     pixman_region32_union(exposed, exposed, &saw);
 	}
 	pixman_region32_fini(&saw);
-	return finish(&lv->cands[at], &sees, rc, ok);
+	return finish(lv, &lv->cands[at], &sees, rc, ok);
 }

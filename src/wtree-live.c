@@ -56,8 +56,10 @@ static int grow(void *array, size_t *cap, size_t n, size_t size)
 /* The tree's live structures, made on first use; NULL without memory. */
 static struct vis_wtree_live *live_of(struct vis_wtree *tree)
 {
-	if (!tree->live && (tree->live = calloc(1, sizeof *tree->live)))
+	if (!tree->live && (tree->live = calloc(1, sizeof *tree->live))) {
 		tree->live->min_windows = LIVE_MIN_WINDOWS;
+		tree->live->seen_boxes = SEEN_BOXES;
+	}
 	return tree->live;
 }
 
@@ -303,7 +305,7 @@ static int seen_after(struct vis_wtree_live *lv, struct vis_window *w, struct vi
 	}
 	box = vis_box_intersect(box, w->clip);
 	lv->seen[w->live_seen - 1].seen =
-		(struct seen){ SEEN_EXTENTS, { seen_box(vis_box_empty(box) ? w->clip : box) } };
+		(struct seen){ SEEN_EXTENTS, 0, { seen_box(vis_box_empty(box) ? w->clip : box) } };
 	return 0;
 }
 
@@ -369,7 +371,7 @@ static int rebuild(struct vis_wtree *tree, struct vis_wtree_live *lv)
 		if (grow(&lv->seen, &lv->cap_seen, lv->n_seen, sizeof *lv->seen) < 0)
 			return -1;
 		lv->seen[lv->n_seen++] =
-			(struct seen_window){ w, { SEEN_EXTENTS, { seen_box(w->clip) } } };
+			(struct seen_window){ w, { SEEN_EXTENTS, 0, { seen_box(w->clip) } } };
 		w->live_seen = (uint32_t)lv->n_seen;
 	}
 	if (wtree_live_seen_from_order(tree, lv, SEEN_WORK * tree->n_order + 4096) < 0)
@@ -851,9 +853,11 @@ const char *wtree_live_check(const struct vis_wtree *tree)
 	return NULL;
 }
 
-void wtree_live_tune(struct vis_wtree *tree, size_t steps)
+void wtree_live_tune(struct vis_wtree *tree, size_t steps, unsigned seen_boxes)
 {
 	struct vis_wtree_live *lv = live_of(tree);
-	if (lv)
+	if (lv) {
 		lv->fixed_budget = steps;
+		lv->seen_boxes = seen_boxes && seen_boxes < SEEN_BOXES ? seen_boxes : SEEN_BOXES;
+	}
 }

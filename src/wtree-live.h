@@ -29,8 +29,15 @@
 /* Pixels that a window (or a destroyed one) saw: its seen region, or a box holding it. */
 struct seen {
 	uint8_t n;
+	uint8_t edges; /* of a loose one: the edges of its box known to hold pixels of it */
 	pixman_box32_t boxes[SEEN_BOXES];
 };
+
+/* The edges of a box, as in struct seen's edges. */
+#define EDGE_LEFT 1
+#define EDGE_TOP 2
+#define EDGE_RIGHT 4
+#define EDGE_BOTTOM 8
 
 /* A box on the screen as a seen region's, and back. */
 static inline pixman_box32_t seen_box(struct vis_box b)
@@ -135,6 +142,7 @@ struct vis_wtree_live {
 	/* The windows of the changed subtrees: cands[0 … n_moved) during an update. */
 	size_t n_moved;
 	size_t fixed_budget; /* a budget set by wtree_live_tune(), or 0 */
+	unsigned seen_boxes; /* the boxes a seen region keeps: SEEN_BOXES, or fewer in tests */
 	size_t min_windows;  /* the windows below which updates go through the tree */
 	/* Updates left to go through the tree after one could not go live, before the structures
 	 * are built again: where updates cost more than that, rebuilding each time costs more. */
@@ -266,8 +274,11 @@ bool wtree_live_order_stale(const struct vis_wtree *tree);
  * is wrong. O(n · cells). */
 const char *wtree_live_check(const struct vis_wtree *tree);
 
-/* For tests: the steps an update's walks may take (0: the default, n + 256), so that updates
- * can be made to give up. */
-void wtree_live_tune(struct vis_wtree *tree, size_t steps);
+/*
+ * For tests: the steps an update's walks may take (0: the default, n + 256), so that updates
+ * can be made to give up; the boxes a seen region keeps before it is kept as its extents (1 to
+ * SEEN_BOXES; 0: SEEN_BOXES), so that small trees have loose regions.
+ */
+void wtree_live_tune(struct vis_wtree *tree, size_t steps, unsigned seen_boxes);
 
 #endif
