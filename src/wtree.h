@@ -21,9 +21,27 @@
  * (top-level windows: 1); look's arrays are the window's own.
  */
 struct vis_window {
+	/* The live recompute's walks (wtree-live-walk.c) read these of window after window, most of
+	 * them once: they come first, to share a cache line. */
+	struct vis_window *parent; /* the root for top-level windows */
+	/* Grows with pre-order among the viewable windows after any recompute (0 for the others),
+	 * so that "is a below b" is a comparison: positions are not kept by vis_wtree_update(). */
+	uint64_t key;
+	/* vis_wtree_update()'s (wtree-live.c): slots in its lists (1-based, 0: in none), a mark for
+	 * the windows it has taken, its slot among the indexed windows (while live_indexed), whether
+	 * it indexed the clip and counted the window as having a look, whether the window is
+	 * viewable (while it works), and whether it had no viewable descendants at the last
+	 * recompute (or may have had: false); the parent it had when first noted since the last
+	 * recompute (a reparented window's subtree saw pixels elsewhere). */
+	uint32_t live_seen, live_mark, live_cand, live_slot;
+	bool live_indexed, live_viewable, live_leaf;
+	/* Set by vis_wtree_compute(): enum vis_visibility numbering, 3 (none) when not viewable. */
+	uint8_t state, old_state;
+	bool mapped, retained;
 	uint32_t id;
 	uint32_t owner; /* the creating connection's ID; 0 once a retained window's owner is gone */
-	struct vis_window *parent;  /* the root for top-level windows */
+	uint32_t live_dirty, live_changed;
+	struct vis_window *live_parent;
 	struct vis_window *below, *above;   /* siblings; NULL at the ends */
 	struct vis_window *bottom, *top;    /* children */
 	int32_t x, y;
@@ -34,10 +52,7 @@ struct vis_window {
 	uint32_t ext_namespace;
 	uint64_t external;
 	struct vis_window *ext_next; /* the next window of its chain in the tree's externals */
-	bool mapped, retained;
 	uint32_t depth;
-	/* Set by vis_wtree_compute(): enum vis_visibility numbering, 3 (none) when not viewable. */
-	uint8_t state, old_state;
 	/* Set by vis_wtree_compute() for viewable windows: the absolute border box; clipped to the
 	 * parent's inner box (the screen for top-level windows), the box its pixels can be seen in
 	 * (possibly empty); and the box its children are clipped to: its inside, clipped so (its
@@ -46,18 +61,6 @@ struct vis_window {
 	 * recomputes cut such windows by the shapes above them (UNDER, wtree-work.h). */
 	struct vis_box box, clip, inner;
 	size_t pos; /* index in the tree's order, for viewable windows */
-	/* Grows with pre-order among the viewable windows after any recompute (0 for the others),
-	 * so that "is a below b" is a comparison: positions are not kept by vis_wtree_update(). */
-	uint64_t key;
-	/* vis_wtree_update()'s (wtree-live.c): slots in its lists (1-based, 0: in none), a mark for
-	 * the windows it has taken, its slot among the indexed windows (while live_indexed), whether
-	 * it indexed the clip and counted the window as having a look, whether the window is
-	 * viewable (while it works), and whether it had no viewable
-	 * descendants at the last recompute (or may have had: false); the parent it had when first
-	 * noted since the last recompute (a reparented window's subtree saw pixels elsewhere). */
-	uint32_t live_seen, live_dirty, live_changed, live_mark, live_cand, live_slot;
-	bool live_indexed, live_viewable, live_leaf;
-	struct vis_window *live_parent;
 	void *data; /* the daemon's */
 };
 
