@@ -651,12 +651,12 @@ int wtree_live_walk_lowered(struct vis_wtree_live *lv, struct candidate *c, stru
 {
 	const struct vis_window *w = c->w;
 	const struct seen *old = wtree_live_old_seen(lv, w);
-	if (old && !seen_exact(old))
-		return wtree_live_walk_query(lv, c);
 	if (!old) {
 		settle(lv, c, NULL); /* hidden above, hidden below */
 		return 0;
 	}
+	if (!seen_exact(old) || !e)
+		return wtree_live_walk_query(lv, c);
 	size_t at = (size_t)(c - lv->cands); /* the walks take windows, which may move cands */
 	/* What it saw, a box at a time: each walk is narrowed to what is left of its box. */
 	pixman_region32_t saw, sees;

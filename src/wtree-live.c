@@ -682,9 +682,9 @@ static int query_changed(const struct vis_wtree *tree, struct vis_wtree_live *lv
 	case LONE_IN_PLACE:
 		return wtree_live_walk_moved(lv, c, lv->saved[0].clip);
 	case LONE_LOWERED:
-		if ((e = exposure_of(lv, c->w)))
-			return wtree_live_walk_lowered(lv, c, e, exposed);
-		return wtree_live_walk_query(lv, c);
+		/* None when it saw nothing: then it sees nothing now. */
+		e = exposure_of(lv, c->w);
+		return wtree_live_walk_lowered(lv, c, e, exposed);
 	default:
 		return wtree_live_walk_query(lv, c);
 	}

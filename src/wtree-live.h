@@ -234,10 +234,11 @@ int wtree_live_seen_from_order(const struct vis_wtree *tree, struct vis_wtree_li
 int wtree_live_walk_moved(struct vis_wtree_live *lv, struct candidate *c, struct vis_box old_clip);
 
 /*
- * The same for one lowered, its clip as it was, whose exposure is e (under its old key): the
- * windows above it are those that were and those between its keys, so it sees what it saw less
- * their clips. The one walk that finds them takes them as rule 3's walk over e would (which it
- * replaces: e is emptied, and what the window no longer sees is added to exposed).
+ * The same for one lowered, its clip as it was, whose exposure is e (under its old key; NULL
+ * when it saw nothing): the windows above it are those that were and those between its keys,
+ * so it sees what it saw less their clips. The one walk that finds them takes them as rule 3's
+ * walk over e would (which it replaces: e is emptied, and what the window no longer sees is
+ * added to exposed).
  */
 int wtree_live_walk_lowered(struct vis_wtree_live *lv, struct candidate *c, struct exposure *e,
 			    void *exposed);
