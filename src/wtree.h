@@ -281,10 +281,12 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  *
  * It keeps, from one recompute to the next, every viewable window's key (growing in pre-order,
  * keys spaced so that a change renumbers only its own subtree), a grid of the windows' clips in
- * key order (zgrid.h), and the viewable windows that are not fully obscured with what they saw:
- * their seen region (the clip less the clips of the windows after their subtree), as up to eight
- * boxes or a box holding it. A window's state follows from its seen region: none, fully
- * obscured; its whole box, unobscured; else partially obscured.
+ * key order (zgrid.h; its entries index a dense array of the clips), and the viewable windows
+ * that are not fully obscured with what they saw: their seen region (the clip less the clips of
+ * the windows after their subtree), as up to eight boxes or a box holding it (with the edges of
+ * that box known to hold pixels of it, when it is the region's extents). A window's state
+ * follows from its seen region: none, fully obscured; its whole box, unobscured; else partially
+ * obscured.
  *
  * The rule: let the changed subtrees be those of the noted windows (a change of a window moves
  * or re-stacks its subtree with it). Recomputed are (1) the windows of the changed subtrees;
@@ -334,11 +336,14 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  * it, what it sees of exposed (it gains no pixel elsewhere): without viewable descendants, the
  * pixels its clip holds of what was left of exact walks over it, less those changed clips (the
  * windows above the walk's start did not hide those pixels, and those between are cut off what
- * is left), else what a grid walk over exposed alone finds. Seen regions start exact when the
- * structures are built, by the region method from the top of the order down, a grid cell at a
- * time (a cell once covered is passed over below), within a bound. The unit test
- * holds the result to vis_wtree_compute()'s after every batch of edits
- * on random trees, and the structures to their invariants.
+ * is left), else what a grid walk over exposed alone finds. One whose last seen region is a box
+ * with edges known to hold pixels it saw, taken by rule 2 alone, is partially obscured still
+ * while one such edge meets no changed clip now after its subtree: the pixel it saw there is
+ * hidden by no window that did not hide it before, and a box kept so was never its whole box;
+ * the box still holds what it sees. Seen regions start exact when the structures are built, by
+ * the region method from the top of the order down, a grid cell at a time (a cell once covered
+ * is passed over below), within a bound. The unit test holds the result to vis_wtree_compute()'s
+ * after every batch of edits on random trees, and the structures to their invariants.
  *
  * Where the live structures do not apply, it recomputes through the tree instead, with the same
  * result: below vis_wtree_live_from()'s windows, the first time, after a failed recompute, keys
