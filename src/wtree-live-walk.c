@@ -9,24 +9,11 @@
 #include "wtree-live.h"
 #include "zgrid.h"
 
-/* A box as pixman's. */
-static pixman_box32_t pbox(struct vis_box b)
-{
-	/* Clips lie in the screen, inside 32 bits. */
-	return (pixman_box32_t){ (int32_t)b.x1, (int32_t)b.y1, (int32_t)b.x2, (int32_t)b.y2 };
-}
-
 /* Sets r (not initialized) to a box, not empty. */
 static void init_box(pixman_region32_t *r, struct vis_box box)
 {
 	pixman_box32_t b = pbox(box);
 	pixman_region32_init_rect(r, b.x1, b.y1, (unsigned)(b.x2 - b.x1), (unsigned)(b.y2 - b.y1));
-}
-
-/* A pixman box as ours. */
-static struct vis_box vbox(const pixman_box32_t *b)
-{
-	return (struct vis_box){ b->x1, b->y1, b->x2, b->y2 };
 }
 
 /* Whether a clip (on the screen) covers pixels of u; if so, takes them off. */
@@ -261,7 +248,7 @@ static bool seen_region(pixman_region32_t *u, const struct seen *seen, struct vi
 	pixman_box32_t boxes[SEEN_BOXES];
 	/* pixman takes one box, even an empty one, as a rectangle to check. */
 	for (int i = 0; i < n; i++) {
-		struct vis_box b = vis_box_intersect(seen_box_vis(&seen->boxes[i]), screen);
+		struct vis_box b = vis_box_intersect(vbox(&seen->boxes[i]), screen);
 		if (!vis_box_empty(b))
 			boxes[k++] = pbox(b);
 	}
@@ -344,7 +331,7 @@ int wtree_live_walk_refine(struct vis_wtree_live *lv, struct vis_window *v)
 	struct seen *s = &lv->seen[v->live_seen - 1].seen;
 	if (s->n != SEEN_EXTENTS || !v->live_leaf || !v->live_indexed)
 		return 0;
-	struct vis_box b = vis_box_intersect(seen_box_vis(&s->boxes[0]), v->clip);
+	struct vis_box b = vis_box_intersect(vbox(&s->boxes[0]), v->clip);
 	if (vis_box_empty(b))
 		return 0;
 	pixman_region32_t u;
@@ -508,7 +495,7 @@ int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *
 	for (size_t i = 0; ok && i < lv->n_moved && pixman_region32_not_empty(&u); i++) {
 		const struct vis_window *v = lv->cands[i].w;
 		if (v->live_indexed && v->key > end)
-			cut(&u, seen_box(v->clip), &ok);
+			cut(&u, pbox(v->clip), &ok);
 	}
 	/* Else what it sees of the exposed pixels, by walking the grid over those alone. */
 	int rc = 0;

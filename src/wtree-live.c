@@ -118,7 +118,7 @@ static int index_window(struct vis_wtree_live *lv, struct vis_window *w)
 		lv->cap_slots = cap;
 		slot = (uint32_t)lv->n_slots++;
 	}
-	lv->slots[slot] = (struct live_slot){ seen_box(w->clip), w };
+	lv->slots[slot] = (struct live_slot){ pbox(w->clip), w };
 	w->live_slot = slot;
 	w->live_indexed = true;
 	return vis_zgrid_insert(&lv->grid, w->clip, w->key, slot);
@@ -296,7 +296,7 @@ static int seen_after(struct vis_wtree_live *lv, struct vis_window *w, struct vi
 		const struct seen *old = &lv->seen[w->live_seen - 1].seen;
 		int n = old->n == SEEN_EXTENTS ? 1 : old->n;
 		for (int i = 0; i < n; i++)
-			box = vis_box_hull(box, seen_box_vis(&old->boxes[i]));
+			box = vis_box_hull(box, vbox(&old->boxes[i]));
 	} else {
 		if (grow(&lv->seen, &lv->cap_seen, lv->n_seen, sizeof *lv->seen) < 0)
 			return -1;
@@ -305,7 +305,7 @@ static int seen_after(struct vis_wtree_live *lv, struct vis_window *w, struct vi
 	}
 	box = vis_box_intersect(box, w->clip);
 	lv->seen[w->live_seen - 1].seen =
-		(struct seen){ SEEN_EXTENTS, 0, { seen_box(vis_box_empty(box) ? w->clip : box) } };
+		(struct seen){ SEEN_EXTENTS, 0, { pbox(vis_box_empty(box) ? w->clip : box) } };
 	return 0;
 }
 
@@ -371,7 +371,7 @@ static int rebuild(struct vis_wtree *tree, struct vis_wtree_live *lv)
 		if (grow(&lv->seen, &lv->cap_seen, lv->n_seen, sizeof *lv->seen) < 0)
 			return -1;
 		lv->seen[lv->n_seen++] =
-			(struct seen_window){ w, { SEEN_EXTENTS, 0, { seen_box(w->clip) } } };
+			(struct seen_window){ w, { SEEN_EXTENTS, 0, { pbox(w->clip) } } };
 		w->live_seen = (uint32_t)lv->n_seen;
 	}
 	if (wtree_live_seen_from_order(tree, lv, SEEN_WORK * tree->n_order + 4096) < 0)
@@ -832,7 +832,7 @@ const char *wtree_live_check(const struct vis_wtree *tree)
 		if (pixels && !vis_zgrid_holds(&lv->grid, w->clip, w->key, &k))
 			return "a window is missing from a cell its clip meets";
 		if (pixels) {
-			pixman_box32_t c = seen_box(w->clip);
+			pixman_box32_t c = pbox(w->clip);
 			const struct live_slot *sl =
 				w->live_slot < lv->n_slots ? &lv->slots[w->live_slot] : NULL;
 			if (!sl || sl->w != w || sl->clip.x1 != c.x1 || sl->clip.y1 != c.y1 ||

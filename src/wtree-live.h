@@ -39,13 +39,13 @@ struct seen {
 #define EDGE_RIGHT 4
 #define EDGE_BOTTOM 8
 
-/* A box on the screen as a seen region's, and back. */
-static inline pixman_box32_t seen_box(struct vis_box b)
+/* A box as pixman's (boxes here lie on the screen, inside 32 bits), and back. */
+static inline pixman_box32_t pbox(struct vis_box b)
 {
 	return (pixman_box32_t){ (int32_t)b.x1, (int32_t)b.y1, (int32_t)b.x2, (int32_t)b.y2 };
 }
 
-static inline struct vis_box seen_box_vis(const pixman_box32_t *b)
+static inline struct vis_box vbox(const pixman_box32_t *b)
 {
 	return (struct vis_box){ b->x1, b->y1, b->x2, b->y2 };
 }
