@@ -348,12 +348,13 @@ int wtree_live_walk_refine(struct vis_wtree_live *lv, struct vis_window *v)
 }
 
 /*
- * walk_down() over each box of u apart: a walk is narrowed to the extents of what is left, which
- * for an L-shaped difference of two boxes would be the whole of the larger one. Each pixel is
- * walked over as in one walk over u (wtree.h's argument is pixel by pixel).
+ * walk_down() over each box of u apart, down to stop: a walk is narrowed to the extents of what
+ * is left, which for an L-shaped difference of two boxes would be the whole of the larger one.
+ * Each pixel is walked over as in one walk over u (wtree.h's argument is pixel by pixel). left,
+ * unless NULL, gets what the walks leave of u.
  */
 static int walk_boxes(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t key, bool losing,
-		      bool exact)
+		      bool exact, uint64_t stop, pixman_region32_t *left)
 {
 	int n;
 	const pixman_box32_t *boxes = pixman_region32_rectangles(u, &n);
@@ -361,7 +362,11 @@ static int walk_boxes(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t 
 	for (int i = 0; rc == 0 && i < n; i++) {
 		pixman_region32_t one;
 		init_box(&one, vbox(&boxes[i]));
-		rc = walk_down(lv, &one, key, losing, exact, 0);
+		rc = walk_down(lv, &one, key, losing, exact, stop);
+		if (rc == 0 && left && !pixman_region32_union(left, left, &one)) {
+			errno = ENOMEM;
+			rc = -1;
+		}
 		pixman_region32_fini(&one);
 	}
 	return rc;
@@ -388,7 +393,7 @@ int wtree_live_walk_cover(struct vis_wtree *tree, struct vis_wtree_live *lv,
 	bool ok = true;
 	if (old && seen_exact(old) && wtree_live_kept_parent(w))
 		ok = subtract_seen(&u, old, tree->root.clip);
-	int rc = ok ? walk_boxes(lv, &u, w->key, true, false) : -1;
+	int rc = ok ? walk_boxes(lv, &u, w->key, true, false, 0, NULL) : -1;
 	pixman_region32_fini(&u);
 	if (!ok)
 		errno = ENOMEM;
@@ -418,7 +423,7 @@ int wtree_live_walk_exposed(struct vis_wtree *tree, struct vis_wtree_live *lv,
 			ok = subtract_seen(&u, &now->seen, tree->root.clip);
 	}
 	ok = ok && pixman_region32_union(exposed, exposed, &u);
-	int rc = ok ? walk_boxes(lv, &u, e->key, false, seen_exact(&e->seen)) : -1;
+	int rc = ok ? walk_boxes(lv, &u, e->key, false, seen_exact(&e->seen), 0, NULL) : -1;
 	pixman_region32_fini(&u);
 	if (!ok)
 		errno = ENOMEM;
@@ -652,19 +657,11 @@ int wtree_live_walk_lowered(struct vis_wtree_live *lv, struct candidate *c, stru
 		return -1;
 	}
 	pixman_region32_init(&sees);
-	int n, rc = 0;
+	int rc = walk_boxes(lv, &saw, e->key, false, true, w->key, &sees);
 	bool ok = true;
-	const pixman_box32_t *boxes = pixman_region32_rectangles(&saw, &n);
-	for (int i = 0; ok && rc == 0 && i < n; i++) {
-		pixman_region32_t one;
-		init_box(&one, vbox(&boxes[i]));
-		rc = walk_down(lv, &one, e->key, false, true, w->key);
-		ok = rc != 0 || pixman_region32_union(&sees, &sees, &one);
-		pixman_region32_fini(&one);
-	}
 	/* The windows between its keys were taken, with the pixels each gains: the exposure is
 	 * walked, and what it saw less what it sees is exposed for the other queries. */
-	if (ok && rc == 0) {
+	if (rc == 0) {
 		e->seen.n = 0;
 		ok = pixman_region32_subtract(&saw, &saw, &sees) &&
 		     pixman_region32_union(exposed, exposed, &saw);
