@@ -13,15 +13,19 @@
  * as sweeping the whole stack.
  *
  * The price of one sweep step (a window times a tree level, n ⌈log2 2n⌉ steps) in units of region
- * work is measured (docs/ENGINES.md): a unit costs 1.8–3 ns where unions dominate and 5–10 ns where
- * tests do; a step costs 13–78 ns on a screen (random, tiles, nested, cascade, grid: 3–13 units),
- * where the sweep's tree has at most as many leaves as the screen has lines, and 90–120 ns on the
- * unclipped uniform scene (24–60 units). Each price is near the dear end of its range, so that auto
- * never hands over to a sweep that costs more than the region method's rest; the cost is that
- * where the sweep is cheaper than priced (a cascade's, 4–7 units a step), auto keeps the region
- * method while it is forecast to cost up to 3 times the sweep.
+ * work is measured (docs/ENGINES.md, every kind, seeds 1–3, n = 10^3 … 10^6): a step costs 1.7–7.7
+ * units on cascades, whose consecutive windows share the sweep's paths, 2.5–13.8 on the other
+ * kinds on a screen, and 19–65 on the unclipped uniform scene. No price known before the sweep
+ * runs can tell a cascade from tiles, so a wrong choice costs the ratio of the price to the true
+ * one, or its inverse: the price on a screen, 6, sits near the middle of its range in ratio
+ * (√(1.7 × 13.8) ≈ 4.8), a little toward the dear end, which keeps the forecasts of the scenes
+ * where the region method wins (random, tiles, nested, shaped, translucent: at most 3 units a
+ * step on seeds 1–6) at half the price or less. A price of 12, the dear end, made auto keep the
+ * region method on cascades where it took 2–5 times the sweep's time (seeds 2–5, n = 10^3 … 10^5).
+ * Without a screen the price stays 40, near the dear end of 19–65, so that uniform n = 10^4,
+ * forecast at 0.48–0.78 of it, keeps the region method that is faster there.
  */
-#define UNITS_PER_STEP_ON_SCREEN 12
+#define UNITS_PER_STEP_ON_SCREEN 6
 #define UNITS_PER_STEP_UNCLIPPED 40
 
 /* The steps of the sweep over n windows: n times the levels of a tree over their 2n edges. */
