@@ -5,6 +5,7 @@
 #include <errno.h>
 #include <pixman.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "wtree-live.h"
 #include "zgrid.h"
@@ -29,10 +30,137 @@ static bool cut(pixman_region32_t *u, pixman_box32_t clip, bool *ok)
 	return true;
 }
 
-/* Narrows a walk to what is left of u. */
-static void narrow(struct vis_zgrid_walk *walk, pixman_region32_t *u)
+/*
+ * What is left of a walk's pixels. A walk cuts clip after clip off them, and pixman rebuilds a
+ * region at each cut (4,000 instructions a cut at 20 boxes, measured on a cascade's raise), so
+ * while they are few they are kept as disjoint boxes, a cut splitting the boxes it meets into at
+ * most four each; past LEFT_BOXES, as a region again (pixman's tests binary-search its bands).
+ */
+#define LEFT_BOXES 64
+#define LEFT_REGION SIZE_MAX
+
+struct left {
+	pixman_region32_t *u; /* the pixels when n is LEFT_REGION; what they go back into */
+	size_t n;
+	pixman_box32_t ext; /* the boxes' extents, while n > 0 */
+	pixman_box32_t b[LEFT_BOXES];
+};
+
+/* Sets the extents of the boxes (n > 0). */
+static void left_bound(struct left *l)
 {
-	vis_zgrid_walk_narrow(walk, vbox(pixman_region32_extents(u)));
+	pixman_box32_t e = l->b[0];
+	for (size_t i = 1; i < l->n; i++) {
+		e.x1 = l->b[i].x1 < e.x1 ? l->b[i].x1 : e.x1;
+		e.y1 = l->b[i].y1 < e.y1 ? l->b[i].y1 : e.y1;
+		e.x2 = l->b[i].x2 > e.x2 ? l->b[i].x2 : e.x2;
+		e.y2 = l->b[i].y2 > e.y2 ? l->b[i].y2 : e.y2;
+	}
+	l->ext = e;
+}
+
+/* Takes u's pixels, as boxes when they are few. */
+static void left_init(struct left *l, pixman_region32_t *u)
+{
+	int n;
+	const pixman_box32_t *b = pixman_region32_rectangles(u, &n);
+	l->u = u;
+	l->n = LEFT_REGION;
+	if ((size_t)n <= LEFT_BOXES / 2) {
+		l->n = (size_t)n;
+		memcpy(l->b, b, (size_t)n * sizeof(*b));
+		l->ext = *pixman_region32_extents(u);
+	}
+}
+
+/* Puts the pixels back into u as a region. false without memory. */
+static bool left_finish(struct left *l)
+{
+	if (l->n == LEFT_REGION)
+		return true;
+	pixman_region32_fini(l->u);
+	return pixman_region32_init_rects(l->u, l->b, (int)l->n);
+}
+
+static bool left_empty(const struct left *l)
+{
+	return l->n == LEFT_REGION ? !pixman_region32_not_empty(l->u) : l->n == 0;
+}
+
+static bool boxes_meet(const pixman_box32_t *a, const pixman_box32_t *b)
+{
+	return a->x1 < b->x2 && b->x1 < a->x2 && a->y1 < b->y2 && b->y1 < a->y2;
+}
+
+/* The extents of what is left (not empty). */
+static struct vis_box left_extents(const struct left *l)
+{
+	return vbox(l->n == LEFT_REGION ? pixman_region32_extents(l->u) : &l->ext);
+}
+
+/* Whether box (not empty) meets what is left. */
+static bool left_meets(const struct left *l, const pixman_box32_t *box)
+{
+	if (l->n == LEFT_REGION)
+		return pixman_region32_contains_rectangle(l->u, box) != PIXMAN_REGION_OUT;
+	if (l->n == 0 || !boxes_meet(&l->ext, box))
+		return false;
+	for (size_t i = 0; i < l->n; i++)
+		if (boxes_meet(&l->b[i], box))
+			return true;
+	return false;
+}
+
+/* Whether a clip (on the screen) covers pixels of what is left; if so, takes them off. */
+static bool left_cut(struct left *l, pixman_box32_t clip, bool *ok)
+{
+	if (l->n == LEFT_REGION)
+		return cut(l->u, clip, ok);
+	if (l->n == 0 || !boxes_meet(&l->ext, &clip))
+		return false;
+	pixman_box32_t out[LEFT_BOXES];
+	size_t n = 0;
+	bool met = false;
+	for (size_t i = 0; i < l->n; i++) {
+		const pixman_box32_t *b = &l->b[i];
+		if (!boxes_meet(b, &clip)) {
+			if (n == LEFT_BOXES)
+				goto region;
+			out[n++] = *b;
+			continue;
+		}
+		met = true;
+		/* Above the clip, below it, then beside it within its rows. */
+		int32_t y1 = b->y1 > clip.y1 ? b->y1 : clip.y1, y2 = b->y2 < clip.y2 ? b->y2 : clip.y2;
+		pixman_box32_t piece[4] = {
+			{ b->x1, b->y1, b->x2, clip.y1 },
+			{ b->x1, y1, clip.x1, y2 },
+			{ clip.x2, y1, b->x2, y2 },
+			{ b->x1, clip.y2, b->x2, b->y2 },
+		};
+		for (int k = 0; k < 4; k++) {
+			if (piece[k].x1 >= piece[k].x2 || piece[k].y1 >= piece[k].y2)
+				continue;
+			if (n == LEFT_BOXES)
+				goto region;
+			out[n++] = piece[k];
+		}
+	}
+	memcpy(l->b, out, n * sizeof(*out));
+	l->n = n;
+	if (n > 0)
+		left_bound(l);
+	return met;
+region:;
+	/* Too many boxes: the cut on a region of what was left before it. */
+	size_t had = l->n;
+	l->n = LEFT_REGION;
+	pixman_region32_fini(l->u);
+	if (!pixman_region32_init_rects(l->u, l->b, (int)had)) {
+		*ok = false;
+		return true;
+	}
+	return cut(l->u, clip, ok);
 }
 
 /*
@@ -46,7 +174,9 @@ static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t
 		size_t *steps, size_t budget)
 {
 	struct vis_zgrid_walk up, down;
-	struct vis_box ext = vbox(pixman_region32_extents(u));
+	struct left l;
+	left_init(&l, u);
+	struct vis_box ext = left_extents(&l);
 	bool ok = true;
 	*hit = false;
 	if (vis_zgrid_walk_init(&up, &lv->grid, ext, end, true) < 0)
@@ -57,7 +187,7 @@ static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t
 	}
 	uint64_t lo = end, hi = UINT64_MAX;
 	bool go_up = true, go_down = true;
-	while ((go_up || go_down) && pixman_region32_not_empty(u) && ok) {
+	while ((go_up || go_down) && !left_empty(&l) && ok) {
 		for (int side = 0; side < 2; side++) {
 			bool *go = side ? &go_down : &go_up;
 			uint64_t key;
@@ -74,19 +204,22 @@ static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t
 				continue;
 			}
 			*(side ? &hi : &lo) = key;
-			if (cut(u, lv->slots[slot].clip, &ok)) {
+			if (left_cut(&l, lv->slots[slot].clip, &ok)) {
 				*hit = true;
-				if (!pixman_region32_not_empty(u))
+				if (!ok || left_empty(&l))
 					break;
-				narrow(&up, u);
-				narrow(&down, u);
+				ext = left_extents(&l);
+				vis_zgrid_walk_narrow(&up, ext);
+				vis_zgrid_walk_narrow(&down, ext);
 			}
 		}
 	}
 	vis_zgrid_walk_finish(&up);
 	vis_zgrid_walk_finish(&down);
+	bool kept = left_finish(&l);
 	if (*steps > budget)
 		return OVER_BUDGET;
+	ok = ok && kept;
 	if (!ok)
 		errno = ENOMEM;
 	return ok ? 0 : -1;
@@ -205,18 +338,17 @@ int wtree_live_walk_region(const struct vis_wtree *tree, const struct vis_window
 	return rc;
 }
 
-/* Whether a window saw pixels of u at the last recompute (its kept seen region meets u's). */
-static bool saw(const struct vis_wtree_live *lv, const struct vis_window *v, pixman_region32_t *u)
+/* Whether a window saw pixels of what is left at the last recompute (its seen region meets it). */
+static bool saw(const struct vis_wtree_live *lv, const struct vis_window *v, const struct left *l)
 {
 	if (!v->live_seen)
 		return false;
 	const struct seen *s = &lv->seen[v->live_seen - 1].seen;
 	int n = s->n == SEEN_EXTENTS ? 1 : s->n;
-	for (int i = 0; i < n; i++) {
-		pixman_box32_t b = s->boxes[i];
-		if (pixman_region32_contains_rectangle(u, &b) != PIXMAN_REGION_OUT)
+	for (int i = 0; i < n; i++)
+		if (s->boxes[i].x1 < s->boxes[i].x2 && s->boxes[i].y1 < s->boxes[i].y2 &&
+		    left_meets(l, &s->boxes[i]))
 			return true;
-	}
 	return false;
 }
 
@@ -226,13 +358,24 @@ static bool moved(const struct vis_wtree_live *lv, const struct vis_window *w)
 	return w->live_mark == lv->mark && w->live_cand && w->live_cand <= lv->n_moved;
 }
 
-/* Lists the pixels of u that v's clip holds as what candidate c gains. false without memory. */
+/* Lists the pixels left that v's clip holds as what candidate c gains. false without memory. */
 static bool gained(struct vis_wtree_live *lv, struct candidate *c, const struct vis_window *v,
-		   pixman_region32_t *u)
+		   const struct left *l)
 {
+	pixman_box32_t clip = pbox(v->clip);
+	if (l->n != LEFT_REGION) {
+		bool ok = true;
+		for (size_t i = 0; ok && i < l->n; i++) {
+			struct vis_box b = vis_box_intersect(vbox(&l->b[i]), v->clip);
+			if (!vis_box_empty(b))
+				ok = wtree_live_gained(lv, c, b) == 0;
+		}
+		return ok;
+	}
 	pixman_region32_t r;
-	init_box(&r, v->clip);
-	bool ok = pixman_region32_intersect(&r, &r, u);
+	pixman_region32_init_rect(&r, clip.x1, clip.y1, (unsigned)(clip.x2 - clip.x1),
+				  (unsigned)(clip.y2 - clip.y1));
+	bool ok = pixman_region32_intersect(&r, &r, l->u);
 	int n = 0;
 	const pixman_box32_t *boxes = ok ? pixman_region32_rectangles(&r, &n) : NULL;
 	for (int i = 0; ok && i < n; i++)
@@ -283,22 +426,23 @@ static int walk_down(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t k
 {
 	if (!pixman_region32_not_empty(u))
 		return 0;
+	struct left l;
+	left_init(&l, u);
 	struct vis_zgrid_walk walk;
-	bool ok = vis_zgrid_walk_init(&walk, &lv->grid, vbox(pixman_region32_extents(u)), key,
-				      false) == 0;
+	bool ok = vis_zgrid_walk_init(&walk, &lv->grid, left_extents(&l), key, false) == 0;
 	uint64_t k;
 	uint32_t slot;
-	while (ok && pixman_region32_not_empty(u) && ++lv->steps <= lv->budget &&
+	while (ok && !left_empty(&l) && ++lv->steps <= lv->budget &&
 	       vis_zgrid_walk_next(&walk, &k, &slot) && k > stop) {
 		/* The window itself is read only when its clip meets what is left. */
 		pixman_box32_t b = lv->slots[slot].clip;
-		if (pixman_region32_contains_rectangle(u, &b) == PIXMAN_REGION_OUT)
+		if (!left_meets(&l, &b))
 			continue;
 		struct vis_window *v = lv->slots[slot].w;
 		if (losing && moved(lv, v))
 			continue; /* changed: recomputed already, and it hides what it did not before */
 		for (struct vis_window *a = v; ok && a->parent; a = a->parent)
-			if (!losing || saw(lv, a, u))
+			if (!losing || saw(lv, a, &l))
 				ok = wtree_live_take(lv, a, STATE_UNKNOWN, !losing) == 0;
 		/* Without descendants, it sees what is left that its clip holds, but for what
 		 * changed windows hide now (wtree_live_walk_since()). */
@@ -306,12 +450,14 @@ static int walk_down(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t k
 			struct candidate *c = &lv->cands[v->live_cand - 1];
 			c->unlisted |= !exact;
 			if (exact && v->live_leaf)
-				ok = gained(lv, c, v, u);
+				ok = gained(lv, c, v, &l);
 		}
-		cut(u, b, &ok);
-		narrow(&walk, u);
+		left_cut(&l, b, &ok);
+		if (ok && !left_empty(&l))
+			vis_zgrid_walk_narrow(&walk, left_extents(&l));
 	}
 	vis_zgrid_walk_finish(&walk);
+	ok = left_finish(&l) && ok;
 	if (lv->steps > lv->budget)
 		return OVER_BUDGET;
 	if (!ok)
