@@ -36,12 +36,11 @@ static bool cut(pixman_region32_t *u, pixman_box32_t clip, bool *ok)
  * while they are few they are kept as disjoint boxes, a cut splitting the boxes it meets into at
  * most four each; past LEFT_BOXES, as a region again (pixman's tests binary-search its bands).
  */
-#define LEFT_BOXES 64
 #define LEFT_REGION SIZE_MAX
 
 struct left {
 	pixman_region32_t *u; /* the pixels when n is LEFT_REGION; what they go back into */
-	size_t n;
+	size_t n, cap;        /* boxes, and the most kept (LEFT_BOXES, fewer in tests) */
 	pixman_box32_t ext; /* the boxes' extents, while n > 0 */
 	pixman_box32_t b[LEFT_BOXES];
 };
@@ -60,13 +59,14 @@ static void left_bound(struct left *l)
 }
 
 /* Takes u's pixels, as boxes when they are few. */
-static void left_init(struct left *l, pixman_region32_t *u)
+static void left_init(struct left *l, pixman_region32_t *u, size_t cap)
 {
 	int n;
 	const pixman_box32_t *b = pixman_region32_rectangles(u, &n);
 	l->u = u;
+	l->cap = cap;
 	l->n = LEFT_REGION;
-	if ((size_t)n <= LEFT_BOXES / 2) {
+	if ((size_t)n <= cap / 2) {
 		l->n = (size_t)n;
 		memcpy(l->b, b, (size_t)n * sizeof(*b));
 		l->ext = *pixman_region32_extents(u);
@@ -111,6 +111,38 @@ static bool left_meets(const struct left *l, const pixman_box32_t *box)
 	return false;
 }
 
+/* Whether a grid cell's pixels meet what is left (a zgrid walk's test of its cells). */
+static bool left_meets_cell(const void *arg, struct vis_box cell)
+{
+	pixman_box32_t b = pbox(cell);
+	return left_meets(arg, &b);
+}
+
+/*
+ * A walk's misses in a row (steps whose clips missed what is left), and how many wait for a
+ * pruning of its cells: see left_prune().
+ */
+struct misses {
+	size_t n, wait;
+};
+
+/*
+ * After a run of misses, leaves out of a walk the cells that what is left no longer meets (the
+ * extents, which a walk is narrowed to, can span many covered cells around a few holes: nested
+ * windows under a lowered one), once the misses have cost about what the test costs; a test
+ * that left out nothing (a cascade's walks, whose pixels meet every cell they span) doubles the
+ * wait for the next.
+ */
+static void left_prune(const struct left *l, struct vis_zgrid_walk *walk, struct misses *m)
+{
+	size_t boxes = l->n == LEFT_REGION ? 8 : l->n;
+	if (++m->n < 8 + m->wait + walk->n * boxes / 8)
+		return;
+	m->n = 0;
+	if (!vis_zgrid_walk_keep(walk, left_meets_cell, l))
+		m->wait = 2 * m->wait + 8;
+}
+
 /* Whether a clip (on the screen) covers pixels of what is left; if so, takes them off. */
 static bool left_cut(struct left *l, pixman_box32_t clip, bool *ok)
 {
@@ -124,7 +156,7 @@ static bool left_cut(struct left *l, pixman_box32_t clip, bool *ok)
 	for (size_t i = 0; i < l->n; i++) {
 		const pixman_box32_t *b = &l->b[i];
 		if (!boxes_meet(b, &clip)) {
-			if (n == LEFT_BOXES)
+			if (n == l->cap)
 				goto region;
 			out[n++] = *b;
 			continue;
@@ -141,7 +173,7 @@ static bool left_cut(struct left *l, pixman_box32_t clip, bool *ok)
 		for (int k = 0; k < 4; k++) {
 			if (piece[k].x1 >= piece[k].x2 || piece[k].y1 >= piece[k].y2)
 				continue;
-			if (n == LEFT_BOXES)
+			if (n == l->cap)
 				goto region;
 			out[n++] = piece[k];
 		}
@@ -175,7 +207,7 @@ static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t
 {
 	struct vis_zgrid_walk up, down;
 	struct left l;
-	left_init(&l, u);
+	left_init(&l, u, lv->left_boxes);
 	struct vis_box ext = left_extents(&l);
 	bool ok = true;
 	*hit = false;
@@ -187,6 +219,7 @@ static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t
 	}
 	uint64_t lo = end, hi = UINT64_MAX;
 	bool go_up = true, go_down = true;
+	struct misses misses[2] = { { 0, 0 }, { 0, 0 } };
 	while ((go_up || go_down) && !left_empty(&l) && ok) {
 		for (int side = 0; side < 2; side++) {
 			bool *go = side ? &go_down : &go_up;
@@ -204,7 +237,10 @@ static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t
 				continue;
 			}
 			*(side ? &hi : &lo) = key;
-			if (left_cut(&l, lv->slots[slot].clip, &ok)) {
+			if (!left_cut(&l, lv->slots[slot].clip, &ok)) {
+				left_prune(&l, side ? &down : &up, &misses[side]);
+			} else {
+				misses[side].n = 0;
 				*hit = true;
 				if (!ok || left_empty(&l))
 					break;
@@ -421,28 +457,39 @@ static bool subtract_seen(pixman_region32_t *u, const struct seen *seen, struct 
  * leaving in u what no window above stop hides.
  * 0, or -1 (ENOMEM), or OVER_BUDGET.
  */
-static int walk_down(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t key, bool losing,
-		     bool exact, uint64_t stop)
+static int walk_cells(struct vis_wtree_live *lv, struct left *l, uint64_t key, bool losing,
+		      bool exact, uint64_t stop);
+
+/*
+ * walk_down() over what is left, from key. Once the pixels fragment past a walk's boxes (a box
+ * punched by many small windows, whose region pixman rebuilds at each cut), a walk over more
+ * than one cell goes on a cell at a time (split), each cell's pixels cut by its own windows alone.
+ */
+static int walk_left(struct vis_wtree_live *lv, struct left *l, uint64_t key, bool losing,
+		     bool exact, uint64_t stop, bool split)
 {
-	if (!pixman_region32_not_empty(u))
+	if (left_empty(l))
 		return 0;
-	struct left l;
-	left_init(&l, u);
 	struct vis_zgrid_walk walk;
-	bool ok = vis_zgrid_walk_init(&walk, &lv->grid, left_extents(&l), key, false) == 0;
+	bool ok = vis_zgrid_walk_init(&walk, &lv->grid, left_extents(l), key, false) == 0;
+	bool fragmented = false;
 	uint64_t k;
 	uint32_t slot;
-	while (ok && !left_empty(&l) && ++lv->steps <= lv->budget &&
+	struct misses misses = { 0, 0 };
+	while (ok && !left_empty(l) && ++lv->steps <= lv->budget &&
 	       vis_zgrid_walk_next(&walk, &k, &slot) && k > stop) {
 		/* The window itself is read only when its clip meets what is left. */
 		pixman_box32_t b = lv->slots[slot].clip;
-		if (!left_meets(&l, &b))
+		if (!left_meets(l, &b)) {
+			left_prune(l, &walk, &misses);
 			continue;
+		}
+		misses.n = 0;
 		struct vis_window *v = lv->slots[slot].w;
 		if (losing && moved(lv, v))
 			continue; /* changed: recomputed already, and it hides what it did not before */
 		for (struct vis_window *a = v; ok && a->parent; a = a->parent)
-			if (!losing || saw(lv, a, &l))
+			if (!losing || saw(lv, a, l))
 				ok = wtree_live_take(lv, a, STATE_UNKNOWN, !losing) == 0;
 		/* Without descendants, it sees what is left that its clip holds, but for what
 		 * changed windows hide now (wtree_live_walk_since()). */
@@ -450,19 +497,76 @@ static int walk_down(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t k
 			struct candidate *c = &lv->cands[v->live_cand - 1];
 			c->unlisted |= !exact;
 			if (exact && v->live_leaf)
-				ok = gained(lv, c, v, &l);
+				ok = gained(lv, c, v, l);
 		}
-		left_cut(&l, b, &ok);
-		if (ok && !left_empty(&l))
-			vis_zgrid_walk_narrow(&walk, left_extents(&l));
+		bool was_boxes = l->n != LEFT_REGION;
+		left_cut(l, b, &ok);
+		if (!ok || left_empty(l))
+			break;
+		if (split && was_boxes && l->n == LEFT_REGION && walk.n > 1) {
+			fragmented = true;
+			break;
+		}
+		vis_zgrid_walk_narrow(&walk, left_extents(l));
 	}
 	vis_zgrid_walk_finish(&walk);
-	ok = left_finish(&l) && ok;
 	if (lv->steps > lv->budget)
 		return OVER_BUDGET;
-	if (!ok)
+	if (!ok) {
 		errno = ENOMEM;
-	return ok ? 0 : -1;
+		return -1;
+	}
+	/* The windows below k are left to walk, over each cell's pixels. */
+	return fragmented ? walk_cells(lv, l, k, losing, exact, stop) : 0;
+}
+
+/* walk_left() over what is left (a region) in each grid cell apart, from key; joins what is left. */
+static int walk_cells(struct vis_wtree_live *lv, struct left *l, uint64_t key, bool losing,
+		      bool exact, uint64_t stop)
+{
+	uint32_t r[4];
+	if (!vis_zgrid_cells(&lv->grid, left_extents(l), r))
+		return 0;
+	pixman_region32_t rest;
+	pixman_region32_init(&rest);
+	bool ok = true;
+	int rc = 0;
+	for (uint32_t y = r[1]; ok && rc == 0 && y <= r[3]; y++)
+		for (uint32_t x = r[0]; ok && rc == 0 && x <= r[2]; x++) {
+			pixman_box32_t c = pbox(vis_zgrid_cell_box(&lv->grid, x, y));
+			pixman_region32_t piece;
+			pixman_region32_init_rect(&piece, c.x1, c.y1, (unsigned)(c.x2 - c.x1),
+						  (unsigned)(c.y2 - c.y1));
+			ok = pixman_region32_intersect(&piece, &piece, l->u);
+			struct left pl;
+			left_init(&pl, &piece, lv->left_boxes);
+			rc = ok ? walk_left(lv, &pl, key, losing, exact, stop, false) : 0;
+			ok = left_finish(&pl) && ok &&
+			     (rc != 0 || pixman_region32_union(&rest, &rest, &piece));
+			pixman_region32_fini(&piece);
+		}
+	/* What is left: the cells' pixels left, disjoint, kept as a region. */
+	if (rc == 0 && ok)
+		ok = pixman_region32_copy(l->u, &rest);
+	pixman_region32_fini(&rest);
+	if (rc == 0 && !ok) {
+		errno = ENOMEM;
+		rc = -1;
+	}
+	return rc;
+}
+
+static int walk_down(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t key, bool losing,
+		     bool exact, uint64_t stop)
+{
+	struct left l;
+	left_init(&l, u, lv->left_boxes);
+	int rc = walk_left(lv, &l, key, losing, exact, stop, true);
+	if (!left_finish(&l) && rc == 0) {
+		errno = ENOMEM;
+		rc = -1;
+	}
+	return rc;
 }
 
 /*
@@ -504,17 +608,44 @@ static int walk_boxes(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t 
 {
 	int n;
 	const pixman_box32_t *boxes = pixman_region32_rectangles(u, &n);
+	/* What the walks leave, disjoint boxes joined once at the end: a union after each walk
+	 * would cost the boxes so far each time (4,961 boxes when nested's top window lowers). */
+	pixman_box32_t *kept = NULL;
+	size_t n_kept = 0, cap = 0;
 	int rc = 0;
 	for (int i = 0; rc == 0 && i < n; i++) {
 		pixman_region32_t one;
 		init_box(&one, vbox(&boxes[i]));
 		rc = walk_down(lv, &one, key, losing, exact, stop);
-		if (rc == 0 && left && !pixman_region32_union(left, left, &one)) {
+		int m = 0;
+		const pixman_box32_t *b = left && rc == 0 ? pixman_region32_rectangles(&one, &m) : NULL;
+		if (n_kept + (size_t)m > cap) {
+			size_t c = cap ? 2 * cap : 64;
+			while (c < n_kept + (size_t)m)
+				c *= 2;
+			pixman_box32_t *more = realloc(kept, c * sizeof(*more));
+			if (!more) {
+				errno = ENOMEM;
+				rc = -1;
+			} else {
+				kept = more;
+				cap = c;
+			}
+		}
+		for (int j = 0; rc == 0 && j < m; j++)
+			kept[n_kept++] = b[j];
+		pixman_region32_fini(&one);
+	}
+	if (rc == 0 && left && n_kept > 0) {
+		pixman_region32_t all;
+		if (!pixman_region32_init_rects(&all, kept, (int)n_kept) ||
+		    !pixman_region32_union(left, left, &all)) {
 			errno = ENOMEM;
 			rc = -1;
 		}
-		pixman_region32_fini(&one);
+		pixman_region32_fini(&all);
 	}
+	free(kept);
 	return rc;
 }
 

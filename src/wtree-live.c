@@ -59,6 +59,7 @@ static struct vis_wtree_live *live_of(struct vis_wtree *tree)
 	if (!tree->live && (tree->live = calloc(1, sizeof *tree->live))) {
 		tree->live->min_windows = LIVE_MIN_WINDOWS;
 		tree->live->seen_boxes = SEEN_BOXES;
+		tree->live->left_boxes = LEFT_BOXES;
 	}
 	return tree->live;
 }
@@ -853,11 +854,13 @@ const char *wtree_live_check(const struct vis_wtree *tree)
 	return NULL;
 }
 
-void wtree_live_tune(struct vis_wtree *tree, size_t steps, unsigned seen_boxes)
+void wtree_live_tune(struct vis_wtree *tree, size_t steps, unsigned seen_boxes,
+		     unsigned left_boxes)
 {
 	struct vis_wtree_live *lv = live_of(tree);
 	if (lv) {
 		lv->fixed_budget = steps;
 		lv->seen_boxes = seen_boxes && seen_boxes < SEEN_BOXES ? seen_boxes : SEEN_BOXES;
+		lv->left_boxes = left_boxes >= 2 && left_boxes < LEFT_BOXES ? left_boxes : LEFT_BOXES;
 	}
 }

@@ -20,6 +20,9 @@
 #define SEEN_BOXES 8
 #define SEEN_EXTENTS 0xff
 
+/* The most boxes a walk keeps what is left of its pixels in, before a region (wtree-live-walk.c). */
+#define LEFT_BOXES 64
+
 /* A state not known yet, for a window taken to be recomputed. */
 #define STATE_UNKNOWN 0xff
 
@@ -143,6 +146,7 @@ struct vis_wtree_live {
 	size_t n_moved;
 	size_t fixed_budget; /* a budget set by wtree_live_tune(), or 0 */
 	unsigned seen_boxes; /* the boxes a seen region keeps: SEEN_BOXES, or fewer in tests */
+	size_t left_boxes;   /* the boxes a walk keeps what is left in: LEFT_BOXES, or fewer */
 	size_t min_windows;  /* the windows below which updates go through the tree */
 	/* Updates left to go through the tree after one could not go live, before the structures
 	 * are built again: where updates cost more than that, rebuilding each time costs more. */
@@ -278,8 +282,11 @@ const char *wtree_live_check(const struct vis_wtree *tree);
 /*
  * For tests: the steps an update's walks may take (0: the default, n + 256), so that updates
  * can be made to give up; the boxes a seen region keeps before it is kept as its extents (1 to
- * SEEN_BOXES; 0: SEEN_BOXES), so that small trees have loose regions.
+ * SEEN_BOXES; 0: SEEN_BOXES), so that small trees have loose regions; the boxes a walk keeps
+ * what is left of its pixels in (2 to LEFT_BOXES; 0: LEFT_BOXES), so that small trees' walks
+ * fragment past them (wtree-live-walk.c).
  */
-void wtree_live_tune(struct vis_wtree *tree, size_t steps, unsigned seen_boxes);
+void wtree_live_tune(struct vis_wtree *tree, size_t steps, unsigned seen_boxes,
+		     unsigned left_boxes);
 
 #endif

@@ -365,6 +365,21 @@ void vis_zgrid_walk_narrow(struct vis_zgrid_walk *walk, struct vis_box box)
 		sift_down(walk, i);
 }
 
+bool vis_zgrid_walk_keep(struct vis_zgrid_walk *walk, bool (*meets)(const void *, struct vis_box),
+			 const void *arg)
+{
+	size_t k = 0;
+	for (size_t i = 0; i < walk->n; i++)
+		if (meets(arg, walk->heap[i].bounds))
+			walk->heap[k++] = walk->heap[i];
+	if (k == walk->n)
+		return false;
+	walk->n = k;
+	for (size_t i = walk->n / 2; i-- > 0;)
+		sift_down(walk, i);
+	return true;
+}
+
 void vis_zgrid_walk_finish(struct vis_zgrid_walk *walk)
 {
 	if (walk->heap != walk->inline_heap)

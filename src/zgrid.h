@@ -79,6 +79,13 @@ bool vis_zgrid_walk_next(struct vis_zgrid_walk *walk, uint64_t *key, uint32_t *v
 /* Leaves out the cells outside box from now on: what the caller still asks about has shrunk. */
 void vis_zgrid_walk_narrow(struct vis_zgrid_walk *walk, struct vis_box box);
 
+/*
+ * Leaves out the cells whose pixels meets(arg, pixels) says false for: finer than a box.
+ * Returns whether it left out any. O(cells).
+ */
+bool vis_zgrid_walk_keep(struct vis_zgrid_walk *walk, bool (*meets)(const void *, struct vis_box),
+			 const void *arg);
+
 /* Frees a walk's memory. */
 void vis_zgrid_walk_finish(struct vis_zgrid_walk *walk);
 
