@@ -311,6 +311,8 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  * hide w at p now, unless they are w's descendants: so p is still left when w or a descendant is
  * reached, and w is taken, (3). In both walks a window reached at p takes off p for the windows
  * below it, but for its ancestors, which its pixels never hide and which are taken with it.
+ * The argument is pixel by pixel, so a walk may go over its pixels in pieces, each from where
+ * the whole stood: a box at a time, or, once they fragment, a grid cell at a time.
  * Pixels a changed window h saw before and sees now need no walk, unless its changed subtree
  * has a new parent: if w lost such a pixel p to h, h was not above w's subtree before (or w
  * would not have seen p) nor below it (w would have hidden p from h), so h was w's descendant
