@@ -520,15 +520,38 @@ static int walk_left(struct vis_wtree_live *lv, struct left *l, uint64_t key, bo
 	return fragmented ? walk_cells(lv, l, k, losing, exact, stop) : 0;
 }
 
-/* walk_left() over what is left (a region) in each grid cell apart, from key; joins what is left. */
+/* Appends boxes to a growing array. false without memory. */
+static bool append_boxes(pixman_box32_t **all, size_t *n, size_t *cap, const pixman_box32_t *b,
+			 size_t m)
+{
+	if (*n + m > *cap) {
+		size_t c = *cap ? 2 * *cap : 64;
+		while (c < *n + m)
+			c *= 2;
+		pixman_box32_t *more = c <= SIZE_MAX / sizeof(*more) ? realloc(*all, c * sizeof(*more))
+								       : NULL;
+		if (!more)
+			return false;
+		*all = more;
+		*cap = c;
+	}
+	memcpy(*all + *n, b, m * sizeof(*b));
+	*n += m;
+	return true;
+}
+
+/*
+ * walk_left() over what is left (a region) in each grid cell apart, from key; what the cells
+ * leave, disjoint, is joined once at the end.
+ */
 static int walk_cells(struct vis_wtree_live *lv, struct left *l, uint64_t key, bool losing,
 		      bool exact, uint64_t stop)
 {
 	uint32_t r[4];
 	if (!vis_zgrid_cells(&lv->grid, left_extents(l), r))
 		return 0;
-	pixman_region32_t rest;
-	pixman_region32_init(&rest);
+	pixman_box32_t *rest = NULL;
+	size_t n_rest = 0, cap = 0;
 	bool ok = true;
 	int rc = 0;
 	for (uint32_t y = r[1]; ok && rc == 0 && y <= r[3]; y++)
@@ -541,14 +564,17 @@ static int walk_cells(struct vis_wtree_live *lv, struct left *l, uint64_t key, b
 			struct left pl;
 			left_init(&pl, &piece, lv->left_boxes);
 			rc = ok ? walk_left(lv, &pl, key, losing, exact, stop, false) : 0;
-			ok = left_finish(&pl) && ok &&
-			     (rc != 0 || pixman_region32_union(&rest, &rest, &piece));
+			ok = left_finish(&pl) && ok;
+			int m = 0;
+			const pixman_box32_t *b = pixman_region32_rectangles(&piece, &m);
+			ok = ok && (rc != 0 || append_boxes(&rest, &n_rest, &cap, b, (size_t)m));
 			pixman_region32_fini(&piece);
 		}
-	/* What is left: the cells' pixels left, disjoint, kept as a region. */
-	if (rc == 0 && ok)
-		ok = pixman_region32_copy(l->u, &rest);
-	pixman_region32_fini(&rest);
+	if (rc == 0 && ok) {
+		pixman_region32_fini(l->u);
+		ok = pixman_region32_init_rects(l->u, rest, (int)n_rest);
+	}
+	free(rest);
 	if (rc == 0 && !ok) {
 		errno = ENOMEM;
 		rc = -1;
@@ -619,21 +645,10 @@ static int walk_boxes(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t 
 		rc = walk_down(lv, &one, key, losing, exact, stop);
 		int m = 0;
 		const pixman_box32_t *b = left && rc == 0 ? pixman_region32_rectangles(&one, &m) : NULL;
-		if (n_kept + (size_t)m > cap) {
-			size_t c = cap ? 2 * cap : 64;
-			while (c < n_kept + (size_t)m)
-				c *= 2;
-			pixman_box32_t *more = realloc(kept, c * sizeof(*more));
-			if (!more) {
-				errno = ENOMEM;
-				rc = -1;
-			} else {
-				kept = more;
-				cap = c;
-			}
+		if (m > 0 && !append_boxes(&kept, &n_kept, &cap, b, (size_t)m)) {
+			errno = ENOMEM;
+			rc = -1;
 		}
-		for (int j = 0; rc == 0 && j < m; j++)
-			kept[n_kept++] = b[j];
 		pixman_region32_fini(&one);
 	}
 	if (rc == 0 && left && n_kept > 0) {
