@@ -398,7 +398,6 @@ static bool moved(const struct vis_wtree_live *lv, const struct vis_window *w)
 static bool gained(struct vis_wtree_live *lv, struct candidate *c, const struct vis_window *v,
 		   const struct left *l)
 {
-	pixman_box32_t clip = pbox(v->clip);
 	if (l->n != LEFT_REGION) {
 		bool ok = true;
 		for (size_t i = 0; ok && i < l->n; i++) {
@@ -409,8 +408,7 @@ static bool gained(struct vis_wtree_live *lv, struct candidate *c, const struct 
 		return ok;
 	}
 	pixman_region32_t r;
-	pixman_region32_init_rect(&r, clip.x1, clip.y1, (unsigned)(clip.x2 - clip.x1),
-				  (unsigned)(clip.y2 - clip.y1));
+	init_box(&r, v->clip);
 	bool ok = pixman_region32_intersect(&r, &r, l->u);
 	int n = 0;
 	const pixman_box32_t *boxes = ok ? pixman_region32_rectangles(&r, &n) : NULL;
@@ -445,18 +443,6 @@ static bool subtract_seen(pixman_region32_t *u, const struct seen *seen, struct 
 	return ok;
 }
 
-/*
- * Walks the grid down from key over u's pixels, taking the windows whose clip meets what is
- * left of them, each with its ancestors (whom their descendants never hide), and taking each
- * one's clip off what is left, until nothing is left. losing (rule 2 of vis_wtree_update()): the
- * pixels are a changed window's, changed windows are passed over, and only the windows that saw
- * some of what is left are taken; else (rule 3) the pixels are what a window saw before it
- * changed, and every window met is taken, as one that may gain pixels; where those are exact
- * (so no window above key hides them), each one without descendants gets the pixels of what is
- * left that its clip holds listed as what it gains. The walk stops at stop (0: at the bottom),
- * leaving in u what no window above stop hides.
- * 0, or -1 (ENOMEM), or OVER_BUDGET.
- */
 static int walk_cells(struct vis_wtree_live *lv, struct left *l, uint64_t key, bool losing,
 		      bool exact, uint64_t stop);
 
@@ -582,6 +568,18 @@ static int walk_cells(struct vis_wtree_live *lv, struct left *l, uint64_t key, b
 	return rc;
 }
 
+/*
+ * Walks the grid down from key over u's pixels, taking the windows whose clip meets what is
+ * left of them, each with its ancestors (whom their descendants never hide), and taking each
+ * one's clip off what is left, until nothing is left. losing (rule 2 of vis_wtree_update()): the
+ * pixels are a changed window's, changed windows are passed over, and only the windows that saw
+ * some of what is left are taken; else (rule 3) the pixels are what a window saw before it
+ * changed, and every window met is taken, as one that may gain pixels; where those are exact
+ * (so no window above key hides them), each one without descendants gets the pixels of what is
+ * left that its clip holds listed as what it gains. The walk stops at stop (0: at the bottom),
+ * leaving in u what no window above stop hides.
+ * 0, or -1 (ENOMEM), or OVER_BUDGET.
+ */
 static int walk_down(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t key, bool losing,
 		     bool exact, uint64_t stop)
 {

@@ -350,6 +350,17 @@ bool vis_zgrid_walk_next(struct vis_zgrid_walk *walk, uint64_t *key, uint32_t *v
 	return false;
 }
 
+/* Keeps the walk's first k cursors (the others left out) in a heap again; whether any went. */
+static bool shrink(struct vis_zgrid_walk *walk, size_t k)
+{
+	if (k == walk->n)
+		return false;
+	walk->n = k;
+	for (size_t i = walk->n / 2; i-- > 0;)
+		sift_down(walk, i);
+	return true;
+}
+
 void vis_zgrid_walk_narrow(struct vis_zgrid_walk *walk, struct vis_box box)
 {
 	size_t k = 0;
@@ -358,11 +369,7 @@ void vis_zgrid_walk_narrow(struct vis_zgrid_walk *walk, struct vis_box box)
 		if (!vis_box_empty(b))
 			walk->heap[k++] = walk->heap[i];
 	}
-	if (k == walk->n)
-		return;
-	walk->n = k;
-	for (size_t i = walk->n / 2; i-- > 0;)
-		sift_down(walk, i);
+	shrink(walk, k);
 }
 
 bool vis_zgrid_walk_keep(struct vis_zgrid_walk *walk, bool (*meets)(const void *, struct vis_box),
@@ -372,12 +379,7 @@ bool vis_zgrid_walk_keep(struct vis_zgrid_walk *walk, bool (*meets)(const void *
 	for (size_t i = 0; i < walk->n; i++)
 		if (meets(arg, walk->heap[i].bounds))
 			walk->heap[k++] = walk->heap[i];
-	if (k == walk->n)
-		return false;
-	walk->n = k;
-	for (size_t i = walk->n / 2; i-- > 0;)
-		sift_down(walk, i);
-	return true;
+	return shrink(walk, k);
 }
 
 void vis_zgrid_walk_finish(struct vis_zgrid_walk *walk)
