@@ -764,6 +764,42 @@ static bool keeps_an_edge(const struct vis_wtree_live *lv, struct candidate *c,
 	return true;
 }
 
+/*
+ * walk_since() for one taken by rule 2 alone, whose seen region is exact: what it saw less the
+ * clips of the changed windows now after its subtree, cut as boxes (a raise over a cascade
+ * covers thousands of windows' slivers whole, each a few boxes: no region for those).
+ */
+static int since_losing(struct vis_wtree_live *lv, struct candidate *c, const struct seen *old)
+{
+	const struct vis_window *w = c->w;
+	pixman_region32_t u;
+	pixman_region32_init(&u);
+	struct left l; /* not zeroed: 1 KiB */
+	l.u = &u;
+	l.n = 0;
+	l.cap = lv->left_boxes;
+	for (int i = 0; old && i < old->n; i++) {
+		struct vis_box b = vis_box_intersect(vbox(&old->boxes[i]), w->clip);
+		if (!vis_box_empty(b))
+			l.b[l.n++] = pbox(b);
+	}
+	bool ok = true;
+	if (l.n > l.cap / 2) {
+		ok = pixman_region32_init_rects(&u, l.b, (int)l.n);
+		l.n = LEFT_REGION;
+	} else if (l.n > 0) {
+		left_bound(&l);
+	}
+	uint64_t end = wtree_live_subtree_end(w);
+	for (size_t i = 0; ok && i < lv->n_moved && !left_empty(&l); i++) {
+		const struct vis_window *v = lv->cands[i].w;
+		if (v->live_indexed && v->key > end)
+			left_cut(&l, pbox(v->clip), &ok);
+	}
+	ok = left_finish(&l) && ok;
+	return finish(lv, c, &u, 0, ok);
+}
+
 int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *exposed)
 {
 	const struct vis_window *w = c->w;
@@ -772,6 +808,8 @@ int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *
 		return wtree_live_walk_query(lv, c);
 	if (old && !seen_exact(old))
 		return keeps_an_edge(lv, c, old) ? 0 : wtree_live_walk_query(lv, c);
+	if (!c->gain)
+		return since_losing(lv, c, old);
 	pixman_region32_t u;
 	bool ok = old ? seen_region(&u, old, w->clip) : (pixman_region32_init(&u), true);
 	if (!ok) {
