@@ -778,8 +778,10 @@ static int since_losing(struct vis_wtree_live *lv, struct candidate *c, const st
 	l.u = &u;
 	l.n = 0;
 	l.cap = lv->left_boxes;
+	/* The clip from its slot, which the walk that took it read (the window's is a line away). */
+	struct vis_box clip = w->live_indexed ? vbox(&lv->slots[w->live_slot].clip) : w->clip;
 	for (int i = 0; old && i < old->n; i++) {
-		struct vis_box b = vis_box_intersect(vbox(&old->boxes[i]), w->clip);
+		struct vis_box b = vis_box_intersect(vbox(&old->boxes[i]), clip);
 		if (!vis_box_empty(b))
 			l.b[l.n++] = pbox(b);
 	}
@@ -804,7 +806,8 @@ int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *
 {
 	const struct vis_window *w = c->w;
 	const struct seen *old = wtree_live_old_seen(lv, w);
-	if (lv->n_moved > SINCE_MOVED_MAX || vis_box_empty(w->clip))
+	/* An indexed window's clip is not empty (and a line away: not read for those). */
+	if (lv->n_moved > SINCE_MOVED_MAX || (!w->live_indexed && vis_box_empty(w->clip)))
 		return wtree_live_walk_query(lv, c);
 	if (old && !seen_exact(old))
 		return keeps_an_edge(lv, c, old) ? 0 : wtree_live_walk_query(lv, c);

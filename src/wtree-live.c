@@ -84,6 +84,7 @@ void vis_wtree_live_destroy(struct vis_wtree_live *lv)
 	free(lv->slots);
 	free(lv->free_slots);
 	free(lv->seen);
+	free(lv->free_seen);
 	free(lv->dirty);
 	free(lv->changed);
 	free(lv->exposures);
@@ -149,12 +150,48 @@ static bool has_look(const struct vis_window *w)
 		(w)->field = 0;                                           \
 	} while (0)
 
+/* Makes room in the seen list for more windows, and to free every entry. 0, or -1 (ENOMEM). */
+static int seen_reserve(struct vis_wtree_live *lv, size_t more)
+{
+	size_t cap = lv->cap_seen;
+	while (cap < lv->n_seen + more) {
+		if (cap > UINT32_MAX / 2) {
+			errno = ENOMEM;
+			return -1;
+		}
+		cap = cap ? 2 * cap : 16;
+	}
+	if (cap == lv->cap_seen)
+		return 0;
+	struct seen_window *s = realloc(lv->seen, cap * sizeof *s);
+	if (!s) {
+		errno = ENOMEM;
+		return -1;
+	}
+	lv->seen = s;
+	uint32_t *f = realloc(lv->free_seen, cap * sizeof *f);
+	if (!f) {
+		errno = ENOMEM;
+		return -1; /* the list grew: cap_seen stays what both hold */
+	}
+	lv->free_seen = f;
+	lv->cap_seen = cap;
+	return 0;
+}
+
+/* Gives w an entry in the seen list, a free one first (room made). */
+static void seen_add(struct vis_wtree_live *lv, struct vis_window *w)
+{
+	size_t at = lv->n_free_seen ? lv->free_seen[--lv->n_free_seen] : lv->n_seen++;
+	lv->seen[at].w = w;
+	w->live_seen = (uint32_t)(at + 1);
+}
+
 static void seen_remove(struct vis_wtree_live *lv, struct vis_window *w)
 {
 	size_t at = w->live_seen - 1;
-	lv->seen[at] = lv->seen[--lv->n_seen];
-	if (at < lv->n_seen)
-		lv->seen[at].w->live_seen = (uint32_t)(at + 1);
+	lv->seen[at].w = NULL;
+	lv->free_seen[lv->n_free_seen++] = (uint32_t)at;
 	w->live_seen = 0;
 }
 
@@ -299,10 +336,9 @@ static int seen_after(struct vis_wtree_live *lv, struct vis_window *w, struct vi
 		for (int i = 0; i < n; i++)
 			box = vis_box_hull(box, vbox(&old->boxes[i]));
 	} else {
-		if (grow(&lv->seen, &lv->cap_seen, lv->n_seen, sizeof *lv->seen) < 0)
+		if (seen_reserve(lv, 1) < 0)
 			return -1;
-		lv->seen[lv->n_seen++].w = w;
-		w->live_seen = (uint32_t)lv->n_seen;
+		seen_add(lv, w);
 	}
 	box = vis_box_intersect(box, w->clip);
 	lv->seen[w->live_seen - 1].seen =
@@ -350,6 +386,7 @@ static int rebuild(struct vis_wtree *tree, struct vis_wtree_live *lv)
 	if (lv->grid.cells)
 		vis_zgrid_finish(&lv->grid);
 	lv->n_seen = 0;
+	lv->n_free_seen = 0;
 	lv->n_slots = 0;
 	lv->n_free = 0;
 	for (struct vis_window *w = tree->root.bottom; w; w = vis_wtree_next(w)) {
@@ -369,11 +406,11 @@ static int rebuild(struct vis_wtree *tree, struct vis_wtree_live *lv)
 			return -1;
 		if (w->state == VIS_FULLY_OBSCURED)
 			continue;
-		if (grow(&lv->seen, &lv->cap_seen, lv->n_seen, sizeof *lv->seen) < 0)
+		if (seen_reserve(lv, 1) < 0)
 			return -1;
-		lv->seen[lv->n_seen++] =
-			(struct seen_window){ w, { SEEN_EXTENTS, 0, { pbox(w->clip) } } };
-		w->live_seen = (uint32_t)lv->n_seen;
+		seen_add(lv, w);
+		lv->seen[w->live_seen - 1].seen =
+			(struct seen){ SEEN_EXTENTS, 0, { pbox(w->clip) } };
 	}
 	if (wtree_live_seen_from_order(tree, lv, SEEN_WORK * tree->n_order + 4096) < 0)
 		return -1;
@@ -458,7 +495,8 @@ int wtree_live_gained(struct vis_wtree_live *lv, struct candidate *c, struct vis
 
 int wtree_live_take(struct vis_wtree_live *lv, struct vis_window *w, uint8_t state, bool gain)
 {
-	if (w->look.input_only)
+	/* An indexed window has pixels: its look is not read (another cache line) for those. */
+	if (!w->live_indexed && w->look.input_only)
 		return 0;
 	if (w->live_mark == lv->mark) {
 		lv->cands[w->live_cand - 1].gain |= gain;
@@ -585,10 +623,9 @@ static int reindex(struct vis_wtree_live *lv, size_t roots)
 /* Makes the candidates' states and seen regions the tree's: cannot fail (room is made first). */
 static int commit(struct vis_wtree_live *lv)
 {
-	size_t seen_room = lv->n_seen + lv->n_cands, changed_room = lv->n_changed + lv->n_cands;
-	while (lv->cap_seen < seen_room)
-		if (grow(&lv->seen, &lv->cap_seen, lv->cap_seen, sizeof *lv->seen) < 0)
-			return -1;
+	size_t changed_room = lv->n_changed + lv->n_cands;
+	if (seen_reserve(lv, lv->n_cands) < 0)
+		return -1;
 	while (lv->cap_changed < changed_room)
 		if (grow(&lv->changed, &lv->cap_changed, lv->cap_changed, sizeof *lv->changed) < 0)
 			return -1;
@@ -597,8 +634,7 @@ static int commit(struct vis_wtree_live *lv)
 		struct vis_window *w = c->w;
 		bool sees = c->state == VIS_UNOBSCURED || c->state == VIS_PARTIALLY_OBSCURED;
 		if (sees && !w->live_seen) {
-			lv->seen[lv->n_seen++].w = w;
-			w->live_seen = (uint32_t)lv->n_seen;
+			seen_add(lv, w);
 		} else if (!sees && w->live_seen) {
 			seen_remove(lv, w);
 		}
@@ -813,7 +849,7 @@ const char *wtree_live_check(const struct vis_wtree *tree)
 	if (!lv || !lv->valid)
 		return NULL;
 	uint64_t last = 0;
-	size_t cells = 0, indexed = 0;
+	size_t cells = 0, indexed = 0, seeing = 0;
 	for (const struct vis_window *w = tree->root.bottom; w; w = vis_wtree_next(w)) {
 		bool viewable = vis_wtree_viewable(w);
 		if (!viewable) {
@@ -843,12 +879,15 @@ const char *wtree_live_check(const struct vis_wtree *tree)
 		}
 		cells += pixels ? k : 0;
 		bool sees = w->state == VIS_UNOBSCURED || w->state == VIS_PARTIALLY_OBSCURED;
+		seeing += sees;
 		if (sees != (w->live_seen != 0) ||
 		    (sees && (w->live_seen > lv->n_seen || lv->seen[w->live_seen - 1].w != w)))
 			return "the seen list does not match the states";
 	}
 	if (vis_zgrid_size(&lv->grid) != cells)
 		return "the grid holds stale entries, or a cell is out of order";
+	if (seeing + lv->n_free_seen != lv->n_seen)
+		return "a seen entry is neither a seeing window's nor free";
 	if (indexed + lv->n_free != lv->n_slots)
 		return "a slot is neither an indexed window's nor free";
 	return NULL;

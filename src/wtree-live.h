@@ -122,8 +122,12 @@ struct vis_wtree_live {
 	size_t n_slots, cap_slots;
 	uint32_t *free_slots; /* room for cap_slots */
 	size_t n_free;
+	/* Entries of windows that saw nothing since are free (w NULL), listed in free_seen (room for
+	 * cap_seen), and taken first: freeing one touches no other window. */
 	struct seen_window *seen;
 	size_t n_seen, cap_seen;
+	uint32_t *free_seen;
+	size_t n_free_seen;
 	struct vis_window **dirty;
 	size_t n_dirty, cap_dirty;
 	struct vis_window **changed;
