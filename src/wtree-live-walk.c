@@ -35,6 +35,8 @@ static bool cut(pixman_region32_t *u, pixman_box32_t clip, bool *ok)
  * region at each cut (4,000 instructions a cut at 20 boxes, measured on a cascade's raise), so
  * while they are few they are kept as disjoint boxes, a cut splitting the boxes it meets into at
  * most four each; past LEFT_BOXES, as a region again (pixman's tests binary-search its bands).
+ * A coordinate to an array: a cascade's walk tests thousands of clips against 20-60 boxes, most
+ * of which each misses, and the compiler tests them four at a time.
  */
 #define LEFT_REGION SIZE_MAX
 
@@ -42,20 +44,53 @@ struct left {
 	pixman_region32_t *u; /* the pixels when n is LEFT_REGION; what they go back into */
 	size_t n, cap;        /* boxes, and the most kept (LEFT_BOXES, fewer in tests) */
 	pixman_box32_t ext; /* the boxes' extents, while n > 0 */
-	pixman_box32_t b[LEFT_BOXES];
+	int32_t x1[LEFT_BOXES], y1[LEFT_BOXES], x2[LEFT_BOXES], y2[LEFT_BOXES];
 };
+
+static pixman_box32_t left_box(const struct left *l, size_t i)
+{
+	return (pixman_box32_t){ l->x1[i], l->y1[i], l->x2[i], l->y2[i] };
+}
+
+static void left_put(struct left *l, size_t i, pixman_box32_t b)
+{
+	l->x1[i] = b.x1;
+	l->y1[i] = b.y1;
+	l->x2[i] = b.x2;
+	l->y2[i] = b.y2;
+}
 
 /* Sets the extents of the boxes (n > 0). */
 static void left_bound(struct left *l)
 {
-	pixman_box32_t e = l->b[0];
-	for (size_t i = 1; i < l->n; i++) {
-		e.x1 = l->b[i].x1 < e.x1 ? l->b[i].x1 : e.x1;
-		e.y1 = l->b[i].y1 < e.y1 ? l->b[i].y1 : e.y1;
-		e.x2 = l->b[i].x2 > e.x2 ? l->b[i].x2 : e.x2;
-		e.y2 = l->b[i].y2 > e.y2 ? l->b[i].y2 : e.y2;
+	int32_t x1 = INT32_MAX, y1 = INT32_MAX, x2 = INT32_MIN, y2 = INT32_MIN;
+	for (size_t i = 0; i < l->n; i++) {
+		x1 = l->x1[i] < x1 ? l->x1[i] : x1;
+		y1 = l->y1[i] < y1 ? l->y1[i] : y1;
+		x2 = l->x2[i] > x2 ? l->x2[i] : x2;
+		y2 = l->y2[i] > y2 ? l->y2[i] : y2;
 	}
-	l->ext = e;
+	l->ext = (pixman_box32_t){ x1, y1, x2, y2 };
+}
+
+/* Sets the boxes to b[0 … n), n at most the limit. */
+static void left_set(struct left *l, const pixman_box32_t *b, size_t n)
+{
+	for (size_t i = 0; i < n; i++)
+		left_put(l, i, b[i]);
+	l->n = n;
+	if (n > 0)
+		left_bound(l);
+}
+
+/* Makes u (finished first) a region of the boxes. false without memory. */
+static bool left_region(const struct left *l, pixman_region32_t *u)
+{
+	pixman_box32_t b[LEFT_BOXES];
+	for (size_t i = 0; i < l->n; i++)
+		b[i] = left_box(l, i);
+	pixman_region32_fini(u);
+	return pixman_region32_init_rects(u, b, (int)l->n);
 }
 
 /* Takes u's pixels, as boxes when they are few. */
@@ -66,20 +101,14 @@ static void left_init(struct left *l, pixman_region32_t *u, size_t cap)
 	l->u = u;
 	l->cap = cap;
 	l->n = LEFT_REGION;
-	if ((size_t)n <= cap / 2) {
-		l->n = (size_t)n;
-		memcpy(l->b, b, (size_t)n * sizeof(*b));
-		l->ext = *pixman_region32_extents(u);
-	}
+	if ((size_t)n <= cap / 2)
+		left_set(l, b, (size_t)n);
 }
 
 /* Puts the pixels back into u as a region. false without memory. */
 static bool left_finish(struct left *l)
 {
-	if (l->n == LEFT_REGION)
-		return true;
-	pixman_region32_fini(l->u);
-	return pixman_region32_init_rects(l->u, l->b, (int)l->n);
+	return l->n == LEFT_REGION || left_region(l, l->u);
 }
 
 static bool left_empty(const struct left *l)
@@ -105,12 +134,12 @@ static bool left_meets(const struct left *l, const pixman_box32_t *box)
 		return pixman_region32_contains_rectangle(l->u, box) != PIXMAN_REGION_OUT;
 	if (l->n == 0 || !boxes_meet(&l->ext, box))
 		return false;
+	int32_t x1 = box->x1, y1 = box->y1, x2 = box->x2, y2 = box->y2;
+	int any = 0;
 	for (size_t i = 0; i < l->n; i++)
-		if (boxes_meet(&l->b[i], box))
-			return true;
-	return false;
+		any |= (l->x1[i] < x2) & (x1 < l->x2[i]) & (l->y1[i] < y2) & (y1 < l->y2[i]);
+	return any;
 }
-
 /* Whether a grid cell's pixels meet what is left (a zgrid walk's test of its cells). */
 static bool left_meets_cell(const void *arg, struct vis_box cell)
 {
@@ -143,52 +172,67 @@ static void left_prune(const struct left *l, struct vis_zgrid_walk *walk, struct
 		m->wait = 2 * m->wait + 8;
 }
 
-/* Whether a clip (on the screen) covers pixels of what is left; if so, takes them off. */
+/*
+ * Whether a clip (on the screen) covers pixels of what is left; if so, takes them off. The boxes
+ * it meets are found four at a time; each one's first piece takes its place, the others go at
+ * the end, and a box left without pieces gets the last box in its place.
+ */
 static bool left_cut(struct left *l, pixman_box32_t clip, bool *ok)
 {
 	if (l->n == LEFT_REGION)
 		return cut(l->u, clip, ok);
 	if (l->n == 0 || !boxes_meet(&l->ext, &clip))
 		return false;
-	pixman_box32_t out[LEFT_BOXES];
-	size_t n = 0;
-	bool met = false;
+	uint8_t met[LEFT_BOXES];
+	int any = 0;
 	for (size_t i = 0; i < l->n; i++) {
-		const pixman_box32_t *b = &l->b[i];
-		if (!boxes_meet(b, &clip)) {
-			if (n == l->cap)
-				goto region;
-			out[n++] = *b;
+		met[i] = (l->x1[i] < clip.x2) & (clip.x1 < l->x2[i]) & (l->y1[i] < clip.y2) &
+			 (clip.y1 < l->y2[i]);
+		any |= met[i];
+	}
+	if (!any)
+		return false;
+	size_t n0 = l->n, gone[LEFT_BOXES], n_gone = 0;
+	for (size_t i = 0; i < n0; i++) {
+		if (!met[i])
+			continue;
+		pixman_box32_t b = left_box(l, i);
+		/* Above the clip, below it, then beside it within its rows. */
+		int32_t y1 = b.y1 > clip.y1 ? b.y1 : clip.y1, y2 = b.y2 < clip.y2 ? b.y2 : clip.y2;
+		pixman_box32_t piece[4] = {
+			{ b.x1, b.y1, b.x2, clip.y1 },
+			{ b.x1, y1, clip.x1, y2 },
+			{ clip.x2, y1, b.x2, y2 },
+			{ b.x1, clip.y2, b.x2, b.y2 },
+		};
+		size_t k = 0;
+		for (int j = 0; j < 4; j++)
+			if (piece[j].x1 < piece[j].x2 && piece[j].y1 < piece[j].y2)
+				piece[k++] = piece[j];
+		if (k == 0) {
+			gone[n_gone++] = i;
 			continue;
 		}
-		met = true;
-		/* Above the clip, below it, then beside it within its rows. */
-		int32_t y1 = b->y1 > clip.y1 ? b->y1 : clip.y1, y2 = b->y2 < clip.y2 ? b->y2 : clip.y2;
-		pixman_box32_t piece[4] = {
-			{ b->x1, b->y1, b->x2, clip.y1 },
-			{ b->x1, y1, clip.x1, y2 },
-			{ clip.x2, y1, b->x2, y2 },
-			{ b->x1, clip.y2, b->x2, b->y2 },
-		};
-		for (int k = 0; k < 4; k++) {
-			if (piece[k].x1 >= piece[k].x2 || piece[k].y1 >= piece[k].y2)
-				continue;
-			if (n == l->cap)
-				goto region;
-			out[n++] = piece[k];
-		}
+		if (l->n + k - 1 > l->cap)
+			goto region;
+		left_put(l, i, piece[0]);
+		for (size_t j = 1; j < k; j++)
+			left_put(l, l->n++, piece[j]);
 	}
-	memcpy(l->b, out, n * sizeof(*out));
-	l->n = n;
-	if (n > 0)
+	/* From the highest: the last box is never one gone. */
+	while (n_gone > 0) {
+		size_t i = gone[--n_gone];
+		if (i != --l->n)
+			left_put(l, i, left_box(l, l->n));
+	}
+	if (l->n > 0)
 		left_bound(l);
-	return met;
+	return true;
 region:;
-	/* Too many boxes: the cut on a region of what was left before it. */
-	size_t had = l->n;
+	/* Too many boxes: the cut on a region of them all (pieces, boxes gone and those not met). */
+	bool made = left_region(l, l->u);
 	l->n = LEFT_REGION;
-	pixman_region32_fini(l->u);
-	if (!pixman_region32_init_rects(l->u, l->b, (int)had)) {
+	if (!made) {
 		*ok = false;
 		return true;
 	}
@@ -401,7 +445,8 @@ static bool gained(struct vis_wtree_live *lv, struct candidate *c, const struct 
 	if (l->n != LEFT_REGION) {
 		bool ok = true;
 		for (size_t i = 0; ok && i < l->n; i++) {
-			struct vis_box b = vis_box_intersect(vbox(&l->b[i]), v->clip);
+			pixman_box32_t box = left_box(l, i);
+			struct vis_box b = vis_box_intersect(vbox(&box), v->clip);
 			if (!vis_box_empty(b))
 				ok = wtree_live_gained(lv, c, b) == 0;
 		}
@@ -774,23 +819,24 @@ static int since_losing(struct vis_wtree_live *lv, struct candidate *c, const st
 	const struct vis_window *w = c->w;
 	pixman_region32_t u;
 	pixman_region32_init(&u);
-	struct left l; /* not zeroed: 1 KiB */
-	l.u = &u;
-	l.n = 0;
-	l.cap = lv->left_boxes;
 	/* The clip from its slot, which the walk that took it read (the window's is a line away). */
 	struct vis_box clip = w->live_indexed ? vbox(&lv->slots[w->live_slot].clip) : w->clip;
+	pixman_box32_t b[SEEN_BOXES];
+	size_t n = 0;
 	for (int i = 0; old && i < old->n; i++) {
-		struct vis_box b = vis_box_intersect(vbox(&old->boxes[i]), clip);
-		if (!vis_box_empty(b))
-			l.b[l.n++] = pbox(b);
+		struct vis_box box = vis_box_intersect(vbox(&old->boxes[i]), clip);
+		if (!vis_box_empty(box))
+			b[n++] = pbox(box);
 	}
+	struct left l; /* not zeroed: 1 KiB */
+	l.u = &u;
+	l.cap = lv->left_boxes;
 	bool ok = true;
-	if (l.n > l.cap / 2) {
-		ok = pixman_region32_init_rects(&u, l.b, (int)l.n);
+	if (n > l.cap / 2) {
+		ok = pixman_region32_init_rects(&u, b, (int)n);
 		l.n = LEFT_REGION;
-	} else if (l.n > 0) {
-		left_bound(&l);
+	} else {
+		left_set(&l, b, n);
 	}
 	uint64_t end = wtree_live_subtree_end(w);
 	for (size_t i = 0; ok && i < lv->n_moved && !left_empty(&l); i++) {
