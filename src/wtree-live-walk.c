@@ -121,14 +121,22 @@ static bool boxes_meet(const pixman_box32_t *a, const pixman_box32_t *b)
 	return a->x1 < b->x2 && b->x1 < a->x2 && a->y1 < b->y2 && b->y1 < a->y2;
 }
 
+static bool same_box(struct vis_box a, struct vis_box b)
+{
+	return a.x1 == b.x1 && a.y1 == b.y1 && a.x2 == b.x2 && a.y2 == b.y2;
+}
+
 /* The extents of what is left (not empty). */
 static struct vis_box left_extents(const struct left *l)
 {
 	return vbox(l->n == LEFT_REGION ? pixman_region32_extents(l->u) : &l->ext);
 }
 
-/* Whether box (not empty) meets what is left. */
-static bool left_meets(const struct left *l, const pixman_box32_t *box)
+/*
+ * Whether box (not empty) meets what is left. met, unless NULL, gets a byte a box saying whether
+ * box meets it, for left_cut() (meaningful while what is left is boxes and does not change).
+ */
+static bool left_meets(const struct left *l, const pixman_box32_t *box, uint8_t *met)
 {
 	if (l->n == LEFT_REGION)
 		return pixman_region32_contains_rectangle(l->u, box) != PIXMAN_REGION_OUT;
@@ -136,15 +144,23 @@ static bool left_meets(const struct left *l, const pixman_box32_t *box)
 		return false;
 	int32_t x1 = box->x1, y1 = box->y1, x2 = box->x2, y2 = box->y2;
 	int any = 0;
-	for (size_t i = 0; i < l->n; i++)
-		any |= (l->x1[i] < x2) & (x1 < l->x2[i]) & (l->y1[i] < y2) & (y1 < l->y2[i]);
+	if (!met) {
+		for (size_t i = 0; i < l->n; i++)
+			any |= (l->x1[i] < x2) & (x1 < l->x2[i]) & (l->y1[i] < y2) & (y1 < l->y2[i]);
+		return any;
+	}
+	for (size_t i = 0; i < l->n; i++) {
+		met[i] = (l->x1[i] < x2) & (x1 < l->x2[i]) & (l->y1[i] < y2) & (y1 < l->y2[i]);
+		any |= met[i];
+	}
 	return any;
 }
+
 /* Whether a grid cell's pixels meet what is left (a zgrid walk's test of its cells). */
 static bool left_meets_cell(const void *arg, struct vis_box cell)
 {
 	pixman_box32_t b = pbox(cell);
-	return left_meets(arg, &b);
+	return left_meets(arg, &b, NULL);
 }
 
 /*
@@ -173,30 +189,38 @@ static void left_prune(const struct left *l, struct vis_zgrid_walk *walk, struct
 }
 
 /*
- * Whether a clip (on the screen) covers pixels of what is left; if so, takes them off. The boxes
- * it meets are found four at a time; each one's first piece takes its place, the others go at
- * the end, and a box left without pieces gets the last box in its place.
+ * Whether a clip (on the screen) covers pixels of what is left; if so, takes them off. met: what
+ * left_meets() marked for the clip, or NULL. A met box's first piece takes its place, the others
+ * go at the end, and a box left without pieces gets the last box in its place; the extents are
+ * found again only when a met box touched them.
  */
-static bool left_cut(struct left *l, pixman_box32_t clip, bool *ok)
+static bool left_cut(struct left *l, pixman_box32_t clip, const uint8_t *met, bool *ok)
 {
 	if (l->n == LEFT_REGION)
 		return cut(l->u, clip, ok);
-	if (l->n == 0 || !boxes_meet(&l->ext, &clip))
-		return false;
-	uint8_t met[LEFT_BOXES];
-	int any = 0;
-	for (size_t i = 0; i < l->n; i++) {
-		met[i] = (l->x1[i] < clip.x2) & (clip.x1 < l->x2[i]) & (l->y1[i] < clip.y2) &
-			 (clip.y1 < l->y2[i]);
-		any |= met[i];
+	uint8_t marks[LEFT_BOXES];
+	if (!met) {
+		if (!left_meets(l, &clip, marks))
+			return false;
+		met = marks;
 	}
-	if (!any)
-		return false;
 	size_t n0 = l->n, gone[LEFT_BOXES], n_gone = 0;
+	bool touched = false;
 	for (size_t i = 0; i < n0; i++) {
+		/* Eight marks at a time: a clip meets one or two of 20-60 boxes. */
+		uint64_t eight = 0;
+		if (i % 8 == 0 && i + 8 <= n0) {
+			memcpy(&eight, &met[i], 8);
+			if (!eight) {
+				i += 7;
+				continue;
+			}
+		}
 		if (!met[i])
 			continue;
 		pixman_box32_t b = left_box(l, i);
+		touched |= b.x1 == l->ext.x1 || b.y1 == l->ext.y1 || b.x2 == l->ext.x2 ||
+			   b.y2 == l->ext.y2;
 		/* Above the clip, below it, then beside it within its rows. */
 		int32_t y1 = b.y1 > clip.y1 ? b.y1 : clip.y1, y2 = b.y2 < clip.y2 ? b.y2 : clip.y2;
 		pixman_box32_t piece[4] = {
@@ -225,7 +249,7 @@ static bool left_cut(struct left *l, pixman_box32_t clip, bool *ok)
 		if (i != --l->n)
 			left_put(l, i, left_box(l, l->n));
 	}
-	if (l->n > 0)
+	if (touched && l->n > 0)
 		left_bound(l);
 	return true;
 region:;
@@ -281,16 +305,19 @@ static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t
 				continue;
 			}
 			*(side ? &hi : &lo) = key;
-			if (!left_cut(&l, lv->slots[slot].clip, &ok)) {
+			if (!left_cut(&l, lv->slots[slot].clip, NULL, &ok)) {
 				left_prune(&l, side ? &down : &up, &misses[side]);
 			} else {
 				misses[side].n = 0;
 				*hit = true;
 				if (!ok || left_empty(&l))
 					break;
-				ext = left_extents(&l);
-				vis_zgrid_walk_narrow(&up, ext);
-				vis_zgrid_walk_narrow(&down, ext);
+				struct vis_box e = left_extents(&l);
+				if (!same_box(e, ext)) {
+					ext = e;
+					vis_zgrid_walk_narrow(&up, ext);
+					vis_zgrid_walk_narrow(&down, ext);
+				}
 			}
 		}
 	}
@@ -427,7 +454,7 @@ static bool saw(const struct vis_wtree_live *lv, const struct vis_window *v, con
 	int n = s->n == SEEN_EXTENTS ? 1 : s->n;
 	for (int i = 0; i < n; i++)
 		if (s->boxes[i].x1 < s->boxes[i].x2 && s->boxes[i].y1 < s->boxes[i].y2 &&
-		    left_meets(l, &s->boxes[i]))
+		    left_meets(l, &s->boxes[i], NULL))
 			return true;
 	return false;
 }
@@ -502,7 +529,8 @@ static int walk_left(struct vis_wtree_live *lv, struct left *l, uint64_t key, bo
 	if (left_empty(l))
 		return 0;
 	struct vis_zgrid_walk walk;
-	bool ok = vis_zgrid_walk_init(&walk, &lv->grid, left_extents(l), key, false) == 0;
+	struct vis_box ext = left_extents(l);
+	bool ok = vis_zgrid_walk_init(&walk, &lv->grid, ext, key, false) == 0;
 	bool fragmented = false;
 	uint64_t k;
 	uint32_t slot;
@@ -511,7 +539,8 @@ static int walk_left(struct vis_wtree_live *lv, struct left *l, uint64_t key, bo
 	       vis_zgrid_walk_next(&walk, &k, &slot) && k > stop) {
 		/* The window itself is read only when its clip meets what is left. */
 		pixman_box32_t b = lv->slots[slot].clip;
-		if (!left_meets(l, &b)) {
+		uint8_t met[LEFT_BOXES];
+		if (!left_meets(l, &b, met)) {
 			left_prune(l, &walk, &misses);
 			continue;
 		}
@@ -531,14 +560,18 @@ static int walk_left(struct vis_wtree_live *lv, struct left *l, uint64_t key, bo
 				ok = gained(lv, c, v, l);
 		}
 		bool was_boxes = l->n != LEFT_REGION;
-		left_cut(l, b, &ok);
+		left_cut(l, b, l->n == LEFT_REGION ? NULL : met, &ok);
 		if (!ok || left_empty(l))
 			break;
 		if (split && was_boxes && l->n == LEFT_REGION && walk.n > 1) {
 			fragmented = true;
 			break;
 		}
-		vis_zgrid_walk_narrow(&walk, left_extents(l));
+		struct vis_box e = left_extents(l);
+		if (!same_box(e, ext)) {
+			ext = e;
+			vis_zgrid_walk_narrow(&walk, ext);
+		}
 	}
 	vis_zgrid_walk_finish(&walk);
 	if (lv->steps > lv->budget)
@@ -842,7 +875,7 @@ static int since_losing(struct vis_wtree_live *lv, struct candidate *c, const st
 	for (size_t i = 0; ok && i < lv->n_moved && !left_empty(&l); i++) {
 		const struct vis_window *v = lv->cands[i].w;
 		if (v->live_indexed && v->key > end)
-			left_cut(&l, pbox(v->clip), &ok);
+			left_cut(&l, pbox(v->clip), NULL, &ok);
 	}
 	ok = left_finish(&l) && ok;
 	return finish(lv, c, &u, 0, ok);
