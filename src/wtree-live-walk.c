@@ -387,6 +387,9 @@ static int finish(const struct vis_wtree_live *lv, struct candidate *c, pixman_r
 /* The key of the last viewable window of w's subtree (w's own without viewable descendants). */
 uint64_t wtree_live_subtree_end(const struct vis_window *w)
 {
+	/* Flagged so, it has no viewable descendants (wtree-live.h): its children are not read. */
+	if (w->live_leaf)
+		return w->key;
 	for (;;) {
 		const struct vis_window *c = w->top;
 		while (c && !c->mapped)
@@ -535,7 +538,7 @@ static int walk_left(struct vis_wtree_live *lv, struct left *l, uint64_t key, bo
 	uint64_t k;
 	uint32_t slot;
 	struct misses misses = { 0, 0 };
-	while (ok && !left_empty(l) && ++lv->steps <= lv->budget &&
+	while (ok && !left_empty(l) && ++lv->steps <= lv->budget && lv->steps <= lv->give_up &&
 	       vis_zgrid_walk_next(&walk, &k, &slot) && k > stop) {
 		/* The window itself is read only when its clip meets what is left. */
 		pixman_box32_t b = lv->slots[slot].clip;
@@ -576,6 +579,8 @@ static int walk_left(struct vis_wtree_live *lv, struct left *l, uint64_t key, bo
 	vis_zgrid_walk_finish(&walk);
 	if (lv->steps > lv->budget)
 		return OVER_BUDGET;
+	if (lv->steps > lv->give_up)
+		return GAVE_UP;
 	if (!ok) {
 		errno = ENOMEM;
 		return -1;
@@ -694,6 +699,7 @@ int wtree_live_walk_refine(struct vis_wtree_live *lv, struct vis_window *v)
 	if (rc == 0) {
 		keep_seen(lv, &u, s);
 		s->edges = 0; /* it may hold more than it saw */
+		wtree_live_seen_changed(lv, v->live_seen - 1);
 	}
 	pixman_region32_fini(&u);
 	return rc == OVER_BUDGET ? 0 : rc;
@@ -740,6 +746,60 @@ static int walk_boxes(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t 
 	return rc;
 }
 
+/* The seen grid's entries in the cells u meets: what reading them all would cost. */
+static size_t seen_entries(const struct vis_wtree_live *lv, pixman_region32_t *u)
+{
+	const struct vis_sgrid *g = &lv->seen_grid;
+	uint32_t r[4];
+	size_t n = 0;
+	if (!pixman_region32_not_empty(u) || !vis_sgrid_cells(g, vbox(pixman_region32_extents(u)), r))
+		return 0;
+	for (uint32_t y = r[1]; y <= r[3]; y++)
+		for (uint32_t x = r[0]; x <= r[2]; x++)
+			n += vis_sgrid_cell(g, x, y)->n;
+	return n;
+}
+
+/*
+ * Takes the unchanged windows below key whose seen region (as kept: exact, or a box holding it)
+ * meets u, from the seen grid: those rule 2 takes, and perhaps more (wtree.h). 0, -1 (ENOMEM),
+ * or OVER_BUDGET.
+ */
+static int cover_by_seen(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t key)
+{
+	const struct vis_sgrid *g = &lv->seen_grid;
+	int n;
+	const pixman_box32_t *boxes = pixman_region32_rectangles(u, &n);
+	for (int b = 0; b < n; b++) {
+		struct vis_box q = vbox(&boxes[b]);
+		uint32_t r[4];
+		if (!vis_sgrid_cells(g, q, r))
+			continue;
+		for (uint32_t y = r[1]; y <= r[3]; y++)
+			for (uint32_t x = r[0]; x <= r[2]; x++) {
+				const struct vis_sgrid_cell *c = vis_sgrid_cell(g, x, y);
+				for (uint32_t i = 0; i < c->n; i++) {
+					const struct vis_sgrid_entry *e = &c->e[i];
+					if (!(e->x1 < q.x2 && q.x1 < e->x2 && e->y1 < q.y2 &&
+					      q.y1 < e->y2) ||
+					    !vis_sgrid_reports(g, e, q, x, y))
+						continue;
+					const struct seen_window *sw = &lv->seen[e->val];
+					if (!sw->w || SEEN_STAMP(sw->stamp) != e->stamp)
+						continue;
+					struct vis_window *v = sw->w;
+					if (v->key >= key || moved(lv, v))
+						continue;
+					if (++lv->steps > lv->budget)
+						return OVER_BUDGET;
+					if (wtree_live_take(lv, v, STATE_UNKNOWN, false) < 0)
+						return -1;
+				}
+			}
+	}
+	return 0;
+}
+
 /*
  * Takes the windows that may see fewer pixels because of a changed window that now sees c->seen
  * (rule 2 of vis_wtree_update()). Pixels it saw before as well are left out when its subtree
@@ -761,7 +821,24 @@ int wtree_live_walk_cover(struct vis_wtree *tree, struct vis_wtree_live *lv,
 	bool ok = true;
 	if (old && seen_exact(old) && wtree_live_kept_parent(w))
 		ok = subtract_seen(&u, old, tree->root.clip);
-	int rc = ok ? walk_boxes(lv, &u, w->key, true, false, 0, NULL) : -1;
+	int rc = -1;
+	if (ok) {
+		/*
+		 * The walk, while it costs less than reading the seen grid there would: a step
+		 * costs what 10-20 entries do (cascades at 10^5), and most walks end within a few
+		 * hundred steps (a cascade's moves: handing them over after 64 steps plus a
+		 * sixteenth of the entries cost their median 10%).
+		 */
+		if (lv->seen_grid_ok)
+			lv->give_up = lv->steps + (lv->cover_steps ? lv->cover_steps
+								   : seen_entries(lv, &u) / 16 + 512);
+		rc = walk_boxes(lv, &u, w->key, true, false, 0, NULL);
+		lv->give_up = SIZE_MAX;
+		if (rc == GAVE_UP) {
+			wtree_live_seen_flush(lv);
+			rc = cover_by_seen(lv, &u, w->key);
+		}
+	}
 	pixman_region32_fini(&u);
 	if (!ok)
 		errno = ENOMEM;
@@ -850,17 +927,42 @@ static bool keeps_an_edge(const struct vis_wtree_live *lv, struct candidate *c,
 static int since_losing(struct vis_wtree_live *lv, struct candidate *c, const struct seen *old)
 {
 	const struct vis_window *w = c->w;
+	uint64_t end = wtree_live_subtree_end(w);
+	/* The common answers first: each box under one changed clip (a raise covering slivers
+	 * whole), or none met. */
+	bool all_under = true, none_met = true;
+	for (int i = 0; old && i < old->n && (all_under || none_met); i++) {
+		const pixman_box32_t *b = &old->boxes[i];
+		bool under = false;
+		for (size_t j = 0; j < lv->n_moved; j++) {
+			const struct vis_window *v = lv->cands[j].w;
+			if (!v->live_indexed || v->key <= end)
+				continue;
+			pixman_box32_t k = lv->slots[v->live_slot].clip;
+			if (boxes_meet(&k, b)) {
+				none_met = false;
+				under |= k.x1 <= b->x1 && k.y1 <= b->y1 && b->x2 <= k.x2 && b->y2 <= k.y2;
+			}
+		}
+		all_under &= under;
+	}
+	if (!old || all_under) {
+		settle(lv, c, NULL);
+		return 0;
+	}
+	if (none_met) {
+		c->state = w->state;
+		c->seen = *old;
+		return 0;
+	}
 	pixman_region32_t u;
 	pixman_region32_init(&u);
-	/* The clip from its slot, which the walk that took it read (the window's is a line away). */
-	struct vis_box clip = w->live_indexed ? vbox(&lv->slots[w->live_slot].clip) : w->clip;
+	/* Unchanged, it kept its clip, which holds what it saw (and is not read: another line). */
 	pixman_box32_t b[SEEN_BOXES];
 	size_t n = 0;
-	for (int i = 0; old && i < old->n; i++) {
-		struct vis_box box = vis_box_intersect(vbox(&old->boxes[i]), clip);
-		if (!vis_box_empty(box))
-			b[n++] = pbox(box);
-	}
+	for (int i = 0; old && i < old->n; i++)
+		if (old->boxes[i].x1 < old->boxes[i].x2 && old->boxes[i].y1 < old->boxes[i].y2)
+			b[n++] = old->boxes[i];
 	struct left l; /* not zeroed: 1 KiB */
 	l.u = &u;
 	l.cap = lv->left_boxes;
@@ -871,7 +973,6 @@ static int since_losing(struct vis_wtree_live *lv, struct candidate *c, const st
 	} else {
 		left_set(&l, b, n);
 	}
-	uint64_t end = wtree_live_subtree_end(w);
 	for (size_t i = 0; ok && i < lv->n_moved && !left_empty(&l); i++) {
 		const struct vis_window *v = lv->cands[i].w;
 		if (v->live_indexed && v->key > end)

@@ -60,6 +60,7 @@ static struct vis_wtree_live *live_of(struct vis_wtree *tree)
 		tree->live->min_windows = LIVE_MIN_WINDOWS;
 		tree->live->seen_boxes = SEEN_BOXES;
 		tree->live->left_boxes = LEFT_BOXES;
+		tree->live->give_up = SIZE_MAX;
 	}
 	return tree->live;
 }
@@ -85,6 +86,8 @@ void vis_wtree_live_destroy(struct vis_wtree_live *lv)
 	free(lv->free_slots);
 	free(lv->seen);
 	free(lv->free_seen);
+	free(lv->pending);
+	vis_sgrid_finish(&lv->seen_grid);
 	free(lv->dirty);
 	free(lv->changed);
 	free(lv->exposures);
@@ -170,11 +173,14 @@ static int seen_reserve(struct vis_wtree_live *lv, size_t more)
 	}
 	lv->seen = s;
 	uint32_t *f = realloc(lv->free_seen, cap * sizeof *f);
-	if (!f) {
+	if (f)
+		lv->free_seen = f;
+	uint32_t *p = f ? realloc(lv->pending, cap * sizeof *p) : NULL;
+	if (!p) {
 		errno = ENOMEM;
-		return -1; /* the list grew: cap_seen stays what both hold */
+		return -1; /* the lists grew: cap_seen stays what all hold */
 	}
-	lv->free_seen = f;
+	lv->pending = p;
 	lv->cap_seen = cap;
 	return 0;
 }
@@ -182,7 +188,14 @@ static int seen_reserve(struct vis_wtree_live *lv, size_t more)
 /* Gives w an entry in the seen list, a free one first (room made). */
 static void seen_add(struct vis_wtree_live *lv, struct vis_window *w)
 {
-	size_t at = lv->n_free_seen ? lv->free_seen[--lv->n_free_seen] : lv->n_seen++;
+	size_t at;
+	if (lv->n_free_seen) {
+		at = lv->free_seen[--lv->n_free_seen];
+		lv->seen[at].stamp += 2;
+	} else {
+		at = lv->n_seen++;
+		lv->seen[at].stamp = 0;
+	}
 	lv->seen[at].w = w;
 	w->live_seen = (uint32_t)(at + 1);
 }
@@ -191,8 +204,75 @@ static void seen_remove(struct vis_wtree_live *lv, struct vis_window *w)
 {
 	size_t at = w->live_seen - 1;
 	lv->seen[at].w = NULL;
+	lv->seen[at].stamp += 2;
 	lv->free_seen[lv->n_free_seen++] = (uint32_t)at;
 	w->live_seen = 0;
+}
+
+/* Whether a seen grid entry stands: its seen entry is in use and has not changed since. */
+static bool seen_stands(const void *arg, uint32_t val, uint32_t stamp)
+{
+	const struct vis_wtree_live *lv = arg;
+	return val < lv->n_seen && lv->seen[val].w && SEEN_STAMP(lv->seen[val].stamp) == stamp;
+}
+
+/* Puts a seen entry's boxes in the seen grid; without memory, the grid is no longer used. */
+static void seen_index(struct vis_wtree_live *lv, size_t at)
+{
+	const struct seen_window *sw = &lv->seen[at];
+	int n = sw->seen.n == SEEN_EXTENTS ? 1 : sw->seen.n;
+	for (int i = 0; lv->seen_grid_ok && i < n; i++)
+		lv->seen_grid_ok = vis_sgrid_insert(&lv->seen_grid, vbox(&sw->seen.boxes[i]),
+						    (uint32_t)at, SEEN_STAMP(sw->stamp), seen_stands,
+						    lv) == 0;
+}
+
+void wtree_live_seen_flush(struct vis_wtree_live *lv)
+{
+	for (size_t i = 0; i < lv->n_pending; i++) {
+		size_t at = lv->pending[i];
+		lv->seen[at].stamp &= ~SEEN_PENDING;
+		if (lv->seen[at].w)
+			seen_index(lv, at);
+	}
+	lv->n_pending = 0;
+}
+
+void wtree_live_seen_changed(struct vis_wtree_live *lv, size_t at)
+{
+	lv->seen[at].stamp += 2;
+	if (!(lv->seen[at].stamp & SEEN_PENDING)) {
+		lv->seen[at].stamp |= SEEN_PENDING;
+		lv->pending[lv->n_pending++] = (uint32_t)at; /* at most one per entry: room */
+	}
+}
+
+/* Whether two seen regions are kept the same (the same boxes, or the same loose box). */
+static bool same_seen(const struct seen *a, const struct seen *b)
+{
+	if (a->n != b->n || (a->n == SEEN_EXTENTS && a->edges != b->edges))
+		return false;
+	int n = a->n == SEEN_EXTENTS ? 1 : a->n;
+	for (int i = 0; i < n; i++)
+		if (a->boxes[i].x1 != b->boxes[i].x1 || a->boxes[i].y1 != b->boxes[i].y1 ||
+		    a->boxes[i].x2 != b->boxes[i].x2 || a->boxes[i].y2 != b->boxes[i].y2)
+			return false;
+	return true;
+}
+
+/*
+ * Sets w's seen region (w in the seen list), in the seen grid too; fresh tells that the entry
+ * was just given (its boxes not in the grid yet).
+ */
+static void seen_set(struct vis_wtree_live *lv, struct vis_window *w, struct seen seen, bool fresh)
+{
+	struct seen *s = &lv->seen[w->live_seen - 1].seen;
+	if (!fresh && same_seen(s, &seen)) {
+		s->edges = seen.edges;
+		return; /* its entries stand */
+	}
+	*s = seen;
+	wtree_live_seen_changed(lv, w->live_seen - 1);
 }
 
 void vis_wtree_note(struct vis_wtree *tree, struct vis_window *w)
@@ -330,7 +410,8 @@ static int seen_after(struct vis_wtree_live *lv, struct vis_window *w, struct vi
 		return 0;
 	}
 	struct vis_box box = vis_box_intersect(damage, w->clip);
-	if (w->live_seen) {
+	bool fresh = !w->live_seen;
+	if (!fresh) {
 		const struct seen *old = &lv->seen[w->live_seen - 1].seen;
 		int n = old->n == SEEN_EXTENTS ? 1 : old->n;
 		for (int i = 0; i < n; i++)
@@ -341,8 +422,8 @@ static int seen_after(struct vis_wtree_live *lv, struct vis_window *w, struct vi
 		seen_add(lv, w);
 	}
 	box = vis_box_intersect(box, w->clip);
-	lv->seen[w->live_seen - 1].seen =
-		(struct seen){ SEEN_EXTENTS, 0, { pbox(vis_box_empty(box) ? w->clip : box) } };
+	seen_set(lv, w, (struct seen){ SEEN_EXTENTS, 0, { pbox(vis_box_empty(box) ? w->clip : box) } },
+		 fresh);
 	return 0;
 }
 
@@ -387,6 +468,7 @@ static int rebuild(struct vis_wtree *tree, struct vis_wtree_live *lv)
 		vis_zgrid_finish(&lv->grid);
 	lv->n_seen = 0;
 	lv->n_free_seen = 0;
+	lv->n_pending = 0;
 	lv->n_slots = 0;
 	lv->n_free = 0;
 	for (struct vis_window *w = tree->root.bottom; w; w = vis_wtree_next(w)) {
@@ -414,6 +496,11 @@ static int rebuild(struct vis_wtree *tree, struct vis_wtree_live *lv)
 	}
 	if (wtree_live_seen_from_order(tree, lv, SEEN_WORK * tree->n_order + 4096) < 0)
 		return -1;
+	if (lv->seen_grid.cells)
+		vis_sgrid_finish(&lv->seen_grid);
+	lv->seen_grid_ok = vis_sgrid_init(&lv->seen_grid, tree->root.clip) == 0;
+	for (size_t at = 0; at < lv->n_seen; at++)
+		seen_index(lv, at);
 	lv->valid = true;
 	return 0;
 }
@@ -633,13 +720,13 @@ static int commit(struct vis_wtree_live *lv)
 		struct candidate *c = &lv->cands[i];
 		struct vis_window *w = c->w;
 		bool sees = c->state == VIS_UNOBSCURED || c->state == VIS_PARTIALLY_OBSCURED;
-		if (sees && !w->live_seen) {
+		bool fresh = sees && !w->live_seen;
+		if (fresh)
 			seen_add(lv, w);
-		} else if (!sees && w->live_seen) {
+		else if (!sees && w->live_seen)
 			seen_remove(lv, w);
-		}
 		if (sees)
-			lv->seen[w->live_seen - 1].seen = c->seen;
+			seen_set(lv, w, c->seen, fresh);
 		w->old_state = w->state;
 		w->state = c->state;
 		list_changed(lv, w);
@@ -750,6 +837,7 @@ static int update(struct vis_wtree *tree, struct vis_wtree_live *lv)
 	 */
 	lv->steps = 0;
 	lv->budget = lv->fixed_budget ? lv->fixed_budget : tree->count + 256;
+	lv->give_up = SIZE_MAX;
 	if (unindex(lv, (size_t)roots) < 0)
 		return -1;
 	for (long r = 0; r < roots; r++) {
@@ -883,6 +971,12 @@ const char *wtree_live_check(const struct vis_wtree *tree)
 		if (sees != (w->live_seen != 0) ||
 		    (sees && (w->live_seen > lv->n_seen || lv->seen[w->live_seen - 1].w != w)))
 			return "the seen list does not match the states";
+		const struct seen_window *sw = sees ? &lv->seen[w->live_seen - 1] : NULL;
+		for (int i = 0; sw && lv->seen_grid_ok && i < (sw->seen.n == SEEN_EXTENTS ? 1 : sw->seen.n); i++)
+			if (!(sw->stamp & SEEN_PENDING) &&
+			    !vis_sgrid_holds(&lv->seen_grid, vbox(&sw->seen.boxes[i]), w->live_seen - 1,
+					     SEEN_STAMP(sw->stamp)))
+				return "a seen box is missing from a cell of the seen grid";
 	}
 	if (vis_zgrid_size(&lv->grid) != cells)
 		return "the grid holds stale entries, or a cell is out of order";
@@ -894,11 +988,12 @@ const char *wtree_live_check(const struct vis_wtree *tree)
 }
 
 void wtree_live_tune(struct vis_wtree *tree, size_t steps, unsigned seen_boxes,
-		     unsigned left_boxes)
+		     unsigned left_boxes, size_t cover_steps)
 {
 	struct vis_wtree_live *lv = live_of(tree);
 	if (lv) {
 		lv->fixed_budget = steps;
+		lv->cover_steps = cover_steps;
 		lv->seen_boxes = seen_boxes && seen_boxes < SEEN_BOXES ? seen_boxes : SEEN_BOXES;
 		lv->left_boxes = left_boxes >= 2 && left_boxes < LEFT_BOXES ? left_boxes : LEFT_BOXES;
 	}

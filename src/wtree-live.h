@@ -7,6 +7,7 @@
 
 #include <pixman.h>
 
+#include "sgrid.h"
 #include "wtree-work.h"
 #include "zgrid.h"
 
@@ -28,6 +29,9 @@
 
 /* What a walk returns when the update's budget ran out: it goes through the tree instead. */
 #define OVER_BUDGET (-2)
+
+/* What a walk returns past its own steps (give_up): the caller finds its windows another way. */
+#define GAVE_UP (-3)
 
 /* Pixels that a window (or a destroyed one) saw: its seen region, or a box holding it. */
 struct seen {
@@ -53,11 +57,20 @@ static inline struct vis_box vbox(const pixman_box32_t *b)
 	return (struct vis_box){ b->x1, b->y1, b->x2, b->y2 };
 }
 
-/* A viewable window that is not fully obscured, with what it saw at the last recompute. */
+/*
+ * A viewable window that is not fully obscured, with what it saw at the last recompute. stamp
+ * grows by 2 with each (SEEN_STAMP bits), so that the seen grid's entries made before no longer
+ * stand; its low bit, SEEN_PENDING, says the entry waits in the pending list to be put in the
+ * grid.
+ */
 struct seen_window {
 	struct vis_window *w;
 	struct seen seen;
+	uint32_t stamp;
 };
+
+#define SEEN_PENDING 1u
+#define SEEN_STAMP(s) ((s) & ~SEEN_PENDING)
 
 /* Whether a seen region is exact (its boxes), not a box holding it. */
 static inline bool seen_exact(const struct seen *s)
@@ -128,6 +141,14 @@ struct vis_wtree_live {
 	size_t n_seen, cap_seen;
 	uint32_t *free_seen;
 	size_t n_free_seen;
+	/* The seen regions' boxes, by where they lie (values: seen entries, with their stamps), while
+	 * seen_grid_ok: which windows saw pixels of a region, in the region's cells alone. Entries
+	 * whose region changed wait in pending (room for cap_seen) until a walk reads the grid: most
+	 * updates never do, and putting boxes in cells costs a cache miss each. */
+	struct vis_sgrid seen_grid;
+	bool seen_grid_ok;
+	uint32_t *pending;
+	size_t n_pending;
 	struct vis_window **dirty;
 	size_t n_dirty, cap_dirty;
 	struct vis_window **changed;
@@ -144,11 +165,13 @@ struct vis_wtree_live {
 	bool damage_all;
 	bool changed_lost; /* changed could not list them all: the next recompute goes through all */
 	uint32_t mark;
-	/* An update's walks take at most budget steps in all, past which it gives up (NOT_LIVE). */
-	size_t steps, budget;
+	/* An update's walks take at most budget steps in all, past which it gives up (NOT_LIVE);
+	 * a walk that may end another way takes steps up to give_up (else SIZE_MAX). */
+	size_t steps, budget, give_up;
 	/* The windows of the changed subtrees: cands[0 … n_moved) during an update. */
 	size_t n_moved;
 	size_t fixed_budget; /* a budget set by wtree_live_tune(), or 0 */
+	size_t cover_steps;  /* rule 2's walks' steps set by wtree_live_tune(), or 0 */
 	unsigned seen_boxes; /* the boxes a seen region keeps: SEEN_BOXES, or fewer in tests */
 	size_t left_boxes;   /* the boxes a walk keeps what is left in: LEFT_BOXES, or fewer */
 	size_t min_windows;  /* the windows below which updates go through the tree */
@@ -192,6 +215,13 @@ static inline const struct seen *wtree_live_old_seen(const struct vis_wtree_live
 {
 	return w->live_seen ? &lv->seen[w->live_seen - 1].seen : NULL;
 }
+
+/* After a seen entry's region changed: its old boxes in the seen grid no longer stand, and it
+ * waits to be put there. */
+void wtree_live_seen_changed(struct vis_wtree_live *lv, size_t at);
+
+/* Puts the pending entries' boxes in the seen grid, before a walk reads it. */
+void wtree_live_seen_flush(struct vis_wtree_live *lv);
 
 /* Whether w's changed subtree kept its parent: no window of it left or joined another's. */
 bool wtree_live_kept_parent(const struct vis_window *w);
@@ -288,9 +318,10 @@ const char *wtree_live_check(const struct vis_wtree *tree);
  * can be made to give up; the boxes a seen region keeps before it is kept as its extents (1 to
  * SEEN_BOXES; 0: SEEN_BOXES), so that small trees have loose regions; the boxes a walk keeps
  * what is left of its pixels in (2 to LEFT_BOXES; 0: LEFT_BOXES), so that small trees' walks
- * fragment past them (wtree-live-walk.c).
+ * fragment past them (wtree-live-walk.c); the steps after which rule 2's walks leave their
+ * windows to the seen grid (0: as the grid's entries there say), so that small trees use it.
  */
 void wtree_live_tune(struct vis_wtree *tree, size_t steps, unsigned seen_boxes,
-		     unsigned left_boxes);
+		     unsigned left_boxes, size_t cover_steps);
 
 #endif

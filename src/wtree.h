@@ -284,9 +284,10 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  * key order (zgrid.h; its entries index a dense array of the clips), and the viewable windows
  * that are not fully obscured with what they saw: their seen region (the clip less the clips of
  * the windows after their subtree), as up to eight boxes or a box holding it (with the edges of
- * that box known to hold pixels of it, when it is the region's extents). A window's state
- * follows from its seen region: none, fully obscured; its whole box, unobscured; else partially
- * obscured.
+ * that box known to hold pixels of it, when it is the region's extents), and a grid of those
+ * boxes without order (sgrid.h: which windows saw pixels of a region, from its cells alone). A
+ * window's state follows from its seen region: none, fully obscured; its whole box, unobscured;
+ * else partially obscured.
  *
  * The rule: let the changed subtrees be those of the noted windows (a change of a window moves
  * or re-stacks its subtree with it). Recomputed are (1) the windows of the changed subtrees;
@@ -296,7 +297,10 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  * is left; (3) for each window of the changed subtrees (and each one destroyed) that saw pixels,
  * walking the grid down from its old key, the windows whose clip meets what is left of those
  * pixels, and their ancestors, each one's clip taken off what is left. Every other window keeps
- * its state and seen region.
+ * its state and seen region. Where a walk of (2) would pass over more clips than 512 and a
+ * sixteenth of the boxes the seen grid holds in the cells of its pixels, it stops, and the
+ * unchanged windows below its key whose last seen region (as kept) meets those pixels are taken
+ * instead.
  * It is exact: a window w outside the changed subtrees keeps its clip and its place among the
  * others. If it sees fewer pixels, the pixel p it lost is now hidden by windows after w's
  * subtree; the highest of them, h, is in a changed subtree, or it would have hidden p before.
@@ -304,12 +308,14 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  * it, the windows whose clips hold p before w or its descendants are reached hide w at p now
  * (unless they are w's descendants): were one unchanged, it would have hidden p before. So only
  * changed windows are passed over at p, p is still left when w or a descendant is reached, and
- * as w saw p, w is taken, (2). If w sees more, the pixel p it gained was hidden by windows after
- * its subtree; the highest of them, h, is in a changed subtree or destroyed, or it would still
- * hide p. Nothing after h covered p, so h saw p, and w's subtree lies below h's old key. Walking
- * down from that key, the windows whose clips hold p before w or its descendants are reached
- * hide w at p now, unless they are w's descendants: so p is still left when w or a descendant is
- * reached, and w is taken, (3). In both walks a window reached at p takes off p for the windows
+ * as w saw p, w is taken, (2); or, w's last seen region holding p, one of h's pixels, and w
+ * lying below h's key, the seen grid takes it (those the walk took before it stopped stay
+ * taken: taking a window more only recomputes it). If w sees more, the pixel p it gained was
+ * hidden by windows after its subtree; the highest of them, h, is in a changed subtree or
+ * destroyed, or it would still hide p. Nothing after h covered p, so h saw p, and w's subtree
+ * lies below h's old key. Walking down from that key, the windows whose clips hold p before w
+ * or its descendants are reached hide w at p now, unless they are w's descendants: so p is
+ * still left when w or a descendant is reached, and w is taken, (3). In both walks a window reached at p takes off p for the windows
  * below it, but for its ancestors, which its pixels never hide and which are taken with it.
  * The argument is pixel by pixel, so a walk may go over its pixels in pieces, each from where
  * the whole stood: a box at a time, or, once they fragment, a grid cell at a time.
@@ -357,7 +363,8 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  *
  * Returns 0, or -1 with errno ENOMEM (states are then unchanged, and the next recompute is full).
  * Cost, live: O(r · log n) per window recomputed and per walk, r the clips the walk passes over
- * (those in the grid cells its pixels meet, between its key and the first that hide them), plus
+ * (those in the grid cells its pixels meet, between its key and the first that hide them; for
+ * rule 2, at most 512 and a sixteenth of the seen boxes in those cells, then read once), plus
  * the subtrees changed. Past a budget of n + 256 steps in all (a walk step costs about what the
  * recompute through the tree spends on 0.3 to 2.5 windows), or more changed windows than 64 + n / 32,
  * the states come from vis_wtree_compute_damaged() instead, the structures kept up to date.

@@ -634,11 +634,13 @@ static int random_trees(uint64_t first, uint64_t count, int batches)
 		/* Small trees go live; now and then updates run out of steps and give up; half
 		 * the time seen regions of more than one to three boxes are kept loose; two
 		 * thirds of the time walks keep what is left in 2 to 7 boxes before a region
-		 * (and go on a grid cell at a time). */
+		 * (and go on a grid cell at a time); half the time rule 2's walks hand over to
+		 * the seen grid after 1 to 8 steps. */
 		assert(vis_wtree_live_from(&twin, 0) == 0);
 		wtree_live_tune(&twin, seed % 7 == 3 ? 1 + vis_rng_below(&r, 40) : 0,
 				seed % 2 ? 1 + (unsigned)vis_rng_below(&r, 3) : 0,
-				seed % 3 ? 2 + (unsigned)vis_rng_below(&r, 6) : 0);
+				seed % 3 ? 2 + (unsigned)vis_rng_below(&r, 6) : 0,
+				seed % 4 < 2 ? 1 + vis_rng_below(&r, 8) : 0);
 		nwins = 0;
 		n_damage = 0;
 		damage_all = false;
@@ -802,7 +804,7 @@ static void scripted(void)
 	 * then the other: while an edge of the box it touched is uncovered, it is partially obscured
 	 * without a walk; once both are gone it is walked, and fully obscured. */
 	scene_begin();
-	wtree_live_tune(&twin, 0, 1, 0);
+	wtree_live_tune(&twin, 0, 1, 0, 0);
 	int strips = put(-1, 0, 0, 6, 6);
 	put(-1, 2, 0, 2, 6);
 	int left = put(-1, 0, 0, 2, 6), right = put(-1, 4, 0, 2, 6);
