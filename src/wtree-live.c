@@ -53,6 +53,29 @@ static int grow(void *array, size_t *cap, size_t n, size_t size)
 	return 0;
 }
 
+/*
+ * The candidates and changed windows an update has room for once the structures are built,
+ * a share of the viewable windows: arrays grown in an update fault their new pages in there
+ * (172 faults, 3.5 ms against 0.8 ms with the pages in, when a raise over a cascade of 10^5
+ * first took 6,000 windows, on a 2-core VM), a cost better paid with the build's.
+ */
+#define WORK_SHARE 16
+
+/* Grows an array to at least want elements, touching the new ones. Not being able to is not
+ * an error: the array grows when it must. */
+static void prefault(void *array, size_t *cap, size_t want, size_t size)
+{
+	void **a = array;
+	if (*cap >= want || want > SIZE_MAX / size)
+		return;
+	unsigned char *b = realloc(*a, want * size);
+	if (!b)
+		return;
+	memset(b + *cap * size, 0, (want - *cap) * size);
+	*a = b;
+	*cap = want;
+}
+
 /* The tree's live structures, made on first use; NULL without memory. */
 static struct vis_wtree_live *live_of(struct vis_wtree *tree)
 {
@@ -501,6 +524,9 @@ static int rebuild(struct vis_wtree *tree, struct vis_wtree_live *lv)
 	lv->seen_grid_ok = vis_sgrid_init(&lv->seen_grid, tree->root.clip) == 0;
 	for (size_t at = 0; at < lv->n_seen; at++)
 		seen_index(lv, at);
+	size_t room = tree->n_order / WORK_SHARE + 256;
+	prefault(&lv->cands, &lv->cap_cands, room, sizeof *lv->cands);
+	prefault(&lv->changed, &lv->cap_changed, room, sizeof *lv->changed);
 	lv->valid = true;
 	return 0;
 }
