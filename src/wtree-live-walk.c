@@ -593,6 +593,8 @@ static int walk_left(struct vis_wtree_live *lv, struct left *l, uint64_t key, bo
 static bool append_boxes(pixman_box32_t **all, size_t *n, size_t *cap, const pixman_box32_t *b,
 			 size_t m)
 {
+	if (m == 0)
+		return true; /* *all may be NULL still: no memcpy from or to it */
 	if (*n + m > *cap) {
 		size_t c = *cap ? 2 * *cap : 64;
 		while (c < *n + m)
