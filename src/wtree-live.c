@@ -270,10 +270,10 @@ void wtree_live_seen_changed(struct vis_wtree_live *lv, size_t at)
 	}
 }
 
-/* Whether two seen regions are kept the same (the same boxes, or the same loose box). */
-static bool same_seen(const struct seen *a, const struct seen *b)
+/* Whether two seen regions have the same boxes (or the same loose box; its edges aside). */
+static bool same_boxes(const struct seen *a, const struct seen *b)
 {
-	if (a->n != b->n || (a->n == SEEN_EXTENTS && a->edges != b->edges))
+	if (a->n != b->n)
 		return false;
 	int n = a->n == SEEN_EXTENTS ? 1 : a->n;
 	for (int i = 0; i < n; i++)
@@ -290,9 +290,9 @@ static bool same_seen(const struct seen *a, const struct seen *b)
 static void seen_set(struct vis_wtree_live *lv, struct vis_window *w, struct seen seen, bool fresh)
 {
 	struct seen *s = &lv->seen[w->live_seen - 1].seen;
-	if (!fresh && same_seen(s, &seen)) {
+	if (!fresh && same_boxes(s, &seen)) {
 		s->edges = seen.edges;
-		return; /* its entries stand */
+		return; /* its entries in the grid stand */
 	}
 	*s = seen;
 	wtree_live_seen_changed(lv, w->live_seen - 1);
