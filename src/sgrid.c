@@ -2,18 +2,15 @@
 #include <errno.h>
 #include <stdlib.h>
 
+#include "cells.h"
 #include "sgrid.h"
 
 int vis_sgrid_init(struct vis_sgrid *g, struct vis_box area)
 {
-	int64_t w = area.x2 - area.x1, h = area.y2 - area.y1;
-	unsigned shift = 6;
-	while ((w + ((int64_t)1 << shift) - 1) >> shift > VIS_SGRID_SIDE ||
-	       (h + ((int64_t)1 << shift) - 1) >> shift > VIS_SGRID_SIDE)
-		shift++;
+	unsigned shift = vis_cells_shift(area, VIS_SGRID_SIDE);
 	*g = (struct vis_sgrid){ .area = area, .shift = shift };
-	g->cols = (uint32_t)((w + ((int64_t)1 << shift) - 1) >> shift);
-	g->rows = (uint32_t)((h + ((int64_t)1 << shift) - 1) >> shift);
+	g->cols = vis_cells_along(area.x2 - area.x1, shift);
+	g->rows = vis_cells_along(area.y2 - area.y1, shift);
 	g->cells = calloc((size_t)g->cols * g->rows, sizeof *g->cells);
 	if (!g->cells) {
 		errno = ENOMEM;
@@ -33,14 +30,7 @@ void vis_sgrid_finish(struct vis_sgrid *g)
 
 bool vis_sgrid_cells(const struct vis_sgrid *g, struct vis_box b, uint32_t r[4])
 {
-	b = vis_box_intersect(b, g->area);
-	if (vis_box_empty(b))
-		return false;
-	r[0] = (uint32_t)((b.x1 - g->area.x1) >> g->shift);
-	r[1] = (uint32_t)((b.y1 - g->area.y1) >> g->shift);
-	r[2] = (uint32_t)((b.x2 - 1 - g->area.x1) >> g->shift);
-	r[3] = (uint32_t)((b.y2 - 1 - g->area.y1) >> g->shift);
-	return true;
+	return vis_cells_met(g->area, g->shift, b, r);
 }
 
 /* Drops the entries that no longer stand. */

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cells.h"
 #include "zgrid.h"
 
 /* Entries per chunk: inserting moves up to this many, a cell's chunk table moves less often. */
@@ -26,14 +27,10 @@ struct vis_zgrid_cell {
 
 int vis_zgrid_init(struct vis_zgrid *g, struct vis_box area)
 {
-	int64_t w = area.x2 - area.x1, h = area.y2 - area.y1;
-	unsigned shift = 6;
-	while ((w + ((int64_t)1 << shift) - 1) >> shift > VIS_ZGRID_SIDE ||
-	       (h + ((int64_t)1 << shift) - 1) >> shift > VIS_ZGRID_SIDE)
-		shift++;
+	unsigned shift = vis_cells_shift(area, VIS_ZGRID_SIDE);
 	*g = (struct vis_zgrid){ .area = area, .shift = shift };
-	g->cols = (uint32_t)((w + ((int64_t)1 << shift) - 1) >> shift);
-	g->rows = (uint32_t)((h + ((int64_t)1 << shift) - 1) >> shift);
+	g->cols = vis_cells_along(area.x2 - area.x1, shift);
+	g->rows = vis_cells_along(area.y2 - area.y1, shift);
 	g->cells = calloc((size_t)g->cols * g->rows, sizeof *g->cells);
 	if (!g->cells) {
 		errno = ENOMEM;
@@ -57,14 +54,7 @@ void vis_zgrid_finish(struct vis_zgrid *g)
 
 bool vis_zgrid_cells(const struct vis_zgrid *g, struct vis_box b, uint32_t r[4])
 {
-	b = vis_box_intersect(b, g->area);
-	if (vis_box_empty(b))
-		return false;
-	r[0] = (uint32_t)((b.x1 - g->area.x1) >> g->shift);
-	r[1] = (uint32_t)((b.y1 - g->area.y1) >> g->shift);
-	r[2] = (uint32_t)((b.x2 - 1 - g->area.x1) >> g->shift);
-	r[3] = (uint32_t)((b.y2 - 1 - g->area.y1) >> g->shift);
-	return true;
+	return vis_cells_met(g->area, g->shift, b, r);
 }
 
 /* The first chunk whose last key is ≥ key (above: > key), or c->n. */
