@@ -61,6 +61,12 @@ static inline struct vis_box vis_box_hull(struct vis_box a, struct vis_box b)
 	return r;
 }
 
+/* Whether two boxes have the same edges. O(1). */
+static inline bool vis_box_equal(struct vis_box a, struct vis_box b)
+{
+	return a.x1 == b.x1 && a.y1 == b.y1 && a.x2 == b.x2 && a.y2 == b.y2;
+}
+
 /* Whether box a holds every pixel of box b (b non-empty). O(1). */
 static inline bool vis_box_contains(struct vis_box a, struct vis_box b)
 {

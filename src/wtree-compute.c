@@ -41,11 +41,6 @@ static struct vis_window *next_viewable(struct vis_window *w)
 	return NULL;
 }
 
-static bool box_equal(struct vis_box a, struct vis_box b)
-{
-	return a.x1 == b.x1 && a.y1 == b.y1 && a.x2 == b.x2 && a.y2 == b.y2;
-}
-
 /* Whether two boxes share a pixel; without branches, as it decides at random in hot loops. */
 static bool meets(struct vis_box a, struct vis_box b)
 {
@@ -114,8 +109,8 @@ static int flatten(struct vis_wtree *tree, struct vis_wtree_work *wk)
 		box.y2 = box.y1 + w->height + 2 * b;
 		struct vis_box clip = vis_box_intersect(box, p->inner);
 		uint8_t last = w->state;
-		bool changed = last == VIS_WTREE_STATE_NONE || !box_equal(box, w->box) ||
-			       !box_equal(clip, w->clip);
+		bool changed = last == VIS_WTREE_STATE_NONE || !vis_box_equal(box, w->box) ||
+			       !vis_box_equal(clip, w->clip);
 		w->box = box;
 		w->clip = clip;
 		w->inner = clip;
@@ -127,7 +122,7 @@ static int flatten(struct vis_wtree *tree, struct vis_wtree_work *wk)
 		wk->last[n] = last;
 		wk->clips[n] = clip;
 		wk->depths[n] = w->depth;
-		wk->flags[n] = (uint8_t)((changed ? CHANGED : 0) | (box_equal(box, clip) ? 0 : CUT));
+		wk->flags[n] = (uint8_t)((changed ? CHANGED : 0) | (vis_box_equal(box, clip) ? 0 : CUT));
 		/* A look costs plain windows one test. */
 		bool clear = (b || wtree_work_look_clear(&w->look)) && flatten_look(w, &wk->flags[n]);
 		/* A shaped ancestor clips it to its shape: its pixels are no box either. */

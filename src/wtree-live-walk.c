@@ -121,11 +121,6 @@ static bool boxes_meet(const pixman_box32_t *a, const pixman_box32_t *b)
 	return a->x1 < b->x2 && b->x1 < a->x2 && a->y1 < b->y2 && b->y1 < a->y2;
 }
 
-static bool same_box(struct vis_box a, struct vis_box b)
-{
-	return a.x1 == b.x1 && a.y1 == b.y1 && a.x2 == b.x2 && a.y2 == b.y2;
-}
-
 /* The extents of what is left (not empty). */
 static struct vis_box left_extents(const struct left *l)
 {
@@ -312,12 +307,9 @@ static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t
 				*hit = true;
 				if (!ok || left_empty(&l))
 					break;
-				struct vis_box e = left_extents(&l);
-				if (!same_box(e, ext)) {
-					ext = e;
-					vis_zgrid_walk_narrow(&up, ext);
-					vis_zgrid_walk_narrow(&down, ext);
-				}
+				ext = left_extents(&l);
+				vis_zgrid_walk_narrow(&up, ext);
+				vis_zgrid_walk_narrow(&down, ext);
 			}
 		}
 	}
@@ -532,8 +524,7 @@ static int walk_left(struct vis_wtree_live *lv, struct left *l, uint64_t key, bo
 	if (left_empty(l))
 		return 0;
 	struct vis_zgrid_walk walk;
-	struct vis_box ext = left_extents(l);
-	bool ok = vis_zgrid_walk_init(&walk, &lv->grid, ext, key, false) == 0;
+	bool ok = vis_zgrid_walk_init(&walk, &lv->grid, left_extents(l), key, false) == 0;
 	bool fragmented = false;
 	uint64_t k;
 	uint32_t slot;
@@ -570,11 +561,7 @@ static int walk_left(struct vis_wtree_live *lv, struct left *l, uint64_t key, bo
 			fragmented = true;
 			break;
 		}
-		struct vis_box e = left_extents(l);
-		if (!same_box(e, ext)) {
-			ext = e;
-			vis_zgrid_walk_narrow(&walk, ext);
-		}
+		vis_zgrid_walk_narrow(&walk, left_extents(l));
 	}
 	vis_zgrid_walk_finish(&walk);
 	if (lv->steps > lv->budget)

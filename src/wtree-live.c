@@ -806,9 +806,7 @@ static enum lone lone(const struct vis_wtree *tree, const struct vis_wtree_live 
 		return LONE_NO;
 	if ((!p || p->key < old) && (!n || n->key > old))
 		return LONE_IN_PLACE;
-	bool same_clip = was.x1 == w->clip.x1 && was.y1 == w->clip.y1 && was.x2 == w->clip.x2 &&
-			 was.y2 == w->clip.y2;
-	return same_clip && w->key < old ? LONE_LOWERED : LONE_NO;
+	return vis_box_equal(was, w->clip) && w->key < old ? LONE_LOWERED : LONE_NO;
 }
 
 /* The exposure of what a changed window saw, or NULL. */

@@ -297,7 +297,7 @@ static bool place(const struct vis_zgrid_walk *w, struct vis_zgrid_cursor *c, ui
 int vis_zgrid_walk_init(struct vis_zgrid_walk *walk, const struct vis_zgrid *g, struct vis_box box,
 			uint64_t from, bool up)
 {
-	*walk = (struct vis_zgrid_walk){ .up = up, .heap = walk->inline_heap };
+	*walk = (struct vis_zgrid_walk){ .box = box, .up = up, .heap = walk->inline_heap };
 	uint32_t r[4];
 	if (!vis_zgrid_cells(g, box, r))
 		return 0;
@@ -353,6 +353,9 @@ static bool shrink(struct vis_zgrid_walk *walk, size_t k)
 
 void vis_zgrid_walk_narrow(struct vis_zgrid_walk *walk, struct vis_box box)
 {
+	if (vis_box_equal(box, walk->box))
+		return;
+	walk->box = box;
 	size_t k = 0;
 	for (size_t i = 0; i < walk->n; i++) {
 		struct vis_box b = vis_box_intersect(walk->heap[i].bounds, box);

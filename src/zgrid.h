@@ -61,6 +61,7 @@ struct vis_zgrid_cursor {
  * listed need not meet the box itself: the caller tests its own boxes.
  */
 struct vis_zgrid_walk {
+	struct vis_box box; /* what it was started or last narrowed to */
 	bool up;
 	uint64_t last;
 	bool started;
@@ -76,7 +77,10 @@ int vis_zgrid_walk_init(struct vis_zgrid_walk *walk, const struct vis_zgrid *g, 
 /* The next entry: true with its key and value, or false at the end. O(log cells) amortized. */
 bool vis_zgrid_walk_next(struct vis_zgrid_walk *walk, uint64_t *key, uint32_t *val);
 
-/* Leaves out the cells outside box from now on: what the caller still asks about has shrunk. */
+/*
+ * Leaves out the cells outside box from now on: what the caller still asks about has shrunk.
+ * O(cells), O(1) when box is the one it was narrowed to last (callers narrow after every hit).
+ */
 void vis_zgrid_walk_narrow(struct vis_zgrid_walk *walk, struct vis_box box);
 
 /*
