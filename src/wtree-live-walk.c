@@ -916,11 +916,15 @@ static bool keeps_an_edge(const struct vis_wtree_live *lv, struct candidate *c,
 static int since_losing(struct vis_wtree_live *lv, struct candidate *c, const struct seen *old)
 {
 	const struct vis_window *w = c->w;
+	if (!old) {
+		settle(lv, c, NULL); /* it saw nothing, and gains nothing */
+		return 0;
+	}
 	uint64_t end = wtree_live_subtree_end(w);
 	/* The common answers first: each box under one changed clip (a raise covering slivers
 	 * whole), or none met. */
 	bool all_under = true, none_met = true;
-	for (int i = 0; old && i < old->n && (all_under || none_met); i++) {
+	for (int i = 0; i < old->n && (all_under || none_met); i++) {
 		const pixman_box32_t *b = &old->boxes[i];
 		bool under = false;
 		for (size_t j = 0; j < lv->n_moved; j++) {
@@ -930,12 +934,12 @@ static int since_losing(struct vis_wtree_live *lv, struct candidate *c, const st
 			pixman_box32_t k = lv->slots[v->live_slot].clip;
 			if (boxes_meet(&k, b)) {
 				none_met = false;
-				under |= k.x1 <= b->x1 && k.y1 <= b->y1 && b->x2 <= k.x2 && b->y2 <= k.y2;
+				under |= vis_box_contains(vbox(&k), vbox(b));
 			}
 		}
 		all_under &= under;
 	}
-	if (!old || all_under) {
+	if (all_under) {
 		settle(lv, c, NULL);
 		return 0;
 	}
@@ -949,7 +953,7 @@ static int since_losing(struct vis_wtree_live *lv, struct candidate *c, const st
 	/* Unchanged, it kept its clip, which holds what it saw (and is not read: another line). */
 	pixman_box32_t b[SEEN_BOXES];
 	size_t n = 0;
-	for (int i = 0; old && i < old->n; i++)
+	for (int i = 0; i < old->n; i++)
 		if (old->boxes[i].x1 < old->boxes[i].x2 && old->boxes[i].y1 < old->boxes[i].y2)
 			b[n++] = old->boxes[i];
 	struct left l; /* not zeroed: 1 KiB */
@@ -965,7 +969,7 @@ static int since_losing(struct vis_wtree_live *lv, struct candidate *c, const st
 	for (size_t i = 0; ok && i < lv->n_moved && !left_empty(&l); i++) {
 		const struct vis_window *v = lv->cands[i].w;
 		if (v->live_indexed && v->key > end)
-			left_cut(&l, pbox(v->clip), NULL, &ok);
+			left_cut(&l, lv->slots[v->live_slot].clip, NULL, &ok);
 	}
 	ok = left_finish(&l) && ok;
 	return finish(lv, c, &u, 0, ok);
@@ -988,8 +992,9 @@ int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *
 		errno = ENOMEM;
 		return -1;
 	}
-	/* What rule 3's walks listed as seen of the exposed pixels, for one without descendants. */
-	bool listed = c->gain && w->live_leaf && !c->unlisted;
+	/* What rule 3's walks listed as seen of the exposed pixels, for one without descendants
+	 * (it may gain pixels: one that cannot went to since_losing()). */
+	bool listed = w->live_leaf && !c->unlisted;
 	for (uint32_t g = listed ? c->gained : 0; ok && g; g = lv->gains[g - 1].next) {
 		pixman_box32_t b = pbox(lv->gains[g - 1].box);
 		ok = pixman_region32_union_rect(&u, &u, b.x1, b.y1, (unsigned)(b.x2 - b.x1),
@@ -1004,7 +1009,7 @@ int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *
 	}
 	/* Else what it sees of the exposed pixels, by walking the grid over those alone. */
 	int rc = 0;
-	if (ok && c->gain && !listed) {
+	if (ok && !listed) {
 		pixman_region32_t g;
 		init_box(&g, w->clip);
 		ok = pixman_region32_intersect(&g, &g, exposed);
