@@ -1,3 +1,5 @@
+#include <stdlib.h>
+
 #include "engine.h"
 
 /*
@@ -7,42 +9,102 @@
  * forecast of its remaining work (region.c) stays within what the sweep costs, and hand over to
  * the sweep when it does not: a hand-over costs only the work already done, which the forecast
  * keeps small by deciding early (the grid, cascades and small uniform stacks are recognised after
- * 90–180 windows). The region's finished work is not kept: at every hand-over measured the union
+ * 50-150 windows). The region's finished work is not kept: at every hand-over measured the union
  * had at least as many boxes as windows walked (uniform n = 10^3: 767 boxes after 102 windows;
  * cascade 189 after 95; grid 98 after 98), so sweeping the rest under the union would cost as much
  * as sweeping the whole stack.
  *
- * The price of one sweep step (a window times a tree level, n ⌈log2 2n⌉ steps) in units of region
- * work is measured (docs/ENGINES.md, every kind, seeds 1–3, n = 10^3 … 10^6): a step costs 1.7–7.7
- * units on cascades, whose consecutive windows share the sweep's paths, 2.5–13.8 on the other
- * kinds on a screen, and 19–65 on the unclipped uniform scene. No price known before the sweep
- * runs can tell a cascade from tiles, so a wrong choice costs the ratio of the price to the true
- * one, or its inverse: the price on a screen, 6, sits near the middle of its range in ratio
- * (√(1.7 × 13.8) ≈ 4.8), a little toward the dear end, which keeps the forecasts of the scenes
- * where the region method wins (random, tiles, nested, shaped, translucent: at most 3 units a
- * step on seeds 1–6) at half the price or less. A price of 12, the dear end, made auto keep the
- * region method on cascades where it took 2–5 times the sweep's time (seeds 2–5, n = 10^3 … 10^5).
- * Without a screen the price stays 40, near the dear end of 19–65, so that uniform n = 10^4,
- * forecast at 0.48–0.78 of it, keeps the region method that is faster there.
+ * The sweep's cost is counted in steps, a window times a level of its tree, whose leaves lie
+ * between the distinct y edges of the windows it keeps. A screen has at most its height and one
+ * of those, so the count starts from that bound; once a forecast or the work done reaches a
+ * quarter of it, a pass over the windows (a bit a row) counts the edges themselves: a cascade's
+ * tree has 7-9 levels where the bound gives 11-12. Past SWEEP_CACHED_MAX windows the sweep's
+ * arrays outgrow the cache, and its time a window grows 2-5-fold between 5 x 10^5 and 7 x 10^5
+ * windows on every kind measured, whatever its tree: there it is counted as n ⌈log2 2n⌉ steps,
+ * whose extra levels stand for the misses.
+ *
+ * The price of a step in units of region work is measured (docs/ENGINES.md, every kind, seeds
+ * 1-6, n = 10^3 ... 10^6): 2.7-8.7 units on cascades, whose consecutive windows take the same
+ * paths through a small tree, 3.1-15.5 on the other kinds on a screen, and 21-64 on the unclipped
+ * uniform scene. No price known before the sweep runs tells a cascade from tiles, so a wrong
+ * choice costs the ratio of the price to the true one, or its inverse: the price on a screen, 6,
+ * sits near the middle of its range in ratio (√(2.7 × 15.5) ≈ 6.5), which keeps the scenes where
+ * the region method wins (random, tiles, nested, shaped, translucent: at most 0.74 of the price at
+ * seeds 1-6) on it. Without a screen the price stays 40, near the dear end of 21-64, so that
+ * uniform n = 10^4, forecast at 0.48-0.78 of it, keeps the region method that is faster there.
  */
 #define UNITS_PER_STEP_ON_SCREEN 6
 #define UNITS_PER_STEP_UNCLIPPED 40
+#define SWEEP_CACHED_MAX ((uint64_t)1 << 19)
 
-/* The steps of the sweep over n windows: n times the levels of a tree over their 2n edges. */
-static uint64_t sweep_steps(size_t n)
+/* The levels of a tree over m edges: ⌈log2 m⌉, at least 1. */
+static uint64_t levels(uint64_t m)
 {
-	uint64_t levels = 1;
-	while (((uint64_t)1 << levels) < 2 * (uint64_t)n)
-		levels++;
-	return (uint64_t)n * levels;
+	uint64_t l = 1;
+	while (((uint64_t)1 << l) < m)
+		l++;
+	return l;
+}
+
+/* price × windows × levels, saturating. */
+static uint64_t sweep_units(uint64_t price, uint64_t windows, uint64_t levels)
+{
+	uint64_t steps = windows * levels; /* windows < 2^58: no overflow */
+	return steps != 0 && price > UINT64_MAX / steps ? UINT64_MAX : price * steps;
+}
+
+/* The distinct y edges of n windows clipped to the stack's screen, if any, at most. O(1). */
+static uint64_t edges_at_most(const struct vis_stack *stack)
+{
+	uint64_t edges = 2 * (uint64_t)stack->n;
+
+	if (stack->has_screen && (uint64_t)stack->screen_h + 1 < edges)
+		edges = (uint64_t)stack->screen_h + 1;
+	return edges;
+}
+
+/*
+ * The sweep's cost over the windows it keeps (those with pixels on the screen), its tree having
+ * a leaf between each two of their distinct y edges, which lie on the screen: a bit each. O(n +
+ * screen height / 64); made only when the screen is at most 64 bits a window high.
+ */
+static uint64_t sweep_units_exact(const struct vis_stack *stack, const void *data)
+{
+	uint64_t price = *(const uint64_t *)data;
+	size_t words = (size_t)stack->screen_h / 64 + 1, kept = 0, edges = 0;
+	uint64_t *seen = calloc(words, sizeof *seen);
+
+	if (seen == NULL) /* the bound stays: only the choice can suffer */
+		return sweep_units(price, stack->n, levels(edges_at_most(stack)));
+	for (size_t i = 0; i < stack->n; i++) {
+		struct vis_box b = vis_stack_clip(stack, i);
+		if (vis_box_empty(b))
+			continue;
+		kept++;
+		seen[b.y1 / 64] |= (uint64_t)1 << (b.y1 % 64);
+		seen[b.y2 / 64] |= (uint64_t)1 << (b.y2 % 64);
+	}
+	for (size_t w = 0; w < words; w++)
+		edges += (size_t)__builtin_popcountll(seen[w]);
+	free(seen);
+	return sweep_units(price, kept, levels(edges));
 }
 
 int vis_auto_compute_priced(const struct vis_stack *stack, uint8_t *states, uint64_t units_per_step)
 {
-	uint64_t steps = sweep_steps(stack->n);
-	uint64_t rival = steps != 0 && units_per_step > UINT64_MAX / steps ? UINT64_MAX
-									  : units_per_step * steps;
-	int rc = vis_region_compute_against(stack, states, rival);
+	uint64_t n = stack->n;
+	struct vis_rival rival = { .data = &units_per_step };
+
+	if (n > SWEEP_CACHED_MAX) {
+		rival.units = sweep_units(units_per_step, n, levels(2 * n));
+	} else {
+		rival.units = sweep_units(units_per_step, n, levels(edges_at_most(stack)));
+		if (stack->has_screen && (uint64_t)stack->screen_h / 64 <= n) {
+			rival.floor = rival.units / 4;
+			rival.sharpen = sweep_units_exact;
+		}
+	}
+	int rc = vis_region_compute_against(stack, states, &rival);
 	if (rc != 1)
 		return rc;
 	return vis_gmv_heap_compute(stack, states);

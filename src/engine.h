@@ -60,11 +60,24 @@ int vis_region_compute(const struct vis_stack *stack, uint8_t *states);
 int vis_region_compute_within(const struct vis_stack *stack, uint8_t *states, uint64_t budget);
 
 /*
- * The region method that gives up once its remaining work, forecast from the work it has done
- * (region.c says how), is predicted to exceed rival units of the same work: returns 1 then, with
- * states partly written; otherwise as vis_region_compute(). O(log n) forecasts of O(r) each.
+ * What the region method is weighed against: the other method's cost in units of region work,
+ * or a bound on it from above that sharpen(), when not NULL, replaces by the estimate itself.
+ * Sharpening costs a pass over the windows, so it is asked for at most once, by the first
+ * forecast that passes floor units (the least the estimate can be).
  */
-int vis_region_compute_against(const struct vis_stack *stack, uint8_t *states, uint64_t rival);
+struct vis_rival {
+	uint64_t units, floor;
+	uint64_t (*sharpen)(const struct vis_stack *stack, const void *data);
+	const void *data;
+};
+
+/*
+ * The region method that gives up once its remaining work, forecast from the work it has done
+ * (region.c says how), is predicted to exceed the rival's units: returns 1 then, with states
+ * partly written; otherwise as vis_region_compute(). O(log n) forecasts of O(r) each.
+ */
+int vis_region_compute_against(const struct vis_stack *stack, uint8_t *states,
+			       const struct vis_rival *rival);
 
 /* Painting on the compressed grid: O(n³) time, O(n²) space. For tests only. */
 int vis_brute_compute(const struct vis_stack *stack, uint8_t *states);

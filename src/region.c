@@ -90,6 +90,20 @@ static uint64_t ilog2(uint64_t x)
  */
 #define FORECAST_MAX 130 /* checkpoints: k and the work double at most 64 times each */
 
+/*
+ * A forecast that the rival is cheaper is acted on alone when the windows it was measured on are
+ * evidently this many windows or more, else only when the next one agrees (forecast_exceeds()).
+ */
+#define WINDOWS_TO_TRUST 16
+
+/*
+ * A forecast is acted on only when the windows left are at most this many times those its rates
+ * were measured on: a cascade's first few dozen windows, all added, would speak for a million.
+ */
+#ifndef EXTRAPOLATION_MAX
+#define EXTRAPOLATION_MAX 2048
+#endif
+
 struct checkpoint {
 	size_t k;     /* windows walked */
 	size_t added; /* windows added to the union among them */
@@ -97,11 +111,12 @@ struct checkpoint {
 };
 
 struct forecast {
-	uint64_t rival;     /* the other method's cost, in units of work */
-	size_t k_next;      /* the next checkpoint: windows walked, */
-	uint64_t work_next; /* or work done */
-	size_t count, base; /* checkpoints so far; the latest at or before half the current k */
-	unsigned agreed;    /* forecasts in a row that the rival is cheaper: two are needed */
+	const struct vis_stack *stack;
+	struct vis_rival rival; /* the other method's cost, in units of work */
+	size_t k_next;          /* the next checkpoint: windows walked, */
+	uint64_t work_next;     /* or work done */
+	size_t count, base;     /* checkpoints so far; the latest at or before half the current k */
+	unsigned agreed;        /* forecasts in a row that the rival is cheaper */
 	struct checkpoint at[FORECAST_MAX];
 };
 
@@ -130,12 +145,71 @@ static double damped(double a, double m)
 }
 
 /*
+ * The rest of the walk, forecast at checkpoint now from the rates over the windows since b (see
+ * above), m windows being left.
+ */
+static double rest_of_walk(const struct checkpoint *b, const struct checkpoint *now, double m)
+{
+	double dk = (double)(now->k - b->k);
+	double share = (double)(now->added - b->added) / dk;
+	double rho = now->r > b->r ? (now->r - b->r) / dk : 0;
+	double lambda, grown;
+
+	if (now->q <= 0 || share <= 0)
+		lambda = INFINITY;
+	else if (now->q < b->q)
+		lambda = log(b->q / now->q) / dk;
+	else
+		lambda = 0;
+	/*
+	 * The share added is itself a measure of coverage: had windows been landing on the union
+	 * at rate λ since the top, it would be e^-λk. A union that holds most windows already (a
+	 * desktop's, q's changes being noise there) stops growing.
+	 */
+	if (share < 1 && -log(share) / (double)now->k > lambda)
+		lambda = -log(share) / (double)now->k;
+	/* Σ e^-λt (1 - e^-λt) / λ = (D(λ) - D(2λ)) / λ, which tends to m² / 2 with λ. */
+	if (isinf(lambda))
+		grown = 0;
+	else if (lambda * m < 1e-6)
+		grown = m * m / 2;
+	else
+		grown = (damped(lambda, m) - damped(2 * lambda, m)) / lambda;
+	return m * (1 + (double)ilog2((uint64_t)now->r)) +
+	       share * (now->r * damped(lambda, m) + rho * grown);
+}
+
+/*
+ * Whether at least WINDOWS_TO_TRUST of the windows walked from the (n - 1 - from)th down to the
+ * (n - 1 - to)th overlap the window with pixels walked just before them. O(to - from), counted
+ * only when a forecast asks, so that the walk itself pays nothing for it.
+ */
+static bool many_windows(const struct vis_stack *stack, size_t from, size_t to)
+{
+	struct vis_box last = { 0, 0, 0, 0 }; /* empty: meets nothing */
+	size_t overlaps = 0;
+
+	for (size_t i = stack->n - from; i-- > stack->n - to && overlaps < WINDOWS_TO_TRUST;) {
+		struct vis_box b = vis_stack_clip(stack, i);
+		if (vis_box_empty(b))
+			continue;
+		if (!vis_box_empty(vis_box_intersect(b, last)))
+			overlaps++;
+		last = b;
+	}
+	return overlaps >= WINDOWS_TO_TRUST;
+}
+
+/*
  * A checkpoint after k of n windows, added of them added to the union, work units in all:
  * returns whether the rest is predicted to cost more than the rival, or the work done has passed
  * twice the rival (a forecast can be wrong: this bounds what trusting it can cost), and sets the
- * next checkpoint, no later than that bound. Two forecasts in a row must agree: the windows
- * walked since the last one can be a single window's pieces (a shaped window's rows, disjoint,
- * each added to the union), which look like the grid's bars.
+ * next checkpoint, no later than that bound. A rival that is only a bound is sharpened once the
+ * forecast or the work passes its floor. A forecast is trusted alone when at least
+ * WINDOWS_TO_TRUST of the windows it measured overlap the window walked before them: a window's
+ * pieces (a shaped window's rows) are disjoint, so each such overlap begins another window.
+ * Otherwise the next forecast must agree: the windows since the last checkpoint can be a single
+ * window's pieces, all added, which look like the grid's bars.
  */
 static bool forecast_exceeds(struct forecast *f, pixman_region32_t *above, size_t k, size_t n,
 			     size_t added, uint64_t work)
@@ -146,43 +220,33 @@ static bool forecast_exceeds(struct forecast *f, pixman_region32_t *above, size_
 		.r = (double)pixman_region32_n_rects(above),
 		.q = uncovered(above),
 	};
-	uint64_t cap = f->rival > (UINT64_MAX - 1) / 2 ? UINT64_MAX : 2 * f->rival + 1;
-	bool over = work >= cap;
+	const struct checkpoint *b = NULL;
+	double rest = 0;
+	bool over = false;
 
 	while (f->base + 1 < f->count && f->at[f->base + 1].k <= k / 2)
 		f->base++;
-	if (!over && f->count > 0 && f->at[f->base].k <= k / 2) {
-		const struct checkpoint *b = &f->at[f->base];
-		double dk = (double)(k - b->k), m = (double)(n - k);
-		double share = (double)(added - b->added) / dk;
-		double rho = now.r > b->r ? (now.r - b->r) / dk : 0;
-		double lambda, grown;
+	if (f->count > 0 && f->at[f->base].k <= k / 2) {
+		b = &f->at[f->base];
+		rest = rest_of_walk(b, &now, (double)(n - k));
+	}
+	if (f->rival.sharpen != NULL &&
+	    (rest > (double)f->rival.floor || work > f->rival.floor)) {
+		f->rival.units = f->rival.sharpen(f->stack, f->rival.data);
+		f->rival.sharpen = NULL;
+	}
 
-		if (now.q <= 0 || share <= 0)
-			lambda = INFINITY;
-		else if (now.q < b->q)
-			lambda = log(b->q / now.q) / dk;
-		else
-			lambda = 0;
-		/*
-		 * The share added is itself a measure of coverage: had windows been landing on
-		 * the union at rate λ since the top, it would be e^-λk. A union that holds most
-		 * windows already (a desktop's, q's changes being noise there) stops growing.
-		 */
-		if (share < 1 && -log(share) / (double)k > lambda)
-			lambda = -log(share) / (double)k;
-		/* Σ e^-λt (1 - e^-λt) / λ = (D(λ) - D(2λ)) / λ, which tends to m² / 2 with λ. */
-		if (isinf(lambda))
-			grown = 0;
-		else if (lambda * m < 1e-6)
-			grown = m * m / 2;
-		else
-			grown = (damped(lambda, m) - damped(2 * lambda, m)) / lambda;
-		if (m * (1 + (double)ilog2((uint64_t)now.r)) +
-		    share * (now.r * damped(lambda, m) + rho * grown) > (double)f->rival)
-			over = ++f->agreed >= 2;
-		else
+	uint64_t cap = f->rival.units > (UINT64_MAX - 1) / 2 ? UINT64_MAX : 2 * f->rival.units + 1;
+	if (work >= cap) {
+		over = true;
+	} else if (b != NULL) {
+		if (rest > (double)f->rival.units) {
+			f->agreed++;
+			over = (double)(n - k) <= EXTRAPOLATION_MAX * (double)(k - b->k) &&
+			       (f->agreed >= 2 || many_windows(f->stack, b->k, k));
+		} else {
 			f->agreed = 0;
+		}
 	}
 	if (f->count < FORECAST_MAX)
 		f->at[f->count++] = now;
@@ -330,13 +394,15 @@ int vis_region_compute_within(const struct vis_stack *stack, uint8_t *states, ui
 }
 
 /*
- * The first checkpoint comes after 32 windows or 4,096 units of work, the first forecast once the
- * windows walked have doubled since: fewer windows are too few to measure rates from, and by
- * 4,096 units (10–40 µs) the costliest scenes have done a negligible part of their work.
+ * The first checkpoint comes after 16 windows or 2,048 units of work, the first forecast once the
+ * windows walked have doubled since: fewer windows are too few to measure rates from. On small
+ * stacks the sweep costs 40,000-70,000 units (n = 10^3), so a hand-over must come within a few
+ * thousand units to cost it little; on large ones EXTRAPOLATION_MAX holds the forecasts back.
  */
-int vis_region_compute_against(const struct vis_stack *stack, uint8_t *states, uint64_t rival)
+int vis_region_compute_against(const struct vis_stack *stack, uint8_t *states,
+			       const struct vis_rival *rival)
 {
-	struct forecast f = { .rival = rival, .k_next = 32, .work_next = 4096 };
+	struct forecast f = { .stack = stack, .rival = *rival, .k_next = 16, .work_next = 2048 };
 
 	return run(stack, states, UINT64_MAX, &f);
 }

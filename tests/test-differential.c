@@ -177,7 +177,7 @@ static int region_within(const struct vis_stack *stack, uint8_t *states)
 
 /*
  * auto with its sweep step priced at price units (vis_auto_compute_priced()): a price of 0 hands
- * over at the first checkpoint (32 windows), one of 1 wherever a forecast is made on a costly
+ * over at the first checkpoint (16 windows), one of 1 wherever a forecast is made on a costly
  * union, UINT64_MAX never, though it still forecasts.
  */
 static int auto_priced(const struct vis_stack *stack, uint8_t *states, uint64_t price)
