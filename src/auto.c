@@ -19,9 +19,9 @@
  * of those, so the count starts from that bound; once a forecast or the work done reaches a
  * quarter of it, a pass over the windows (a bit a row) counts the edges themselves: a cascade's
  * tree has 7-9 levels where the bound gives 11-12. Past SWEEP_CACHED_MAX windows the sweep's
- * arrays outgrow the cache, and its time a window grows 2-5-fold between 5 x 10^5 and 7 x 10^5
- * windows on every kind measured, whatever its tree: there it is counted as n ⌈log2 2n⌉ steps,
- * whose extra levels stand for the misses.
+ * arrays outgrow the cache, and its time a window grows 2-5-fold, whatever its tree, somewhere
+ * between 3 x 10^5 and 7 x 10^5 windows (where varies from run to run): there it is counted as
+ * n ⌈log2 2n⌉ steps, whose extra levels stand for the misses.
  *
  * The price of a step in units of region work is measured (docs/ENGINES.md, every kind, seeds
  * 1-6, n = 10^3 ... 10^6): 2.7-8.7 units on cascades, whose consecutive windows take the same
@@ -35,7 +35,7 @@
  */
 #define UNITS_PER_STEP_ON_SCREEN 6
 #define UNITS_PER_STEP_UNCLIPPED 40
-#define SWEEP_CACHED_MAX ((uint64_t)1 << 19)
+#define SWEEP_CACHED_MAX ((uint64_t)1 << 18)
 
 /* The levels of a tree over m edges: ⌈log2 m⌉, at least 1. */
 static uint64_t levels(uint64_t m)

@@ -92,17 +92,17 @@ static uint64_t ilog2(uint64_t x)
 
 /*
  * A forecast that the rival is cheaper is acted on alone when the windows it was measured on are
- * evidently this many windows or more, else only when the next one agrees (forecast_exceeds()).
+ * evidently this many windows or more and the work done is at most 1/TRUST_WORK_SHARE of the
+ * rival, else only when the next one agrees (forecast_exceeds()).
  */
 #define WINDOWS_TO_TRUST 16
+#define TRUST_WORK_SHARE 4
 
 /*
  * A forecast is acted on only when the windows left are at most this many times those its rates
  * were measured on: a cascade's first few dozen windows, all added, would speak for a million.
  */
-#ifndef EXTRAPOLATION_MAX
 #define EXTRAPOLATION_MAX 2048
-#endif
 
 struct checkpoint {
 	size_t k;     /* windows walked */
@@ -206,10 +206,11 @@ static bool many_windows(const struct vis_stack *stack, size_t from, size_t to)
  * twice the rival (a forecast can be wrong: this bounds what trusting it can cost), and sets the
  * next checkpoint, no later than that bound. A rival that is only a bound is sharpened once the
  * forecast or the work passes its floor. A forecast is trusted alone when at least
- * WINDOWS_TO_TRUST of the windows it measured overlap the window walked before them: a window's
- * pieces (a shaped window's rows) are disjoint, so each such overlap begins another window.
- * Otherwise the next forecast must agree: the windows since the last checkpoint can be a single
- * window's pieces, all added, which look like the grid's bars.
+ * WINDOWS_TO_TRUST of the windows it measured overlap the window walked before them (a window's
+ * pieces, a shaped window's rows, are disjoint, so each such overlap begins another window) and
+ * the hand-over would throw little away. Otherwise the next forecast must agree: the windows since
+ * the last checkpoint can be a single window's pieces, all added, which look like the grid's bars,
+ * and a late forecast can be a union's passing jump in boxes.
  */
 static bool forecast_exceeds(struct forecast *f, pixman_region32_t *above, size_t k, size_t n,
 			     size_t added, uint64_t work)
@@ -243,7 +244,8 @@ static bool forecast_exceeds(struct forecast *f, pixman_region32_t *above, size_
 		if (rest > (double)f->rival.units) {
 			f->agreed++;
 			over = (double)(n - k) <= EXTRAPOLATION_MAX * (double)(k - b->k) &&
-			       (f->agreed >= 2 || many_windows(f->stack, b->k, k));
+			       (f->agreed >= 2 || (work <= f->rival.units / TRUST_WORK_SHARE &&
+						   many_windows(f->stack, b->k, k)));
 		} else {
 			f->agreed = 0;
 		}
