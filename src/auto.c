@@ -8,11 +8,11 @@
  * or cascading stacks; the sweep is O(n log n) on all of them. So run the region method while the
  * forecast of its remaining work (region.c) stays within what the sweep costs, and hand over to
  * the sweep when it does not: a hand-over costs only the work already done, which the forecast
- * keeps small by deciding early (the grid, cascades and small uniform stacks are recognised after
- * 50-150 windows). The region's finished work is not kept: at every hand-over measured the union
- * had at least as many boxes as windows walked (uniform n = 10^3: 767 boxes after 102 windows;
- * cascade 189 after 95; grid 98 after 98), so sweeping the rest under the union would cost as much
- * as sweeping the whole stack.
+ * keeps small by deciding early (below 10^6 windows the grid, cascades and small uniform stacks
+ * are recognised after 33-174 windows). The region's finished work is not kept: at every
+ * hand-over measured the union had at least as many boxes as windows walked (uniform n = 10^3:
+ * 767 boxes after 102 windows; cascade 65 after 33; grid 98 after 98), so sweeping the rest under
+ * the union would cost as much as sweeping the whole stack.
  *
  * The sweep's cost is counted in steps, a window times a level of its tree, whose leaves lie
  * between the distinct y edges of the windows it keeps. A screen has at most its height and one
@@ -29,9 +29,10 @@
  * uniform scene. No price known before the sweep runs tells a cascade from tiles, so a wrong
  * choice costs the ratio of the price to the true one, or its inverse: the price on a screen, 6,
  * sits near the middle of its range in ratio (√(2.7 × 15.5) ≈ 6.5), which keeps the scenes where
- * the region method wins (random, tiles, nested, shaped, translucent: at most 0.74 of the price at
- * seeds 1-6) on it. Without a screen the price stays 40, near the dear end of 21-64, so that
- * uniform n = 10^4, forecast at 0.48-0.78 of it, keeps the region method that is faster there.
+ * the region method wins on it (random, tiles, nested, shaped, translucent, seeds 1-6: their whole
+ * region work at most 0.74 of the price). Without a screen the price stays 40, near the dear end
+ * of 21-64, so that uniform n = 10^4, forecast at 0.49-0.71 of it, keeps the region method that is
+ * faster there.
  */
 #define UNITS_PER_STEP_ON_SCREEN 6
 #define UNITS_PER_STEP_UNCLIPPED 40
