@@ -62,8 +62,9 @@ int vis_region_compute_within(const struct vis_stack *stack, uint8_t *states, ui
 /*
  * What the region method is weighed against: the other method's cost in units of region work,
  * or a bound on it from above that sharpen(), when not NULL, replaces by the estimate itself.
- * Sharpening costs a pass over the windows, so it is asked for at most once, by the first
- * forecast that passes floor units (the least the estimate can be).
+ * Sharpening costs a pass over the windows, so it is asked for at most once, at the first
+ * checkpoint where the forecast or the work done passes floor units: below, no estimate the
+ * caller expects could change the choice.
  */
 struct vis_rival {
 	uint64_t units, floor;

@@ -240,12 +240,11 @@ static bool forecast_exceeds(struct forecast *f, pixman_region32_t *above, size_
 	uint64_t cap = f->rival.units > (UINT64_MAX - 1) / 2 ? UINT64_MAX : 2 * f->rival.units + 1;
 	if (work >= cap) {
 		over = true;
-	} else if (b != NULL) {
+	} else if (b != NULL && (double)(n - k) <= EXTRAPOLATION_MAX * (double)(k - b->k)) {
 		if (rest > (double)f->rival.units) {
 			f->agreed++;
-			over = (double)(n - k) <= EXTRAPOLATION_MAX * (double)(k - b->k) &&
-			       (f->agreed >= 2 || (work <= f->rival.units / TRUST_WORK_SHARE &&
-						   many_windows(f->stack, b->k, k)));
+			over = f->agreed >= 2 || (work <= f->rival.units / TRUST_WORK_SHARE &&
+						  many_windows(f->stack, b->k, k));
 		} else {
 			f->agreed = 0;
 		}
