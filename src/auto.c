@@ -8,8 +8,8 @@
  * or cascading stacks; the sweep is O(n log n) on all of them. So run the region method while the
  * forecast of its remaining work (region.c) stays within what the sweep costs, and hand over to
  * the sweep when it does not: a hand-over costs only the work already done, which the forecast
- * keeps small by deciding early (below 10^6 windows the grid, cascades and small uniform stacks
- * are recognised after 33-174 windows). The region's finished work is not kept: at every
+ * keeps small by deciding early (below 2 x 10^5 windows the grid, cascades and small uniform
+ * stacks are recognised after 33-174 windows). The region's finished work is not kept: at every
  * hand-over measured the union had at least as many boxes as windows walked (uniform n = 10^3:
  * 767 boxes after 102 windows; cascade 65 after 33; grid 98 after 98), so sweeping the rest under
  * the union would cost as much as sweeping the whole stack.
