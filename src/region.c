@@ -85,8 +85,9 @@ static uint64_t ilog2(uint64_t x)
  * where it closes. It is rough (measured: 0.3–0.8 times the rest on uniform at the first forecast,
  * far above it on a cascade's first round, far below it on the grid, whose growth itself grows),
  * but it need only fall on the right side of the rival, which on the benchmark's scenes it does
- * by a factor of 1.28 or more (uniform n = 10^4, near the crossover, is the closest; the table is
- * in docs/ENGINES.md); a miss costs at most the work to the next checkpoint, one doubling.
+ * by a factor of 1.4 or more (uniform n = 10^4, near the crossover, is the closest at 0.71 of the
+ * price; the tables are in docs/ENGINES.md); a miss costs at most the work to the next
+ * checkpoint, one doubling.
  */
 #define FORECAST_MAX 130 /* checkpoints: k and the work double at most 64 times each */
 
@@ -116,7 +117,7 @@ struct forecast {
 	size_t k_next;          /* the next checkpoint: windows walked, */
 	uint64_t work_next;     /* or work done */
 	size_t count, base;     /* checkpoints so far; the latest at or before half the current k */
-	unsigned agreed;        /* forecasts in a row that the rival is cheaper */
+	unsigned agreed;        /* forecasts allowed to act, in a row, that the rival is cheaper */
 	struct checkpoint at[FORECAST_MAX];
 };
 
