@@ -13,7 +13,63 @@ struct chunk {
 	uint32_t n;
 	uint64_t keys[CHUNK];
 	uint32_t vals[CHUNK];
+	uint32_t parts[CHUNK]; /* part(): where each entry's box lies in the cell */
 };
+
+/*
+ * A box's part in a cell (the box meets it), for the walks' test: each edge as the 256th of the
+ * cell's side its first or last pixel lies in, so that two parts share a 256th when the boxes
+ * share a pixel. Cells of 256 pixels or fewer are exact.
+ */
+static uint32_t part(const struct vis_zgrid *g, struct vis_box cell, struct vis_box box)
+{
+	unsigned s = g->shift > 8 ? g->shift - 8 : 0;
+	struct vis_box b = vis_box_intersect(box, cell);
+	uint32_t x1 = (uint32_t)((b.x1 - cell.x1) >> s), x2 = (uint32_t)((b.x2 - 1 - cell.x1) >> s);
+	uint32_t y1 = (uint32_t)((b.y1 - cell.y1) >> s), y2 = (uint32_t)((b.y2 - 1 - cell.y1) >> s);
+	return x1 | x2 << 8 | y1 << 16 | y2 << 24;
+}
+
+/*
+ * The walks test parts without a branch, four 16-bit lanes at once: with an entry's part spread
+ * a byte a lane (x1, x2, y1, y2), its x1 and y1 flipped, and a walk's part q added as
+ * (q.x2 + 1, 256 − q.x1, q.y2 + 1, 256 − q.y1), each lane is 256 or more, its bit 8 set, when
+ * that edge of one part does not lie beyond the other's: q.x2 ≥ x1, x2 ≥ q.x1, q.y2 ≥ y1,
+ * y2 ≥ q.y1.
+ */
+#define LANE_BIT8 0x0100010001000100u
+
+static inline uint64_t spread(uint32_t p)
+{
+	uint64_t x = p;
+	x = (x | x << 16) & 0x0000ffff0000ffffu;
+	return (x | x << 8) & 0x00ff00ff00ff00ffu;
+}
+
+/* A walk's part, as parts_meet() adds it. */
+static uint64_t walk_part(uint32_t q)
+{
+	uint64_t x1 = q & 0xff, x2 = q >> 8 & 0xff, y1 = q >> 16 & 0xff, y2 = q >> 24;
+	return (x2 + 1) | (256 - x1) << 16 | (y2 + 1) << 32 | (256 - y1) << 48;
+}
+
+/* A walk's part where its box holds the whole cell: every entry meets it, untested. */
+#define WHOLE_CELL (256 | (uint64_t)256 << 16 | (uint64_t)256 << 32 | (uint64_t)256 << 48)
+
+/* A walk's part in a cell (its box meets it), as the cursor keeps it. */
+static uint64_t cursor_part(const struct vis_zgrid *g, struct vis_box cell, struct vis_box box)
+{
+	if (box.x1 <= cell.x1 && box.y1 <= cell.y1 && box.x2 >= cell.x2 && box.y2 >= cell.y2)
+		return WHOLE_CELL;
+	return walk_part(part(g, cell, box));
+}
+
+/* Whether an entry's part and a walk's (walk_part()) share a 256th of the cell. */
+static inline bool parts_meet(uint32_t entry, uint64_t walk)
+{
+	uint64_t d = (spread(entry) ^ 0x000000ff000000ffu) + walk;
+	return (d & LANE_BIT8) == LANE_BIT8;
+}
 
 /*
  * A cell: its entries in key order, chunk after chunk, none of them empty, and each chunk's last
@@ -113,7 +169,7 @@ static struct chunk *add_chunk(struct vis_zgrid_cell *c, size_t i)
 	return k;
 }
 
-static int cell_insert(struct vis_zgrid_cell *c, uint64_t key, uint32_t val)
+static int cell_insert(struct vis_zgrid_cell *c, uint64_t key, uint32_t val, uint32_t where)
 {
 	size_t i = c->n ? find_chunk(c, key, false) : 0;
 	if (i == c->n && i > 0)
@@ -132,6 +188,7 @@ static int cell_insert(struct vis_zgrid_cell *c, uint64_t key, uint32_t val)
 			k->n = CHUNK - m->n;
 			memcpy(m->keys, &k->keys[k->n], m->n * sizeof *m->keys);
 			memcpy(m->vals, &k->vals[k->n], m->n * sizeof *m->vals);
+			memcpy(m->parts, &k->parts[k->n], m->n * sizeof *m->parts);
 		}
 		if (!last)
 			c->lasts[i + 1] = m->keys[m->n - 1];
@@ -144,8 +201,10 @@ static int cell_insert(struct vis_zgrid_cell *c, uint64_t key, uint32_t val)
 	size_t at = find_at(k, key, false);
 	memmove(&k->keys[at + 1], &k->keys[at], (k->n - at) * sizeof *k->keys);
 	memmove(&k->vals[at + 1], &k->vals[at], (k->n - at) * sizeof *k->vals);
+	memmove(&k->parts[at + 1], &k->parts[at], (k->n - at) * sizeof *k->parts);
 	k->keys[at] = key;
 	k->vals[at] = val;
+	k->parts[at] = where;
 	k->n++;
 	c->lasts[i] = k->keys[k->n - 1];
 	return 0;
@@ -163,6 +222,7 @@ static void cell_remove(struct vis_zgrid_cell *c, uint64_t key)
 	k->n--;
 	memmove(&k->keys[at], &k->keys[at + 1], (k->n - at) * sizeof *k->keys);
 	memmove(&k->vals[at], &k->vals[at + 1], (k->n - at) * sizeof *k->vals);
+	memmove(&k->parts[at], &k->parts[at + 1], (k->n - at) * sizeof *k->parts);
 	if (k->n == 0) {
 		free(k);
 		c->n--;
@@ -180,7 +240,8 @@ int vis_zgrid_insert(struct vis_zgrid *g, struct vis_box box, uint64_t key, uint
 		return 0;
 	for (uint32_t y = r[1]; y <= r[3]; y++)
 		for (uint32_t x = r[0]; x <= r[2]; x++) {
-			if (cell_insert(&g->cells[(size_t)y * g->cols + x], key, val) < 0) {
+			uint32_t where = part(g, vis_zgrid_cell_box(g, x, y), box);
+			if (cell_insert(&g->cells[(size_t)y * g->cols + x], key, val, where) < 0) {
 				errno = ENOMEM;
 				return -1;
 			}
@@ -209,48 +270,34 @@ struct vis_box vis_zgrid_cell_box(const struct vis_zgrid *g, uint32_t col, uint3
 	return vis_box_intersect(b, g->area);
 }
 
-/* Whether cursor a comes before b in the walk's order. */
-static bool before(const struct vis_zgrid_walk *w, const struct vis_zgrid_cursor *a,
-		   const struct vis_zgrid_cursor *b)
-{
-	return w->up ? a->key < b->key : a->key > b->key;
-}
-
 static void sift_down(struct vis_zgrid_walk *w, size_t i)
 {
+	struct vis_zgrid_next *h = w->heap, t = h[i];
 	for (;;) {
-		size_t l = 2 * i + 1, r = l + 1, best = i;
-		if (l < w->n && before(w, &w->heap[l], &w->heap[best]))
-			best = l;
-		if (r < w->n && before(w, &w->heap[r], &w->heap[best]))
-			best = r;
-		if (best == i)
-			return;
-		struct vis_zgrid_cursor t = w->heap[i];
-		w->heap[i] = w->heap[best];
-		w->heap[best] = t;
+		size_t l = 2 * i + 1, best = l;
+		if (l >= w->n)
+			break;
+		if (l + 1 < w->n && h[l + 1].order < h[l].order)
+			best = l + 1;
+		if (t.order <= h[best].order)
+			break;
+		h[i] = h[best];
 		i = best;
 	}
-}
-
-/* Reads the cursor's key; false when it ran off its cell. */
-static bool settle(struct vis_zgrid_cursor *c)
-{
-	if (c->chunk >= c->cell->n)
-		return false;
-	c->key = c->cell->chunks[c->chunk]->keys[c->at];
-	return true;
+	h[i] = t;
 }
 
 /* Moves a cursor one entry on in the walk's direction; false when it ran off its cell. */
-static bool step(const struct vis_zgrid_walk *w, struct vis_zgrid_cursor *c)
+static bool advance(const struct vis_zgrid_walk *w, struct vis_zgrid_cursor *c)
 {
 	if (w->up) {
 		if (++c->at == c->cell->chunks[c->chunk]->n) {
 			c->chunk++;
 			c->at = 0;
 		}
-	} else if (c->at > 0) {
+		return c->chunk < c->cell->n;
+	}
+	if (c->at > 0) {
 		c->at--;
 	} else if (c->chunk > 0) {
 		c->chunk--;
@@ -258,11 +305,67 @@ static bool step(const struct vis_zgrid_walk *w, struct vis_zgrid_cursor *c)
 	} else {
 		return false;
 	}
-	return settle(c);
+	return true;
+}
+
+/*
+ * From the cursor's entry on, passes over the entries whose part misses the walk's, and puts the
+ * first that remains in *next (the key as the heap orders it); false when it ran off its cell.
+ */
+static bool settle(const struct vis_zgrid_walk *w, struct vis_zgrid_cursor *c,
+		   struct vis_zgrid_next *next)
+{
+	const struct vis_zgrid_cell *cell = c->cell;
+	uint32_t i = c->chunk, at = c->at;
+	if (c->box_count != w->box_count) {
+		/* Narrowed since: callers narrow after each hit, most cursors never move again. */
+		c->part = cursor_part(w->grid, c->bounds, w->box);
+		c->box_count = w->box_count;
+	}
+	if (c->part == WHOLE_CELL) {
+		if (i >= cell->n)
+			return false;
+		goto found;
+	}
+	if (w->up) {
+		for (; i < cell->n; i++, at = 0) {
+			const struct chunk *k = cell->chunks[i];
+			for (; at < k->n; at++)
+				if (parts_meet(k->parts[at], c->part))
+					goto found;
+		}
+		return false;
+	}
+	for (;;) {
+		const struct chunk *k = cell->chunks[i];
+		for (;; at--) {
+			if (parts_meet(k->parts[at], c->part))
+				goto found;
+			if (at == 0)
+				break;
+		}
+		if (i == 0)
+			return false;
+		at = cell->chunks[--i]->n - 1;
+	}
+found:
+	c->chunk = i;
+	c->at = at;
+	uint64_t key = cell->chunks[i]->keys[at];
+	next->order = w->up ? key : ~key;
+	return true;
+}
+
+/* Moves a cursor to the next entry of the walk in its cell; false when it ran off the cell. */
+static bool step(const struct vis_zgrid_walk *w, struct vis_zgrid_cursor *c,
+		 struct vis_zgrid_next *next)
+{
+	return advance(w, c) && settle(w, c, next);
 }
 
 /* Puts a cursor at the cell's first entry of the walk: above from (up), or below it. */
-static bool place(const struct vis_zgrid_walk *w, struct vis_zgrid_cursor *c, uint64_t from)
+static bool place(const struct vis_zgrid_walk *w, struct vis_zgrid_cursor *c, uint64_t from,
+		  struct vis_zgrid_next *next)
 {
 	const struct vis_zgrid_cell *cell = c->cell;
 	if (cell->n == 0)
@@ -271,49 +374,59 @@ static bool place(const struct vis_zgrid_walk *w, struct vis_zgrid_cursor *c, ui
 		/* From the top, the commonest walk: no search. */
 		c->chunk = cell->n - 1;
 		c->at = cell->chunks[c->chunk]->n - 1;
-		return settle(c);
+		return settle(w, c, next);
 	}
 	size_t i = find_chunk(cell, from, w->up);
 	if (w->up) {
-		c->chunk = i;
-		c->at = i < cell->n ? find_at(cell->chunks[i], from, true) : 0;
-		return settle(c);
+		c->chunk = (uint32_t)i;
+		c->at = i < cell->n ? (uint32_t)find_at(cell->chunks[i], from, true) : 0;
+		return settle(w, c, next);
 	}
 	if (i == cell->n) {
-		c->chunk = i - 1;
+		c->chunk = (uint32_t)(i - 1);
 		c->at = cell->chunks[i - 1]->n - 1;
-		return settle(c);
+		return settle(w, c, next);
 	}
 	size_t at = find_at(cell->chunks[i], from, false);
-	c->chunk = i;
-	c->at = at;
+	c->chunk = (uint32_t)i;
+	c->at = (uint32_t)at;
 	if (at > 0) {
-		c->at = at - 1;
-		return settle(c);
+		c->at = (uint32_t)(at - 1);
+		return settle(w, c, next);
 	}
-	return step(w, c);
+	return step(w, c, next);
 }
 
 int vis_zgrid_walk_init(struct vis_zgrid_walk *walk, const struct vis_zgrid *g, struct vis_box box,
 			uint64_t from, bool up)
 {
-	*walk = (struct vis_zgrid_walk){ .box = box, .up = up, .heap = walk->inline_heap };
+	*walk = (struct vis_zgrid_walk){ .grid = g, .box = box, .up = up,
+					 .cursors = walk->inline_cursors, .heap = walk->inline_heap };
 	uint32_t r[4];
 	if (!vis_zgrid_cells(g, box, r))
 		return 0;
 	size_t cells = (size_t)(r[2] - r[0] + 1) * (r[3] - r[1] + 1);
-	if (cells > sizeof walk->inline_heap / sizeof *walk->inline_heap &&
-	    !(walk->heap = malloc(cells * sizeof *walk->heap))) {
-		walk->heap = walk->inline_heap;
-		errno = ENOMEM;
-		return -1;
+	if (cells > sizeof walk->inline_heap / sizeof *walk->inline_heap) {
+		struct vis_zgrid_cursor *c = malloc(cells * (sizeof *c + sizeof *walk->heap));
+		if (!c) {
+			errno = ENOMEM;
+			return -1;
+		}
+		walk->cursors = c;
+		walk->heap = (struct vis_zgrid_next *)(c + cells);
 	}
+	size_t k = 0;
 	for (uint32_t y = r[1]; y <= r[3]; y++)
-		for (uint32_t x = r[0]; x <= r[2]; x++) {
-			struct vis_zgrid_cursor *c = &walk->heap[walk->n];
+		for (uint32_t x = r[0]; x <= r[2]; x++, k++) {
+			struct vis_zgrid_cursor *c = &walk->cursors[k];
 			c->cell = &g->cells[(size_t)y * g->cols + x];
+			if (c->cell->n == 0)
+				continue; /* nothing to walk: not read again */
 			c->bounds = vis_zgrid_cell_box(g, x, y);
-			walk->n += place(walk, c, from);
+			c->part = cursor_part(g, c->bounds, box);
+			c->box_count = 0;
+			walk->heap[walk->n].cursor = (uint32_t)k;
+			walk->n += place(walk, c, from, &walk->heap[walk->n]);
 		}
 	for (size_t i = walk->n / 2; i-- > 0;)
 		sift_down(walk, i);
@@ -323,11 +436,12 @@ int vis_zgrid_walk_init(struct vis_zgrid_walk *walk, const struct vis_zgrid *g, 
 bool vis_zgrid_walk_next(struct vis_zgrid_walk *walk, uint64_t *key, uint32_t *val)
 {
 	while (walk->n) {
-		struct vis_zgrid_cursor *top = &walk->heap[0];
-		uint64_t k = top->key;
-		uint32_t v = top->cell->chunks[top->chunk]->vals[top->at];
-		if (!step(walk, top))
-			walk->heap[0] = walk->heap[--walk->n];
+		struct vis_zgrid_next *top = &walk->heap[0];
+		struct vis_zgrid_cursor *c = &walk->cursors[top->cursor];
+		uint64_t k = walk->up ? top->order : ~top->order;
+		uint32_t v = c->cell->chunks[c->chunk]->vals[c->at];
+		if (!step(walk, c, top))
+			*top = walk->heap[--walk->n];
 		sift_down(walk, 0);
 		if (walk->started && k == walk->last)
 			continue; /* the same entry through another cell */
@@ -356,10 +470,12 @@ void vis_zgrid_walk_narrow(struct vis_zgrid_walk *walk, struct vis_box box)
 	if (vis_box_equal(box, walk->box))
 		return;
 	walk->box = box;
+	walk->box_count++;
 	size_t k = 0;
 	for (size_t i = 0; i < walk->n; i++) {
-		struct vis_box b = vis_box_intersect(walk->heap[i].bounds, box);
-		if (!vis_box_empty(b))
+		/* Its entry stands, listed next whether it meets box or not: the next ones must. */
+		const struct vis_zgrid_cursor *c = &walk->cursors[walk->heap[i].cursor];
+		if (!vis_box_empty(vis_box_intersect(c->bounds, box)))
 			walk->heap[k++] = walk->heap[i];
 	}
 	shrink(walk, k);
@@ -370,15 +486,16 @@ bool vis_zgrid_walk_keep(struct vis_zgrid_walk *walk, bool (*meets)(const void *
 {
 	size_t k = 0;
 	for (size_t i = 0; i < walk->n; i++)
-		if (meets(arg, walk->heap[i].bounds))
+		if (meets(arg, walk->cursors[walk->heap[i].cursor].bounds))
 			walk->heap[k++] = walk->heap[i];
 	return shrink(walk, k);
 }
 
 void vis_zgrid_walk_finish(struct vis_zgrid_walk *walk)
 {
-	if (walk->heap != walk->inline_heap)
-		free(walk->heap);
+	if (walk->cursors != walk->inline_cursors)
+		free(walk->cursors);
+	walk->cursors = walk->inline_cursors;
 	walk->heap = walk->inline_heap;
 	walk->n = 0;
 }
