@@ -112,12 +112,13 @@ static void check_walk(const struct vis_zgrid *g, const struct entry *e, size_t 
 		if (vis_rng_below(rng, 6) == 0 && !vis_box_empty(vis_box_intersect(now, g->area))) {
 			now = shrink(rng, vis_box_intersect(now, g->area));
 			narrowed = true;
-			if (vis_rng_below(rng, 2)) {
-				vis_zgrid_walk_narrow(&walk, now);
-			} else {
-				/* Pruned to the cells that meet now: finer than narrowing, never wrong. */
-				vis_zgrid_walk_narrow(&walk, now);
-				vis_zgrid_walk_keep(&walk, cell_meets_box, &now);
+			vis_zgrid_walk_narrow(&walk, now);
+			if (vis_rng_below(rng, 2) == 0) {
+				/* Pruned to the cells that meet a part of it, some cells it meets
+				 * left out: what it asks about is that part now. */
+				struct vis_box part = shrink(rng, now);
+				vis_zgrid_walk_keep(&walk, cell_meets_box, &part);
+				now = part;
 			}
 		}
 	}
