@@ -64,6 +64,32 @@ static uint64_t cursor_part(const struct vis_zgrid *g, struct vis_box cell, stru
 	return walk_part(part(g, cell, box));
 }
 
+/*
+ * Along one axis, the cells [first, last] an interval [lo, hi) meets (at most VIS_ZGRID_SIDE):
+ * each one's pixels [c1, c2) and the interval's span in it, as part() gives it; whole when the
+ * interval holds the cell's pixels. The cells of a box are those of its two axes.
+ */
+struct axis_cell {
+	int64_t c1, c2;
+	uint32_t span;
+	bool whole;
+};
+
+static void axis_cells(const struct vis_zgrid *g, int64_t origin, int64_t end, uint32_t first,
+		       uint32_t last, int64_t lo, int64_t hi, struct axis_cell *a)
+{
+	int64_t side = (int64_t)1 << g->shift;
+	unsigned s = g->shift > 8 ? g->shift - 8 : 0;
+	for (uint32_t i = first; i <= last; i++) {
+		int64_t c1 = origin + (int64_t)i * side, c2 = c1 + side < end ? c1 + side : end;
+		int64_t a1 = lo > c1 ? lo : c1, a2 = hi < c2 ? hi : c2;
+		a[i - first] = (struct axis_cell){
+			c1, c2, (uint32_t)((a1 - c1) >> s) | (uint32_t)((a2 - 1 - c1) >> s) << 8,
+			lo <= c1 && hi >= c2
+		};
+	}
+}
+
 /* Whether an entry's part and a walk's (walk_part()) share a 256th of the cell. */
 static inline bool parts_meet(uint32_t entry, uint64_t walk)
 {
@@ -238,9 +264,12 @@ int vis_zgrid_insert(struct vis_zgrid *g, struct vis_box box, uint64_t key, uint
 	uint32_t r[4];
 	if (!vis_zgrid_cells(g, box, r))
 		return 0;
+	struct axis_cell ax[VIS_ZGRID_SIDE], ay[VIS_ZGRID_SIDE];
+	axis_cells(g, g->area.x1, g->area.x2, r[0], r[2], box.x1, box.x2, ax);
+	axis_cells(g, g->area.y1, g->area.y2, r[1], r[3], box.y1, box.y2, ay);
 	for (uint32_t y = r[1]; y <= r[3]; y++)
 		for (uint32_t x = r[0]; x <= r[2]; x++) {
-			uint32_t where = part(g, vis_zgrid_cell_box(g, x, y), box);
+			uint32_t where = ax[x - r[0]].span | ay[y - r[1]].span << 16;
 			if (cell_insert(&g->cells[(size_t)y * g->cols + x], key, val, where) < 0) {
 				errno = ENOMEM;
 				return -1;
@@ -400,11 +429,22 @@ static bool place(const struct vis_zgrid_walk *w, struct vis_zgrid_cursor *c, ui
 int vis_zgrid_walk_init(struct vis_zgrid_walk *walk, const struct vis_zgrid *g, struct vis_box box,
 			uint64_t from, bool up)
 {
-	*walk = (struct vis_zgrid_walk){ .grid = g, .box = box, .up = up,
-					 .cursors = walk->inline_cursors, .heap = walk->inline_heap };
+	/* Field by field: the inline arrays (2.5 KiB) need no zeros. */
+	walk->grid = g;
+	walk->box = box;
+	walk->box_count = 0;
+	walk->up = up;
+	walk->last = 0;
+	walk->started = false;
+	walk->n = 0;
+	walk->cursors = walk->inline_cursors;
+	walk->heap = walk->inline_heap;
 	uint32_t r[4];
 	if (!vis_zgrid_cells(g, box, r))
 		return 0;
+	struct axis_cell ax[VIS_ZGRID_SIDE], ay[VIS_ZGRID_SIDE];
+	axis_cells(g, g->area.x1, g->area.x2, r[0], r[2], box.x1, box.x2, ax);
+	axis_cells(g, g->area.y1, g->area.y2, r[1], r[3], box.y1, box.y2, ay);
 	size_t cells = (size_t)(r[2] - r[0] + 1) * (r[3] - r[1] + 1);
 	if (cells > sizeof walk->inline_heap / sizeof *walk->inline_heap) {
 		struct vis_zgrid_cursor *c = malloc(cells * (sizeof *c + sizeof *walk->heap));
@@ -422,8 +462,10 @@ int vis_zgrid_walk_init(struct vis_zgrid_walk *walk, const struct vis_zgrid *g, 
 			c->cell = &g->cells[(size_t)y * g->cols + x];
 			if (c->cell->n == 0)
 				continue; /* nothing to walk: not read again */
-			c->bounds = vis_zgrid_cell_box(g, x, y);
-			c->part = cursor_part(g, c->bounds, box);
+			const struct axis_cell *cx = &ax[x - r[0]], *cy = &ay[y - r[1]];
+			c->bounds = (struct vis_box){ cx->c1, cy->c1, cx->c2, cy->c2 };
+			c->part = cx->whole && cy->whole ? WHOLE_CELL
+							 : walk_part(cx->span | cy->span << 16);
 			c->box_count = 0;
 			walk->heap[walk->n].cursor = (uint32_t)k;
 			walk->n += place(walk, c, from, &walk->heap[walk->n]);
