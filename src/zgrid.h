@@ -18,8 +18,8 @@ struct vis_zgrid_cell;
  * entry is its key. Walking the entries that meet a box in key order merges the cells the box
  * meets, so it costs the entries of those cells it passes over, not the index's size, and it can
  * stop at any point: the caller reads the highest entries first and stops once they hide what it
- * asks about. Each cell entry also holds its box's part in the cell, in 256ths of the cell's side
- * rounded outwards (a byte an edge), so that a walk passes over an entry that misses its box in
+ * asks about. Each cell entry also holds its box's part in the cell, in 16ths of the cell's side
+ * rounded outwards (a nibble an edge), so that a walk passes over an entry that misses its box in
  * the cell itself, a few instructions, not a merge step: a cascade's walks over a strip of 64
  * pixels met 90% of such entries in cells of 256.
  */

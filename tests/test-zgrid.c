@@ -1,7 +1,7 @@
 /*
  * Unit tests of the stacking-order grid (src/zgrid.h) against a list: a walk lists, in key
  * order and once each, every entry beyond its start whose box meets what it asks about, however
- * it is narrowed or pruned, on areas whose cells are exact (256 pixels or fewer) and coarse, with
+ * it is narrowed or pruned, on areas whose cells are small (64 pixels) and large, with
  * boxes on the cells' edges, of one pixel, and the area's whole width.
  */
 #include <stdbool.h>
@@ -77,11 +77,11 @@ static bool cell_meets_box(const void *arg, struct vis_box cell)
 /*
  * One walk from `from` over q, checked against the list: keys in order, each once, beyond from;
  * every entry that meets what the walk asks about when the walk passes its key is listed. The
- * walk is narrowed (or pruned to the cells meeting a box) now and then; where the cells are
- * exact and the walk was never narrowed, every entry listed meets q.
+ * walk is narrowed (or pruned to the cells meeting a box) now and then; while it was never
+ * narrowed, every entry listed lies within a 16th of a cell's side of q.
  */
 static void check_walk(const struct vis_zgrid *g, const struct entry *e, size_t n, struct vis_box q,
-		       uint64_t from, bool up, bool exact, struct vis_rng *rng)
+		       uint64_t from, bool up, int64_t unit, struct vis_rng *rng)
 {
 	struct vis_zgrid_walk walk;
 	if (vis_zgrid_walk_init(&walk, g, q, from, up) < 0) {
@@ -101,8 +101,11 @@ static void check_walk(const struct vis_zgrid *g, const struct entry *e, size_t 
 			break;
 		CHECK(!listed[val]);
 		listed[val] = true;
-		if (exact && !narrowed)
-			CHECK(meets(e[val].box, q));
+		if (!narrowed) {
+			struct vis_box near = { q.x1 - unit + 1, q.y1 - unit + 1, q.x2 + unit - 1,
+						q.y2 + unit - 1 };
+			CHECK(meets(e[val].box, near));
+		}
 		/* Entries passed over between the last key and this one must have missed now. */
 		for (size_t i = 0; i < n; i++)
 			if (e[i].in && !listed[i] && (up ? e[i].key > last && e[i].key < key
@@ -139,7 +142,8 @@ static void test_area(struct vis_box area, uint64_t seed, size_t n, size_t walks
 		return;
 	}
 	int64_t side = (int64_t)1 << g.shift;
-	bool exact = g.shift <= 8;
+	/* Parts are kept in 16ths of a cell's side: a listed entry lies that close to the box. */
+	int64_t unit = (int64_t)1 << (g.shift - 4);
 	struct entry *e = calloc(n, sizeof *e);
 	uint64_t key = 1000;
 	for (size_t i = 0; i < n; i++) {
@@ -171,7 +175,7 @@ static void test_area(struct vis_box area, uint64_t seed, size_t n, size_t walks
 		uint64_t from = up ? (vis_rng_below(&rng, 4) ? e[vis_rng_below(&rng, n)].key : 0)
 				   : (vis_rng_below(&rng, 4) ? e[vis_rng_below(&rng, n)].key
 							      : UINT64_MAX);
-		check_walk(&g, e, n, random_query(&rng, area, side), from, up, exact, &rng);
+		check_walk(&g, e, n, random_query(&rng, area, side), from, up, unit, &rng);
 	}
 	size_t in = 0, cells = 0;
 	for (size_t i = 0; i < n; i++) {
@@ -190,9 +194,9 @@ static void test_area(struct vis_box area, uint64_t seed, size_t n, size_t walks
 
 int main(void)
 {
-	/* A screen (cells of 256, exact), a small one (cells of 64, fewer than 16 a side), an
-	 * area of a million pixels off the origin (cells of 2^17: parts in 512ths of a pixel's
-	 * 256ths), and one near the 32-bit limits. */
+	/* A screen (cells of 256: parts in 16-pixel steps), a small area (cells of 64, fewer than
+	 * 16 a side), an area of a million pixels off the origin (cells of 2^17), and one near the
+	 * 32-bit limits. */
 	const struct vis_box areas[] = {
 		{ 0, 0, 3840, 2160 },
 		{ 0, 0, 100, 37 },
