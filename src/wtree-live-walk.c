@@ -814,13 +814,16 @@ int wtree_live_walk_cover(struct vis_wtree *tree, struct vis_wtree_live *lv,
 	if (ok) {
 		/*
 		 * The walk, while it costs less than reading the seen grid there would: a step
-		 * costs what 10-20 entries do (cascades at 10^5), and most walks end within a few
-		 * hundred steps (a cascade's moves: handing them over after 64 steps plus a
-		 * sixteenth of the entries cost their median 10%).
+		 * costs what 40-80 entries do (cascades at 10^5: the grid's walks list only
+		 * windows whose clip may meet their box, nearly each a cut), and most walks end
+		 * within a hundred steps. At a sixteenth of the entries plus 512 steps, before the
+		 * walks passed over windows that miss, a cascade's heaviest raises cost 0.77 ms at
+		 * the 99th percentile with the filter and 0.58 ms with this; the medians moved
+		 * within noise.
 		 */
 		if (lv->seen_grid_ok)
 			lv->give_up = lv->steps + (lv->cover_steps ? lv->cover_steps
-								   : seen_entries(lv, &u) / 16 + 512);
+								   : seen_entries(lv, &u) / 64 + 128);
 		rc = walk_boxes(lv, &u, w->key, true, false, 0, NULL);
 		lv->give_up = SIZE_MAX;
 		if (rc == GAVE_UP) {
