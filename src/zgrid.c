@@ -20,9 +20,10 @@ struct chunk {
  * A box's part in a cell (the box meets it), for the walks' test: each edge as the 16th of the
  * cell's side its first or last pixel lies in (a nibble each: x1 x2 y1 y2 from the lowest), so
  * that two parts share a 16th when the boxes share a pixel. Sixteenths, not finer: the parts
- * take two bytes an entry beside its key's eight and its value's four (a byte an edge cost
- * random desktops' changes 5-15% at the median, their cells' chunks a third larger), and
- * they are fine enough for what they are for, a walk over a strip of 64 pixels in cells of 256.
+ * take two bytes an entry beside its key's eight and its value's four (a byte an edge made the
+ * cells' chunks a third larger, random desktops' live structures 346 bytes a window at 10^5
+ * against 311), and they are fine enough for what they are for, a walk over a strip of 64
+ * pixels in cells of 256.
  */
 #define PART_SHIFT(g) ((g)->shift - 4) /* cells are 64 pixels or more (cells.h) */
 
