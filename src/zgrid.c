@@ -27,13 +27,18 @@ struct chunk {
  */
 #define PART_SHIFT(g) ((g)->shift - 4) /* cells are 64 pixels or more (cells.h) */
 
-static uint16_t part(const struct vis_zgrid *g, struct vis_box cell, struct vis_box box)
+/* Along one axis, the 16ths of a cell's pixels [c1, c2) that [lo, hi) (meeting it) lies in. */
+static uint32_t span(const struct vis_zgrid *g, int64_t lo, int64_t hi, int64_t c1, int64_t c2)
 {
 	unsigned s = PART_SHIFT(g);
-	struct vis_box b = vis_box_intersect(box, cell);
-	uint32_t x1 = (uint32_t)((b.x1 - cell.x1) >> s), x2 = (uint32_t)((b.x2 - 1 - cell.x1) >> s);
-	uint32_t y1 = (uint32_t)((b.y1 - cell.y1) >> s), y2 = (uint32_t)((b.y2 - 1 - cell.y1) >> s);
-	return (uint16_t)(x1 | x2 << 4 | y1 << 8 | y2 << 12);
+	int64_t a1 = lo > c1 ? lo : c1, a2 = hi < c2 ? hi : c2;
+	return (uint32_t)((a1 - c1) >> s) | (uint32_t)((a2 - 1 - c1) >> s) << 4;
+}
+
+static uint16_t part(const struct vis_zgrid *g, struct vis_box cell, struct vis_box box)
+{
+	return (uint16_t)(span(g, box.x1, box.x2, cell.x1, cell.x2) |
+			  span(g, box.y1, box.y2, cell.y1, cell.y2) << 8);
 }
 
 /*
@@ -87,14 +92,10 @@ static void axis_cells(const struct vis_zgrid *g, int64_t origin, int64_t end, u
 		       uint32_t last, int64_t lo, int64_t hi, struct axis_cell *a)
 {
 	int64_t side = (int64_t)1 << g->shift;
-	unsigned s = PART_SHIFT(g);
 	for (uint32_t i = first; i <= last; i++) {
 		int64_t c1 = origin + (int64_t)i * side, c2 = c1 + side < end ? c1 + side : end;
-		int64_t a1 = lo > c1 ? lo : c1, a2 = hi < c2 ? hi : c2;
-		a[i - first] = (struct axis_cell){
-			c1, c2, (uint32_t)((a1 - c1) >> s) | (uint32_t)((a2 - 1 - c1) >> s) << 4,
-			lo <= c1 && hi >= c2
-		};
+		a[i - first] = (struct axis_cell){ c1, c2, span(g, lo, hi, c1, c2),
+						   lo <= c1 && hi >= c2 };
 	}
 }
 

@@ -68,9 +68,9 @@ struct vis_zgrid_next {
 
 /*
  * A walk over the entries whose cells meet a box, each once, in key order: upwards, the keys above
- * from; downwards, those below it. The cells' next keys form a heap. Every entry
- * that meets the box is listed; one listed need not meet it (its part in a cell is kept coarse):
- * the caller tests its own boxes.
+ * from; downwards, those below it. The cells' next keys form a heap. Every entry that meets the
+ * box is listed; one listed need not meet it (its part in a cell is kept coarse): the caller tests
+ * its own boxes.
  */
 struct vis_zgrid_walk {
 	const struct vis_zgrid *grid;
