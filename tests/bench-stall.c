@@ -1,12 +1,18 @@
 /*
- * Not a test: how long other clients wait while one client floods the daemon with queries, in a
- * batch or not. A client owns W unmapped windows; an attacker with no windows sends hello, then
- * N get-tree requests (each walks every window and answers an empty list) and a sync, inside one
- * batch or bare, and reads everything back; meanwhile a prober makes sync round trips. Prints the
- * prober's round-trip percentiles from the attack's first byte to its last reply, and how long
- * that took.
+ * Not a test: how long other clients wait while one client makes the daemon work, and how long
+ * the attack itself takes. Meanwhile a prober makes sync round trips; each attack prints the
+ * prober's round-trip percentiles from the attack's first byte to its last reply.
  *
- * usage: bench-stall VISD [--windows W] [--queries N]   (defaults 5,000 and 1,000,000)
+ * Queries: a client owns W unmapped windows; an attacker with no windows sends hello, then N
+ * get-tree requests (each walks every window and answers an empty list) and a sync, inside one
+ * batch or bare, and reads everything back.
+ * Looks: an attacker makes L mapped windows, each with a shape and an opaque region of R/2
+ * rectangles apiece (a comb of 1-pixel teeth, each tooth its own rectangle), overlapping one
+ * another, then moves them M times, in batches of 64 moves.
+ *
+ * usage: bench-stall VISD [--windows W] [--queries N] [--look-windows L] [--look-rects R]
+ *                         [--moves M] [--attack queries|looks|both]
+ *        (defaults 5,000, 1,000,000, 40, 3,000, 704, both)
  */
 #include <errno.h>
 #include <stdio.h>
@@ -22,6 +28,39 @@ static int by_value(const void *a, const void *b)
 {
 	double x = *(const double *)a, y = *(const double *)b;
 	return (x > y) - (x < y);
+}
+
+/* The prober's round trips until the attacker's reply to request last; prints a table row. */
+static void probe(struct harness_conn *prober, struct harness_conn *attacker, uint32_t last,
+		  pid_t writer, double start, const char *row)
+{
+	size_t n = 0, cap = 1024;
+	double *rtt = malloc(cap * sizeof *rtt);
+	CHECK(rtt, "out of memory");
+	for (bool done = false; !done;) {
+		double t0 = harness_clock_ms();
+		harness_sync(prober, NULL);
+		if (n == cap) {
+			rtt = realloc(rtt, (cap *= 2) * sizeof *rtt);
+			CHECK(rtt, "out of memory");
+		}
+		rtt[n++] = harness_clock_ms() - t0;
+		struct vis_msg m;
+		while (!done && harness_recv(attacker, 0, &m) > 0) {
+			CHECK(m.type->opcode != VIS_OP_ERROR, "the attack got an error: %.*s",
+			      (int)m.args[3].s.len, m.args[3].s.p);
+			done = m.type->opcode == VIS_OP_SYNCED && m.args[0].u == last;
+		}
+	}
+	double total = harness_clock_ms() - start;
+	int status;
+	CHECK(waitpid(writer, &status, 0) == writer && WIFEXITED(status) && !WEXITSTATUS(status),
+	      "the writer failed");
+	qsort(rtt, n, sizeof *rtt, by_value);
+	printf("| %s | %.0f | %zu | %.2f | %.2f | %.2f |\n", row, total, n, rtt[n / 2],
+	       rtt[n * 99 / 100], rtt[n - 1]);
+	fflush(stdout);
+	free(rtt);
 }
 
 /* One run: the attack, batched or not, with the prober's round trips; prints a table row. */
@@ -47,39 +86,86 @@ static void run(struct harness_daemon *d, uint32_t windows, uint32_t queries, bo
 		_exit(0);
 	}
 	uint32_t last = attacker.seq + (batch ? 2 : 0) + queries + 1;
-	size_t n = 0, cap = 1024;
-	double *rtt = malloc(cap * sizeof *rtt);
-	CHECK(rtt, "out of memory");
-	for (bool done = false; !done;) {
-		double t0 = harness_clock_ms();
-		harness_sync(&prober, NULL);
-		if (n == cap) {
-			rtt = realloc(rtt, (cap *= 2) * sizeof *rtt);
-			CHECK(rtt, "out of memory");
-		}
-		rtt[n++] = harness_clock_ms() - t0;
-		struct vis_msg m;
-		while (!done && harness_recv(&attacker, 0, &m) > 0)
-			done = m.type->opcode == VIS_OP_SYNCED && m.args[0].u == last;
+	char row[100];
+	snprintf(row, sizeof row, "%s %u get-tree over %u windows", batch ? "batch of" : "bare",
+		 queries, windows);
+	probe(&prober, &attacker, last, writer, start, row);
+	harness_close(&attacker);
+	harness_close(&prober);
+}
+
+/* Sends a set-shape (opcode VIS_OP_SET_SHAPE) or set-opaque request of n rectangles: a grid of
+ * side x side squares at a pitch of 2 * side + 1, starting at offset, 50 to a row. */
+static void send_look(struct harness_conn *c, uint32_t opcode, uint32_t window, uint32_t n,
+		      int32_t side, int32_t offset)
+{
+	uint32_t *words = malloc((3 + 4 * (size_t)n) * sizeof *words);
+	uint8_t *b = malloc(VIS_MSG_HEADER + 4 * (3 + 4 * (size_t)n));
+	CHECK(words && b, "out of memory");
+	words[0] = window;
+	words[1] = opcode == VIS_OP_SET_SHAPE ? 1 : 2; /* shaped; opaque mode "the rects" */
+	words[2] = n;
+	for (uint32_t k = 0; k < n; k++) {
+		uint32_t *r = words + 3 + 4 * k;
+		r[0] = (uint32_t)(offset + (int32_t)(k % 50) * (2 * side + 1));
+		r[1] = (uint32_t)(offset + (int32_t)(k / 50) * (2 * side + 1));
+		r[2] = r[3] = (uint32_t)side;
 	}
-	double total = harness_clock_ms() - start;
-	int status;
-	CHECK(waitpid(writer, &status, 0) == writer && WIFEXITED(status) && !WEXITSTATUS(status),
-	      "the writer failed");
-	qsort(rtt, n, sizeof *rtt, by_value);
-	printf("| %s | %u | %u | %.0f | %zu | %.2f | %.2f | %.2f |\n", batch ? "batch" : "bare",
-	       windows, queries, total, n, rtt[n / 2], rtt[n * 99 / 100], rtt[n - 1]);
-	fflush(stdout);
-	free(rtt);
+	harness_request_raw(c, b, harness_build(b, opcode, words, 3 + 4 * (size_t)n));
+	free(words);
+	free(b);
+}
+
+/* The looks attack: windows with shapes and opaque regions of rects / 2 rectangles each, moved
+ * in batches of 64; prints a table row. */
+static void run_looks(struct harness_daemon *d, uint32_t windows, uint32_t rects, uint32_t moves)
+{
+	struct harness_conn attacker, prober;
+	harness_open_as(&prober, d->sock, VIS_ROLE_CLIENT);
+	harness_open_as(&attacker, d->sock, VIS_ROLE_CLIENT);
+	uint32_t *ids = malloc(windows * sizeof *ids);
+	CHECK(ids, "out of memory");
+	for (uint32_t i = 0; i < windows; i++) {
+		ids[i] = harness_create(&attacker, 0, (int32_t)(37 * i % 1600),
+					(int32_t)(23 * i % 900), 600, 600, VIS_CREATE_MAP);
+		send_look(&attacker, VIS_OP_SET_SHAPE, ids[i], rects / 2, 4, 0);
+		send_look(&attacker, VIS_OP_SET_OPAQUE, ids[i], rects - rects / 2, 2, 1);
+	}
+	harness_sync(&attacker, NULL);
+	double start = harness_clock_ms();
+	pid_t writer = fork();
+	CHECK(writer >= 0, "fork: %s", strerror(errno));
+	if (writer == 0) {
+		for (uint32_t i = 0; i < moves; i++) {
+			if (i % 64 == 0)
+				harness_req(&attacker, VIS_OP_BATCH_BEGIN);
+			harness_req(&attacker, VIS_OP_MOVE, ids[i % windows],
+				    (uint32_t)(int32_t)(97 * i % 3000), (uint32_t)(int32_t)(61 * i % 1500));
+			if (i % 64 == 63 || i + 1 == moves)
+				harness_req(&attacker, VIS_OP_BATCH_COMMIT);
+		}
+		harness_req(&attacker, VIS_OP_SYNC);
+		_exit(0);
+	}
+	uint32_t last = attacker.seq + moves + 2 * ((moves + 63) / 64) + 1;
+	char row[100];
+	snprintf(row, sizeof row, "%u moves of %u windows of %u look rectangles", moves, windows,
+		 windows * rects);
+	probe(&prober, &attacker, last, writer, start, row);
+	free(ids);
 	harness_close(&attacker);
 	harness_close(&prober);
 }
 
 int main(int argc, char **argv)
 {
-	uint32_t windows = 5000, queries = 1000000;
+	uint32_t windows = 5000, queries = 1000000, look_windows = 40, look_rects = 3000;
+	uint32_t moves = 704;
+	const char *attack = "both";
 	if (argc < 2 || argc % 2) {
-		fprintf(stderr, "usage: bench-stall VISD [--windows W] [--queries N]\n");
+		fprintf(stderr, "usage: bench-stall VISD [--windows W] [--queries N] "
+				"[--look-windows L] [--look-rects R] [--moves M] "
+				"[--attack queries|looks|both]\n");
 		return 2;
 	}
 	for (int i = 2; i + 1 < argc; i += 2) {
@@ -88,6 +174,16 @@ int main(int argc, char **argv)
 			windows = (uint32_t)v;
 		else if (!strcmp(argv[i], "--queries") && v >= 1 && v <= 2000000)
 			queries = (uint32_t)v;
+		else if (!strcmp(argv[i], "--look-windows") && v >= 1 && v <= 4096)
+			look_windows = (uint32_t)v;
+		else if (!strcmp(argv[i], "--look-rects") && v >= 2 && v <= 8000)
+			look_rects = (uint32_t)v;
+		else if (!strcmp(argv[i], "--moves") && v >= 1 && v <= 1000000)
+			moves = (uint32_t)v;
+		else if (!strcmp(argv[i], "--attack") &&
+			 (!strcmp(argv[i + 1], "queries") || !strcmp(argv[i + 1], "looks") ||
+			  !strcmp(argv[i + 1], "both")))
+			attack = argv[i + 1];
 		else {
 			fprintf(stderr, "bench-stall: bad option %s %s\n", argv[i], argv[i + 1]);
 			return 2;
@@ -95,17 +191,19 @@ int main(int argc, char **argv)
 	}
 	struct harness_daemon d = { 0 };
 	harness_start(&d, argv[1], NULL);
-	struct harness_conn owner;
-	harness_open_as(&owner, d.sock, VIS_ROLE_CLIENT);
-	harness_create_many(&owner, windows, 0, 0);
-	printf("another client's sync round trip (ms) while a client sends get-tree requests over "
-	       "%u windows of a third\n\n",
-	       windows);
-	printf("| attack | windows | get-tree | attack ms | round trips | p50 | p99 | max |\n");
-	printf("|---|---|---|---|---|---|---|---|\n");
-	run(&d, windows, queries, true);
-	run(&d, windows, queries, false);
-	harness_close(&owner);
+	printf("another client's sync round trip (ms) while a client makes the daemon work\n\n");
+	printf("| attack | attack ms | round trips | p50 | p99 | max |\n");
+	printf("|---|---|---|---|---|---|\n");
+	if (strcmp(attack, "looks")) {
+		struct harness_conn owner;
+		harness_open_as(&owner, d.sock, VIS_ROLE_CLIENT);
+		harness_create_many(&owner, windows, 0, 0);
+		run(&d, windows, queries, true);
+		run(&d, windows, queries, false);
+		harness_close(&owner);
+	}
+	if (strcmp(attack, "queries"))
+		run_looks(&d, look_windows, look_rects, moves);
 	harness_stop(&d);
 	return 0;
 }
