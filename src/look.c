@@ -388,6 +388,60 @@ out:
 	return ret;
 }
 
+int vis_look_cut_fill(struct vis_look_cut *cut, const struct vis_look *look, int32_t width,
+		      int32_t height)
+{
+	/* The pieces of the window with its border box at the origin, unclipped: vis_pieces_add()
+	 * puts the opaque ones first. The border box's sides fit in 31 bits, and so do the pieces. */
+	struct vis_box bb = { 0, 0, (int64_t)width + 2 * (int64_t)look->border,
+			      (int64_t)height + 2 * (int64_t)look->border };
+	struct vis_pieces tmp = { 0 };
+	vis_look_cut_finish(cut);
+	int rc = vis_pieces_add(&tmp, look, bb, bb, 0);
+	uint32_t opaque = 0;
+	while (rc >= 0 && opaque < tmp.stack.n && !tmp.see_through[opaque])
+		opaque++;
+	free(tmp.see_through);
+	free(tmp.window);
+	cut->rects = tmp.rects;
+	if (rc < 0)
+		return -1;
+	cut->n = (uint32_t)tmp.stack.n;
+	cut->n_opaque = opaque;
+	cut->border = look->border;
+	cut->width = width;
+	cut->height = height;
+	cut->valid = true;
+	return 0;
+}
+
+void vis_look_cut_finish(struct vis_look_cut *cut)
+{
+	free(cut->rects);
+	*cut = (struct vis_look_cut){ 0 };
+}
+
+int vis_pieces_add_cut(struct vis_pieces *p, const struct vis_look_cut *cut, struct vis_box abs,
+		       struct vis_box clip, uint32_t window)
+{
+	bool was_cut = false;
+	for (uint32_t k = 0; k < cut->n; k++) {
+		struct vis_rect r = cut->rects[k];
+		struct vis_box whole = { abs.x1 + r.x, abs.y1 + r.y, abs.x1 + r.x + r.w,
+					 abs.y1 + r.y + r.h };
+		struct vis_box b = vis_box_intersect(whole, clip);
+		if (vis_box_empty(b)) {
+			was_cut = true;
+			continue;
+		}
+		was_cut |= !vis_box_equal(b, whole);
+		if (push_region_box(p, (struct vis_box){ 0, 0, b.x2 - b.x1, b.y2 - b.y1 }, b.x1,
+				    b.y1, k >= cut->n_opaque, window) < 0)
+			return -1;
+	}
+	return was_cut;
+}
+
 int vis_pieces_init(struct vis_pieces *p, const struct vis_stack *windows)
 {
 	memset(p, 0, sizeof(*p));

@@ -93,6 +93,39 @@ int vis_pieces_add_within(struct vis_pieces *pieces, const struct vis_look *look
 			  struct vis_box abs, struct vis_box clip, const struct vis_box *within,
 			  size_t n_within, uint32_t window);
 
+/*
+ * A look's pieces cut once, for a border box of one size and relative to its corner: what a window
+ * keeps across recomputes, so that placing it again costs its pieces' count, not their cutting.
+ * rects[0 … n_opaque) are opaque, rects[n_opaque … n) see-through, all disjoint, their union the
+ * window's pixels; valid for a window whose border and inside are border and width × height.
+ * The zero cut is empty and not valid.
+ */
+struct vis_look_cut {
+	bool valid;
+	int32_t border, width, height;
+	uint32_t n, n_opaque;
+	struct vis_rect *rects;
+};
+
+/*
+ * Cuts a look (not input-only) for an inside of width × height into cut, replacing what it held.
+ * Returns 0, or -1 with errno ENOMEM, or EOVERFLOW when a side of the border box passes INT32_MAX
+ * (cut is then left not valid). O(k log k + b) for the look's k rectangles and its b pieces.
+ */
+int vis_look_cut_fill(struct vis_look_cut *cut, const struct vis_look *look, int32_t width,
+		      int32_t height);
+
+/* Frees a cut's array and leaves it zero. O(1). */
+void vis_look_cut_finish(struct vis_look_cut *cut);
+
+/*
+ * As vis_pieces_add(), from a valid cut instead of a look: its pieces placed with the border box
+ * at abs, each clipped to clip. Returns 1 when the clip cut away some pixel, 0 when it did not, or
+ * -1 with errno ENOMEM or EOVERFLOW. O(b) for the cut's b pieces.
+ */
+int vis_pieces_add_cut(struct vis_pieces *pieces, const struct vis_look_cut *cut,
+		       struct vis_box abs, struct vis_box clip, uint32_t window);
+
 /* Empties the pieces, keeping their arrays for reuse. O(1). */
 void vis_pieces_reset(struct vis_pieces *pieces);
 

@@ -184,6 +184,9 @@ void vis_wtree_destroy(struct vis_wtree *tree, struct vis_window *window,
 		tree->count--;
 		free(w->look.shape);
 		free(w->look.opaque_rects);
+		if (w->cut)
+			vis_look_cut_finish(w->cut);
+		free(w->cut);
 		free(w);
 		w = parent;
 	}
@@ -296,6 +299,52 @@ int vis_wtree_set_border(struct vis_window *window, int32_t border)
 	return 0;
 }
 
+/*
+ * Gives window room for the pieces of a look that will (cuts) or will not cut inside its box,
+ * emptied: the look is about to change. 0, or -1 with ENOMEM (nothing changed then).
+ */
+static int prepare_cut(struct vis_window *window, bool cuts)
+{
+	if (!cuts) {
+		if (window->cut)
+			vis_look_cut_finish(window->cut);
+		free(window->cut);
+		window->cut = NULL;
+		return 0;
+	}
+	if (!window->cut && !(window->cut = calloc(1, sizeof(*window->cut)))) {
+		errno = ENOMEM;
+		return -1;
+	}
+	window->cut->valid = false;
+	return 0;
+}
+
+const struct vis_look_cut *vis_wtree_cut(const struct vis_window *window)
+{
+	struct vis_look_cut *cut = window->cut;
+	if (!cut) {
+		errno = EINVAL;
+		return NULL;
+	}
+	if (cut->valid && cut->border == window->look.border && cut->width == window->width &&
+	    cut->height == window->height)
+		return cut;
+	return vis_look_cut_fill(cut, &window->look, window->width, window->height) < 0 ? NULL
+											 : cut;
+}
+
+void vis_wtree_keep_cut(struct vis_window *window, struct vis_look_cut *cut)
+{
+	if (window->cut) {
+		vis_look_cut_finish(window->cut);
+		*window->cut = *cut;
+	} else {
+		vis_look_cut_finish(cut);
+	}
+	*cut = (struct vis_look_cut){ 0 };
+}
+
 /* Copies n rectangles into a new array (NULL for none). 0, or -1 with ENOMEM. */
 static int copy_rects(const struct vis_rect *rects, uint32_t n, struct vis_rect **out)
 {
@@ -322,6 +371,10 @@ int vis_wtree_set_shape(struct vis_window *window, bool shaped, const struct vis
 	}
 	if (copy_rects(rects, shaped ? n : 0, &copy) < 0)
 		return -1;
+	if (prepare_cut(window, shaped || window->look.opaque == VIS_OPAQUE_RECTS) < 0) {
+		free(copy);
+		return -1;
+	}
 	free(window->look.shape);
 	window->look.shape = copy;
 	window->look.n_shape = shaped ? n : 0;
@@ -339,6 +392,10 @@ int vis_wtree_set_opaque(struct vis_window *window, enum vis_opaque mode,
 	}
 	if (copy_rects(rects, mode == VIS_OPAQUE_RECTS ? n : 0, &copy) < 0)
 		return -1;
+	if (prepare_cut(window, window->look.shaped || mode == VIS_OPAQUE_RECTS) < 0) {
+		free(copy);
+		return -1;
+	}
 	free(window->look.opaque_rects);
 	window->look.opaque_rects = copy;
 	window->look.n_opaque = mode == VIS_OPAQUE_RECTS ? n : 0;

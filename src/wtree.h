@@ -47,6 +47,9 @@ struct vis_window {
 	int32_t x, y;
 	int32_t width, height;
 	struct vis_look look; /* border, shape, opaque region, input-only: see the setters below */
+	/* The look's pieces for the window's size (vis_wtree_cut()): there exactly while the look
+	 * has a shape or opaque rectangles; its contents kept from one recompute to the next. */
+	struct vis_look_cut *cut;
 	/* What the window mirrors (an X window of a bridge, …): an opaque tag in a namespace (enum
 	 * vis_external_namespace), 0 and 0 for none; set once, by vis_wtree_set_external(). */
 	uint32_t ext_namespace;
@@ -155,6 +158,22 @@ int vis_wtree_set_external(struct vis_wtree *tree, struct vis_window *window,
 /* The window carrying the external ID, or NULL (always for namespace 0). Expected O(1). */
 struct vis_window *vis_wtree_find_external(const struct vis_wtree *tree, uint32_t ext_namespace,
 					   uint64_t external);
+
+/*
+ * The window's look cut into its pieces for its size now (look.h), kept until the look or the size
+ * changes, so that recomputes place the pieces instead of cutting the look again; only for a
+ * window whose look has a shape or opaque rectangles (window->cut is not NULL). NULL with errno
+ * EINVAL for another window, ENOMEM or EOVERFLOW. O(1) when kept, else O(k log k + b) for the
+ * look's k rectangles and its b pieces.
+ */
+const struct vis_look_cut *vis_wtree_cut(const struct vis_window *window);
+
+/*
+ * Gives a window with a cut the one made for its look and size now (vis_look_cut_fill()), which
+ * saves cutting it again; cut's array is the window's then (a window without a cut frees it), and
+ * cut is left zero. O(1).
+ */
+void vis_wtree_keep_cut(struct vis_window *window, struct vis_look_cut *cut);
 
 /* Makes a window input-only: no pixels, no state; only right after creating it. O(1). */
 void vis_wtree_set_input_only(struct vis_window *window);
