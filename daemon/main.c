@@ -47,6 +47,8 @@ static const char usage_text[] =
 	"  --max-windows N           windows one connection may own (default 262144)\n"
 	"  --max-look-rects N        shape and opaque rectangles of the windows one connection\n"
 	"                            owns (default 1048576)\n"
+	"  --max-look-pieces N       pieces the looks of one connection's windows cut into,\n"
+	"                            what recomputes cost (default 32768)\n"
 	"  --max-retained-per-uid N  retained windows that exist, made by connections of\n"
 	"                            one uid, alive or gone (default 262144)\n"
 	"  --max-retained N          retained windows that exist (default 1048576)\n"
@@ -82,6 +84,7 @@ static const struct number_option number_options[] = {
 	{ "--hello-timeout", 1, 86400, offsetof(struct server_options, hello_timeout) },
 	{ "--max-windows", 1, INT32_MAX, offsetof(struct server_options, max_windows) },
 	{ "--max-look-rects", 0, INT32_MAX, offsetof(struct server_options, max_look_rects) },
+	{ "--max-look-pieces", 0, INT32_MAX, offsetof(struct server_options, max_look_pieces) },
 	{ "--max-retained-per-uid", 0, INT32_MAX,
 	  offsetof(struct server_options, max_retained_per_uid) },
 	{ "--max-retained", 0, INT32_MAX, offsetof(struct server_options, max_retained) },
@@ -324,6 +327,7 @@ int main(int argc, char **argv)
 		.hello_timeout = 10,
 		.max_windows = 262144,
 		.max_look_rects = 1048576,
+		.max_look_pieces = 32768,
 		.max_retained_per_uid = 262144,
 		.max_retained = 1048576,
 		.max_depth = 64,

@@ -269,6 +269,15 @@ static void do_configure(struct client *c, uint32_t seq, uint32_t op, const unio
 		return;
 	if (!border_ok(c, seq, op, w, width, height, border))
 		return;
+	/* A look cut inside the border box cuts again at another size. */
+	struct vis_look_cut cut = { 0 };
+	bool recut = w->cut && (w->width != (int32_t)width || w->height != (int32_t)height ||
+				w->look.border != (int32_t)border);
+	struct vis_look next = w->look;
+	next.border = (int32_t)border;
+	if (recut && !server_look_pieces_ok(c, seq, op, w, &next, (int32_t)width, (int32_t)height, &cut))
+		return;
+	uint64_t old = server_look_charged(w);
 	server_damage(c->server, w); /* where it was */
 	if (op != VIS_OP_RESIZE) {
 		w->x = a[1].i;
@@ -281,6 +290,8 @@ static void do_configure(struct client *c, uint32_t seq, uint32_t op, const unio
 	w->look.border = (int32_t)border;
 	w->width = (int32_t)width;
 	w->height = (int32_t)height;
+	if (recut)
+		server_look_keep(c->server, w, old, &cut);
 	if (reshaped) {
 		/* As X with ForgetGravity: a resized window's contents are gone, all of it is exposed. */
 		struct window_data *d = w->data;
@@ -378,13 +389,31 @@ static void do_look(struct client *c, uint32_t seq, uint32_t op, const union vis
 	struct vis_rect *r = rects_arg(c, seq, op, &a[2], &failed);
 	if (failed)
 		return;
+	struct vis_look next = w->look;
+	if (op == VIS_OP_SET_SHAPE) {
+		next.shaped = mode == 1;
+		next.shape = r;
+		next.n_shape = mode == 1 ? n : 0;
+	} else {
+		next.opaque = (uint8_t)mode;
+		next.opaque_rects = r;
+		next.n_opaque = mode == VIS_OPAQUE_MODE_RECTS ? n : 0;
+	}
+	struct vis_look_cut cut;
+	if (!server_look_pieces_ok(c, seq, op, w, &next, w->width, w->height, &cut)) {
+		free(r);
+		return;
+	}
+	uint64_t old = server_look_charged(w);
 	int rc = op == VIS_OP_SET_SHAPE ? vis_wtree_set_shape(w, mode == 1, r, n)
 					 : vis_wtree_set_opaque(w, (enum vis_opaque)mode, r, n);
 	free(r);
 	if (rc < 0) {
+		vis_look_cut_finish(&cut);
 		server_client_error(c, seq, op, VIS_ERROR_LIMIT, "out of memory");
 		return;
 	}
+	server_look_keep(c->server, w, old, &cut);
 	if (owner)
 		owner->n_look_rects = owner->n_look_rects - replaced +
 				      (op == VIS_OP_SET_SHAPE ? w->look.n_shape : w->look.n_opaque);

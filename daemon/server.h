@@ -28,6 +28,7 @@ struct server_options {
 	uint32_t hello_timeout; /* seconds a connection has to complete hello */
 	uint32_t max_windows;   /* windows one connection owns */
 	uint32_t max_look_rects; /* shape and opaque rectangles of the windows one connection owns */
+	uint32_t max_look_pieces; /* the pieces those looks cut into (vis_wtree_cut()) */
 	uint32_t max_depth;     /* window tree depth (top-level windows: 1) */
 	uint32_t live_from;     /* windows from which recomputes go live (vis_wtree_live_from) */
 	uint32_t max_subs;      /* subscriptions per connection */
@@ -151,6 +152,7 @@ struct client {
 	bool all_exposure; /* holds a subscription to every window with exposures */
 	uint32_t n_windows; /* windows it owns */
 	uint64_t n_look_rects; /* shape and opaque rectangles of the windows it owns */
+	uint64_t n_look_pieces; /* the pieces their looks cut into: their cuts' (vis_wtree_cut()) */
 	struct output out;
 	struct event *resume; /* runs the requests left over by the budget, next turn */
 	struct event *hello_timer; /* ends it if hello has not succeeded within hello_timeout */
@@ -322,6 +324,23 @@ void server_subscription(struct client *c, uint32_t seq, uint32_t op, const unio
 void server_unsubscribe_all(struct client *c);
 /* Runs one decoded request. */
 void server_client_dispatch(struct client *c, uint32_t seq, const struct vis_msg *m);
+
+/* What windows' looks cost their owners (server-look.c). */
+/* The pieces of w's look counted against its owner: its cut's, kept up to date by the two below. */
+uint64_t server_look_charged(const struct vis_window *w);
+/*
+ * Whether window w, its look and inside becoming look and width × height, keeps its owner within
+ * --max-look-pieces. If so, cut holds the pieces (zero when the look cuts nothing inside the
+ * border box), for server_look_keep() once the change is made; if not, the error is sent for
+ * request seq of opcode op. O(k log k + b) for the look's k rectangles and b pieces.
+ */
+bool server_look_pieces_ok(struct client *c, uint32_t seq, uint32_t op, const struct vis_window *w,
+			   const struct vis_look *look, int32_t width, int32_t height,
+			   struct vis_look_cut *cut);
+/* Once w's change is made: counts cut's pieces against w's owner instead of old (what
+ * server_look_charged() said before the change), and gives them to w. */
+void server_look_keep(struct server *server, struct vis_window *w, uint64_t old,
+		      struct vis_look_cut *cut);
 
 /* Per-uid quotas (server-quota.c). */
 /*

@@ -18,8 +18,7 @@ bool vis_look_plain(const struct vis_look *look)
 	       look->opaque == VIS_OPAQUE_ALL;
 }
 
-/* Whether pieces may start inside the border box rather than at its corner. */
-static bool cut_inside(const struct vis_look *look)
+bool vis_look_cuts_inside(const struct vis_look *look)
 {
 	return look->shaped || look->opaque == VIS_OPAQUE_RECTS;
 }
@@ -36,7 +35,7 @@ const char *vis_look_check(struct vis_rect rect, const struct vis_look *look)
 	if ((int64_t)rect.w + 2 * (int64_t)look->border > INT32_MAX ||
 	    (int64_t)rect.h + 2 * (int64_t)look->border > INT32_MAX)
 		return "border box wider or taller than 2147483647";
-	if (cut_inside(look) &&
+	if (vis_look_cuts_inside(look) &&
 	    ((int64_t)rect.x + rect.w + 2 * (int64_t)look->border > (int64_t)INT32_MAX + 1 ||
 	     (int64_t)rect.y + rect.h + 2 * (int64_t)look->border > (int64_t)INT32_MAX + 1))
 		return "a shaped window must end within the 32-bit plane (at 2147483648)";
@@ -275,7 +274,7 @@ int vis_pieces_add_within(struct vis_pieces *p, const struct vis_look *look, str
 	struct vis_box limit = vis_box_intersect(
 		(struct vis_box){ clip.x1 - abs.x1, clip.y1 - abs.y1, clip.x2 - abs.x1,
 				  clip.y2 - abs.y1 }, bb);
-	if (!cut_inside(look) && within == NULL) {
+	if (!vis_look_cuts_inside(look) && within == NULL) {
 		/* The border box, or what the clip leaves of it: one piece. */
 		if (!vis_box_empty(limit) &&
 		    push_region_box(p, limit, abs.x1, abs.y1, look->opaque == VIS_OPAQUE_NONE,

@@ -44,6 +44,9 @@ struct vis_look {
 /* Whether a look is the zero one: a plain opaque rectangle. O(1). */
 bool vis_look_plain(const struct vis_look *look);
 
+/* Whether pieces may start inside the border box: a shape or opaque rectangles. O(1). */
+bool vis_look_cuts_inside(const struct vis_look *look);
+
 /*
  * Whether the window rect with this look can be cut into pieces: its border box's sides fit in
  * 31 bits, and, when pieces start inside it (a shape or opaque rectangles), its border box ends

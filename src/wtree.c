@@ -371,7 +371,9 @@ int vis_wtree_set_shape(struct vis_window *window, bool shaped, const struct vis
 	}
 	if (copy_rects(rects, shaped ? n : 0, &copy) < 0)
 		return -1;
-	if (prepare_cut(window, shaped || window->look.opaque == VIS_OPAQUE_RECTS) < 0) {
+	struct vis_look next = window->look;
+	next.shaped = shaped;
+	if (prepare_cut(window, vis_look_cuts_inside(&next)) < 0) {
 		free(copy);
 		return -1;
 	}
@@ -392,7 +394,9 @@ int vis_wtree_set_opaque(struct vis_window *window, enum vis_opaque mode,
 	}
 	if (copy_rects(rects, mode == VIS_OPAQUE_RECTS ? n : 0, &copy) < 0)
 		return -1;
-	if (prepare_cut(window, window->look.shaped || mode == VIS_OPAQUE_RECTS) < 0) {
+	struct vis_look next = window->look;
+	next.opaque = (uint8_t)mode;
+	if (prepare_cut(window, vis_look_cuts_inside(&next)) < 0) {
 		free(copy);
 		return -1;
 	}

@@ -7,11 +7,15 @@
  * get-tree requests (each walks every window and answers an empty list) and a sync, inside one
  * batch or bare, and reads everything back.
  * Looks: an attacker makes L mapped windows, each with a shape and an opaque region of R/2
- * rectangles apiece (a comb of 1-pixel teeth, each tooth its own rectangle), overlapping one
- * another, then moves them M times, in batches of 64 moves.
+ * rectangles apiece (a grid of small squares; with --strips, 1-pixel strips, the shape's across
+ * and the opaque region's down, whose crossings cut the window into about R²/2 pieces),
+ * overlapping one another, then moves them M times, in batches of 64 moves.
+ *
+ * With --fail-over MS it is the stall test too: it fails when a round trip took longer.
  *
  * usage: bench-stall VISD [--windows W] [--queries N] [--look-windows L] [--look-rects R]
- *                         [--moves M] [--attack queries|looks|both]
+ *                         [--moves M] [--attack queries|looks|both] [--strips 0|1]
+ *                         [--fail-over MS]
  *        (defaults 5,000, 1,000,000, 40, 3,000, 704, both)
  */
 #include <errno.h>
@@ -23,6 +27,9 @@
 
 #include "harness.h"
 #include "vis/protocol.h"
+
+/* With --fail-over: the longest round trip allowed, in ms (0: any); past it, the run fails. */
+static double fail_over;
 
 static int by_value(const void *a, const void *b)
 {
@@ -60,6 +67,8 @@ static void probe(struct harness_conn *prober, struct harness_conn *attacker, ui
 	printf("| %s | %.0f | %zu | %.2f | %.2f | %.2f |\n", row, total, n, rtt[n / 2],
 	       rtt[n * 99 / 100], rtt[n - 1]);
 	fflush(stdout);
+	CHECK(!fail_over || rtt[n - 1] <= fail_over,
+	      "another client's sync waited %.0f ms, over the %.0f ms allowed", rtt[n - 1], fail_over);
 	free(rtt);
 }
 
@@ -94,8 +103,12 @@ static void run(struct harness_daemon *d, uint32_t windows, uint32_t queries, bo
 	harness_close(&prober);
 }
 
+/* How a look's rectangles lie: squares in a grid, or strips across the window, horizontal for a
+ * shape and vertical for an opaque region, so that their n × n crossings are as many pieces. */
+static bool strips;
+
 /* Sends a set-shape (opcode VIS_OP_SET_SHAPE) or set-opaque request of n rectangles: a grid of
- * side x side squares at a pitch of 2 * side + 1, starting at offset, 50 to a row. */
+ * side x side squares at a pitch of 2 * side + 1, starting at offset, 50 to a row; or strips. */
 static void send_look(struct harness_conn *c, uint32_t opcode, uint32_t window, uint32_t n,
 		      int32_t side, int32_t offset)
 {
@@ -110,6 +123,13 @@ static void send_look(struct harness_conn *c, uint32_t opcode, uint32_t window, 
 		r[0] = (uint32_t)(offset + (int32_t)(k % 50) * (2 * side + 1));
 		r[1] = (uint32_t)(offset + (int32_t)(k / 50) * (2 * side + 1));
 		r[2] = r[3] = (uint32_t)side;
+		if (strips) {
+			bool across = opcode == VIS_OP_SET_SHAPE;
+			r[0] = across ? 0 : 2 * k;
+			r[1] = across ? 2 * k : 0;
+			r[2] = across ? 4096 : 1;
+			r[3] = across ? 1 : 4096;
+		}
 	}
 	harness_request_raw(c, b, harness_build(b, opcode, words, 3 + 4 * (size_t)n));
 	free(words);
@@ -125,13 +145,23 @@ static void run_looks(struct harness_daemon *d, uint32_t windows, uint32_t rects
 	harness_open_as(&attacker, d->sock, VIS_ROLE_CLIENT);
 	uint32_t *ids = malloc(windows * sizeof *ids);
 	CHECK(ids, "out of memory");
-	for (uint32_t i = 0; i < windows; i++) {
+	for (uint32_t i = 0; i < windows; i++)
 		ids[i] = harness_create(&attacker, 0, (int32_t)(37 * i % 1600),
 					(int32_t)(23 * i % 900), 600, 600, VIS_CREATE_MAP);
+	for (uint32_t i = 0; i < windows; i++) {
 		send_look(&attacker, VIS_OP_SET_SHAPE, ids[i], rects / 2, 4, 0);
 		send_look(&attacker, VIS_OP_SET_OPAQUE, ids[i], rects - rects / 2, 2, 1);
 	}
-	harness_sync(&attacker, NULL);
+	/* The looks past --max-look-pieces are refused: count them. */
+	uint32_t synced = harness_req(&attacker, VIS_OP_SYNC), refused = 0;
+	for (struct vis_msg m;;) {
+		harness_next_reply(&attacker, &m, NULL);
+		if (m.type->opcode == VIS_OP_SYNCED && m.args[0].u == synced)
+			break;
+		CHECK(m.type->opcode == VIS_OP_ERROR && m.args[2].u == VIS_ERROR_LIMIT,
+		      "a look got %s", m.type->name);
+		refused++;
+	}
 	double start = harness_clock_ms();
 	pid_t writer = fork();
 	CHECK(writer >= 0, "fork: %s", strerror(errno));
@@ -149,8 +179,8 @@ static void run_looks(struct harness_daemon *d, uint32_t windows, uint32_t rects
 	}
 	uint32_t last = attacker.seq + moves + 2 * ((moves + 63) / 64) + 1;
 	char row[100];
-	snprintf(row, sizeof row, "%u moves of %u windows of %u look rectangles", moves, windows,
-		 windows * rects);
+	snprintf(row, sizeof row, "%u moves of %u windows of %u look %s (%u looks refused)", moves,
+		 windows, windows * rects, strips ? "strips" : "squares", refused);
 	probe(&prober, &attacker, last, writer, start, row);
 	free(ids);
 	harness_close(&attacker);
@@ -165,7 +195,7 @@ int main(int argc, char **argv)
 	if (argc < 2 || argc % 2) {
 		fprintf(stderr, "usage: bench-stall VISD [--windows W] [--queries N] "
 				"[--look-windows L] [--look-rects R] [--moves M] "
-				"[--attack queries|looks|both]\n");
+				"[--attack queries|looks|both] [--strips 0|1] [--fail-over MS]\n");
 		return 2;
 	}
 	for (int i = 2; i + 1 < argc; i += 2) {
@@ -180,6 +210,10 @@ int main(int argc, char **argv)
 			look_rects = (uint32_t)v;
 		else if (!strcmp(argv[i], "--moves") && v >= 1 && v <= 1000000)
 			moves = (uint32_t)v;
+		else if (!strcmp(argv[i], "--fail-over") && v >= 1 && v <= 3600000)
+			fail_over = (double)v;
+		else if (!strcmp(argv[i], "--strips") && v <= 1)
+			strips = v;
 		else if (!strcmp(argv[i], "--attack") &&
 			 (!strcmp(argv[i + 1], "queries") || !strcmp(argv[i + 1], "looks") ||
 			  !strcmp(argv[i + 1], "both")))

@@ -167,6 +167,62 @@ static void test_configured_limits(void)
 }
 
 /* A daemon with few descriptors: a flood is refused cleanly, and it serves again afterwards. */
+/* Sends a look request (op set-shape or set-opaque) of n rectangles r[0 … 4n) for window w. */
+static uint32_t send_look(struct harness_conn *c, uint32_t op, uint32_t w, uint32_t mode,
+			  const uint32_t *r, uint32_t n)
+{
+	uint32_t words[3 + 4 * 8] = { w, mode, n };
+	uint8_t b[VIS_MSG_HEADER + sizeof words];
+	memcpy(words + 3, r, 16 * (size_t)n);
+	return harness_request_raw(c, b, harness_build(b, op, words, 3 + 4 * (size_t)n));
+}
+
+/* --max-look-pieces counts what looks cut into, at the windows' sizes: few rectangles that cross
+ * are many pieces, and a resize can make more. */
+static void test_look_pieces(void)
+{
+	harness_context("look pieces per connection");
+	struct harness_daemon d = { 0 };
+	harness_start(&d, limits_visd, (const char *[]){ "--max-look-pieces", "10", NULL });
+	struct harness_conn c;
+	harness_open_as(&c, d.sock, VIS_ROLE_CLIENT);
+	uint32_t w0 = harness_create(&c, 0, 0, 0, 100, 100, VIS_CREATE_MAP);
+	uint32_t w1 = harness_create(&c, 0, 50, 50, 100, 100, VIS_CREATE_MAP);
+	static const uint32_t across[] = { 0, 0, 100, 1, 0, 2, 100, 1 };
+	static const uint32_t down[] = { 0, 0, 1, 100, 2, 0, 1, 100 };
+	static const uint32_t squares[] = { 0, 0, 1, 1, 2, 0, 1, 1, 4, 0, 1, 1, 6, 0, 1, 1,
+					    8, 0, 1, 1, 10, 0, 1, 1, 12, 0, 1, 1, 14, 0, 1, 1 };
+	send_look(&c, VIS_OP_SET_SHAPE, w0, 1, across, 2);   /* 2 pieces */
+	send_look(&c, VIS_OP_SET_SHAPE, w1, 1, squares, 8);  /* 8: 10 in all, the limit */
+	/* Two strips down cut the two across into 4 opaque crossings and 4 see-through pieces. */
+	uint32_t seq = send_look(&c, VIS_OP_SET_OPAQUE, w0, 2, down, 2);
+	limits_expect_limit(&c, seq, VIS_OP_SET_OPAQUE, "--max-look-pieces");
+	harness_req(&c, VIS_OP_DESTROY, w1); /* frees its 8 */
+	send_look(&c, VIS_OP_SET_OPAQUE, w0, 2, down, 2); /* 8 */
+	harness_sync(&c, NULL);
+
+	harness_context("look pieces per connection: a resize cuts again");
+	uint32_t w2 = harness_create(&c, 0, 200, 0, 10, 1, VIS_CREATE_MAP);
+	send_look(&c, VIS_OP_SET_OPAQUE, w2, 2, squares, 1); /* 1 opaque, 1 see-through: 10 */
+	seq = harness_req(&c, VIS_OP_RESIZE, w2, 10, 10);      /* 1 + 2: 11 */
+	limits_expect_limit(&c, seq, VIS_OP_RESIZE, "--max-look-pieces");
+	seq = harness_req(&c, VIS_OP_CONFIGURE, w2, 200, 0, 10, 1, 1); /* a border: 1 + 4 */
+	limits_expect_limit(&c, seq, VIS_OP_CONFIGURE, "--max-look-pieces");
+	size_t n;
+	struct harness_node *tree = harness_get_tree(&c, &n);
+	for (size_t i = 0; i < n; i++)
+		if (tree[i].window == w2)
+			CHECK(tree[i].width == 10 && tree[i].height == 1 && tree[i].border == 0,
+			      "a refused resize changed window %u to %ux%u, border %u", w2,
+			      tree[i].width, tree[i].height, tree[i].border);
+	free(tree);
+	harness_req(&c, VIS_OP_SET_OPAQUE, w0, 0, 0); /* w0's strips all opaque: 2 */
+	harness_req(&c, VIS_OP_RESIZE, w2, 10, 10);
+	harness_sync(&c, NULL);
+	harness_close(&c);
+	harness_stop(&d);
+}
+
 static void test_descriptor_shortage(void)
 {
 	harness_context("descriptor shortage");
@@ -542,6 +598,7 @@ int main(int argc, char **argv)
 	limits_visd = argv[1];
 	signal(SIGPIPE, SIG_IGN);
 	test_configured_limits();
+	test_look_pieces();
 	limits_quota_lockout();
 	limits_quota_connections();
 	limits_quota_hello_timeout();

@@ -1,0 +1,53 @@
+/*
+ * What the looks of a connection's windows cost: the pieces they cut into (vis_wtree_cut()),
+ * counted against the window's owner while it is connected and bounded by --max-look-pieces, as
+ * every recompute that meets a window places its pieces.
+ */
+#include <errno.h>
+#include <string.h>
+
+#include "server.h"
+#include "vis/protocol.h"
+
+uint64_t server_look_charged(const struct vis_window *w)
+{
+	return w->cut ? w->cut->n : 0;
+}
+
+bool server_look_pieces_ok(struct client *c, uint32_t seq, uint32_t op, const struct vis_window *w,
+			   const struct vis_look *look, int32_t width, int32_t height,
+			   struct vis_look_cut *cut)
+{
+	*cut = (struct vis_look_cut){ 0 };
+	if (!vis_look_cuts_inside(look))
+		return true;
+	if (vis_look_cut_fill(cut, look, width, height) < 0) {
+		server_client_error(c, seq, op, VIS_ERROR_LIMIT, "cannot cut window %u's look: %s",
+				    w->id, strerror(errno));
+		return false;
+	}
+	struct client *owner = vis_idmap_get(&c->server->clients_by_id, w->owner);
+	uint64_t old = server_look_charged(w);
+	if (owner && cut->n > old &&
+	    owner->n_look_pieces - old + cut->n > c->server->opt.max_look_pieces) {
+		server_client_error(c, seq, op, VIS_ERROR_LIMIT,
+				    "the looks of client %u's windows would cut into %llu pieces, "
+				    "past the limit of %u (visd --max-look-pieces)",
+				    owner->id,
+				    (unsigned long long)(owner->n_look_pieces - old + cut->n),
+				    c->server->opt.max_look_pieces);
+		vis_look_cut_finish(cut);
+		return false;
+	}
+	return true;
+}
+
+void server_look_keep(struct server *server, struct vis_window *w, uint64_t old,
+		      struct vis_look_cut *cut)
+{
+	struct client *owner = vis_idmap_get(&server->clients_by_id, w->owner);
+	if (owner)
+		owner->n_look_pieces = owner->n_look_pieces - old + cut->n;
+	vis_wtree_keep_cut(w, cut);
+}
+
