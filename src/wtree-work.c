@@ -86,15 +86,55 @@ static bool under_shape(const struct vis_window *w)
 }
 
 /*
+ * Cuts boxes[0 … *nb) by one shaped ancestor a: the parts of each inside a's inside and a's
+ * pixels, which its kept cut lists (their union is its shape in its border box), into *out
+ * (realloc'd, *cap long). O(nb · b) for a's b pieces. 0, or -1 with errno.
+ */
+static int cut_by(const struct vis_window *a, const struct vis_look_cut *cut,
+		  const struct vis_box *boxes, size_t nb, struct vis_box **out, size_t *n_out,
+		  size_t *cap)
+{
+	int64_t b = a->look.border;
+	struct vis_box inside = { a->box.x1 + b, a->box.y1 + b, a->box.x2 - b, a->box.y2 - b };
+	*n_out = 0;
+	for (size_t k = 0; k < nb; k++) {
+		struct vis_box in = vis_box_intersect(boxes[k], inside);
+		if (vis_box_empty(in))
+			continue;
+		for (uint32_t q = 0; q < cut->n; q++) {
+			struct vis_rect r = cut->rects[q];
+			struct vis_box piece = { a->box.x1 + r.x, a->box.y1 + r.y,
+						 a->box.x1 + r.x + r.w, a->box.y1 + r.y + r.h };
+			struct vis_box part = vis_box_intersect(piece, in);
+			if (vis_box_empty(part))
+				continue;
+			if (*n_out == *cap) {
+				size_t more = *cap ? 2 * *cap : 16;
+				struct vis_box *grown = realloc(*out, more * sizeof(**out));
+				if (!grown) {
+					errno = ENOMEM;
+					return -1;
+				}
+				*out = grown;
+				*cap = more;
+			}
+			(*out)[(*n_out)++] = part;
+		}
+	}
+	return 0;
+}
+
+/*
  * The part of the clip c that w's shaped ancestors leave: their shapes (inside their insides, as
  * X clips children to a parent's bounding shape and inside) cut c into boxes, in *out (malloc'd,
- * *n of them). 0, or -1 with ENOMEM or EOVERFLOW.
+ * *n of them), from the pieces each ancestor keeps, not cut again for every descendant. 0, or -1
+ * with ENOMEM or EOVERFLOW.
  */
 static int shape_clip(const struct vis_window *w, struct vis_box c, struct vis_box **out,
 		      size_t *n)
 {
-	struct vis_box *boxes = malloc(sizeof(*boxes));
-	size_t nb = 1;
+	struct vis_box *boxes = malloc(sizeof(*boxes)), *next = NULL;
+	size_t nb = 1, cap_boxes = 1, n_next = 0, cap_next = 0;
 	struct vis_pieces tmp = { 0 };
 	if (!boxes)
 		goto nomem;
@@ -102,6 +142,22 @@ static int shape_clip(const struct vis_window *w, struct vis_box c, struct vis_b
 	for (const struct vis_window *a = w->parent; a && a->parent && nb; a = a->parent) {
 		if (!a->look.shaped)
 			continue;
+		const struct vis_look_cut *cut = vis_wtree_cut(a);
+		if (cut) {
+			if (cut_by(a, cut, boxes, nb, &next, &n_next, &cap_next) < 0)
+				goto fail;
+			struct vis_box *t = boxes;
+			size_t cap_t = cap_boxes;
+			boxes = next;
+			cap_boxes = cap_next;
+			next = t;
+			cap_next = cap_t;
+			nb = n_next;
+			continue;
+		}
+		if (errno != EOVERFLOW)
+			goto fail;
+		/* A border box too wide to cut whole: what each box leaves of its shape. */
 		int64_t b = a->look.border;
 		struct vis_box inside = { a->box.x1 + b, a->box.y1 + b, a->box.x2 - b, a->box.y2 - b };
 		struct vis_look shape = { .border = a->look.border, .shaped = true,
@@ -116,11 +172,18 @@ static int shape_clip(const struct vis_window *w, struct vis_box c, struct vis_b
 		if (!more)
 			goto nomem;
 		boxes = more;
+		cap_boxes = tmp.stack.n + 1;
 		nb = tmp.stack.n;
 		for (size_t k = 0; k < nb; k++)
 			boxes[k] = vis_rect_box(tmp.rects[k]);
 	}
 	vis_pieces_finish(&tmp);
+	if (!boxes) {
+		/* No box left, and none ever made: the caller needs an array, empty, not NULL. */
+		boxes = next;
+		next = NULL;
+	}
+	free(next);
 	*out = boxes;
 	*n = nb;
 	return 0;
@@ -129,6 +192,7 @@ nomem:
 fail:
 	vis_pieces_finish(&tmp);
 	free(boxes);
+	free(next);
 	return -1;
 }
 

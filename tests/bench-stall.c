@@ -9,14 +9,18 @@
  * Looks: an attacker makes L mapped windows, each with a shape and an opaque region of R/2
  * rectangles apiece (a grid of small squares; with --strips, 1-pixel strips, the shape's across
  * and the opaque region's down, whose crossings cut the window into about R²/2 pieces),
- * overlapping one another, then moves them M times, in batches of 64 moves.
+ * overlapping one another, then moves them M times, in batches of B moves.
+ * Windows: an attacker makes W mapped windows over the screen and moves them, in batches.
+ * Shaped parent: an attacker makes one window whose shape is R squares and W children under it,
+ * which its shape clips, and moves the children, in batches.
  *
  * With --fail-over MS it is the stall test too: it fails when a round trip took longer.
  *
  * usage: bench-stall VISD [--windows W] [--queries N] [--look-windows L] [--look-rects R]
- *                         [--moves M] [--attack queries|looks|both] [--strips 0|1]
+ *                         [--moves M] [--batch B] [--attack A[,A…]] [--strips 0|1]
  *                         [--fail-over MS]
- *        (defaults 5,000, 1,000,000, 40, 3,000, 704, both)
+ *        (defaults 5,000, 1,000,000, 40, 3,000, 704, 64, queries,looks; the attacks: queries,
+ *        looks, windows, shaped-parent)
  */
 #include <errno.h>
 #include <stdio.h>
@@ -136,51 +140,107 @@ static void send_look(struct harness_conn *c, uint32_t opcode, uint32_t window, 
 	free(b);
 }
 
-/* The looks attack: windows with shapes and opaque regions of rects / 2 rectangles each, moved
- * in batches of 64; prints a table row. */
-static void run_looks(struct harness_daemon *d, uint32_t windows, uint32_t rects, uint32_t moves)
+/* Creates n mapped windows of w × h under parent, spread over a width × height area, pipelined;
+ * their IDs go to ids. */
+static void create_spread(struct harness_conn *c, uint32_t parent, uint32_t n, uint32_t w,
+			  uint32_t h, uint32_t width, uint32_t height, uint32_t *ids)
+{
+	enum { PER = 4096 };
+	for (uint32_t done = 0; done < n;) {
+		uint32_t k = n - done < PER ? n - done : PER;
+		for (uint32_t i = done; i < done + k; i++)
+			harness_req(c, VIS_OP_CREATE, parent, 7919 * i % (width - w),
+				    104729 * i % (height - h), w, h, VIS_CREATE_MAP, 0, 0, 0, 0);
+		for (uint32_t i = done; i < done + k; i++) {
+			struct vis_msg m;
+			harness_next_reply(c, &m, NULL);
+			CHECK(m.type->opcode == VIS_OP_CREATED, "create %u: %s", i + 1, m.type->name);
+			ids[i] = m.args[1].u;
+		}
+		done += k;
+	}
+}
+
+/* Reads the replies up to a sync, counting the limit errors among them (looks refused). */
+static uint32_t count_refused(struct harness_conn *c)
+{
+	uint32_t synced = harness_req(c, VIS_OP_SYNC), refused = 0;
+	for (struct vis_msg m;;) {
+		harness_next_reply(c, &m, NULL);
+		if (m.type->opcode == VIS_OP_SYNCED && m.args[0].u == synced)
+			return refused;
+		CHECK(m.type->opcode == VIS_OP_ERROR && m.args[2].u == VIS_ERROR_LIMIT,
+		      "the set-up got %s", m.type->name);
+		refused++;
+	}
+}
+
+/* The attacks that make the daemon recompute: what the attacker's windows are. */
+enum scene { LOOKS, WINDOWS, SHAPED_PARENT };
+
+/*
+ * A recompute attack: the attacker builds its scene (untimed), then moves its windows ids[0 …
+ * n) moves times, in batches of batch, while the prober makes round trips; prints a table row.
+ * LOOKS: n windows of 600 × 600 with looks of rects rectangles each, overlapping. WINDOWS: n
+ * windows of 40 × 30 over the screen. SHAPED_PARENT: n windows of 20 × 20 under one of 1,600 ×
+ * 1,000 whose shape is rects squares, which clips them all.
+ */
+static void run_moves(struct harness_daemon *d, enum scene scene, uint32_t n, uint32_t rects,
+		      uint32_t moves, uint32_t batch)
 {
 	struct harness_conn attacker, prober;
 	harness_open_as(&prober, d->sock, VIS_ROLE_CLIENT);
 	harness_open_as(&attacker, d->sock, VIS_ROLE_CLIENT);
-	uint32_t *ids = malloc(windows * sizeof *ids);
+	uint32_t *ids = malloc(n * sizeof *ids), refused = 0, parent = 0;
 	CHECK(ids, "out of memory");
-	for (uint32_t i = 0; i < windows; i++)
-		ids[i] = harness_create(&attacker, 0, (int32_t)(37 * i % 1600),
-					(int32_t)(23 * i % 900), 600, 600, VIS_CREATE_MAP);
-	for (uint32_t i = 0; i < windows; i++) {
-		send_look(&attacker, VIS_OP_SET_SHAPE, ids[i], rects / 2, 4, 0);
-		send_look(&attacker, VIS_OP_SET_OPAQUE, ids[i], rects - rects / 2, 2, 1);
+	char row[120];
+	int32_t span_x = 3000, span_y = 1500;
+	switch (scene) {
+	case LOOKS:
+		for (uint32_t i = 0; i < n; i++)
+			ids[i] = harness_create(&attacker, 0, (int32_t)(37 * i % 1600),
+						(int32_t)(23 * i % 900), 600, 600, VIS_CREATE_MAP);
+		for (uint32_t i = 0; i < n; i++) {
+			send_look(&attacker, VIS_OP_SET_SHAPE, ids[i], rects / 2, 4, 0);
+			send_look(&attacker, VIS_OP_SET_OPAQUE, ids[i], rects - rects / 2, 2, 1);
+		}
+		refused = count_refused(&attacker);
+		snprintf(row, sizeof row, "%u windows of %u look %s (%u looks refused)", n, n * rects,
+			 strips ? "strips" : "squares", refused);
+		break;
+	case WINDOWS:
+		create_spread(&attacker, 0, n, 40, 30, 3840, 2160, ids);
+		snprintf(row, sizeof row, "%u windows", n);
+		break;
+	case SHAPED_PARENT:
+		parent = harness_create(&attacker, 0, 100, 100, 1600, 1000, VIS_CREATE_MAP);
+		send_look(&attacker, VIS_OP_SET_SHAPE, parent, rects, 4, 0);
+		refused = count_refused(&attacker);
+		create_spread(&attacker, parent, n, 20, 20, 1600, 1000, ids);
+		span_x = 1580;
+		span_y = 980;
+		snprintf(row, sizeof row, "%u windows under one shaped with %u squares%s", n, rects,
+			 refused ? " (refused)" : "");
+		break;
 	}
-	/* The looks past --max-look-pieces are refused: count them. */
-	uint32_t synced = harness_req(&attacker, VIS_OP_SYNC), refused = 0;
-	for (struct vis_msg m;;) {
-		harness_next_reply(&attacker, &m, NULL);
-		if (m.type->opcode == VIS_OP_SYNCED && m.args[0].u == synced)
-			break;
-		CHECK(m.type->opcode == VIS_OP_ERROR && m.args[2].u == VIS_ERROR_LIMIT,
-		      "a look got %s", m.type->name);
-		refused++;
-	}
+	size_t len = strlen(row);
+	snprintf(row + len, sizeof row - len, ", %u moves in batches of %u", moves, batch);
 	double start = harness_clock_ms();
 	pid_t writer = fork();
 	CHECK(writer >= 0, "fork: %s", strerror(errno));
 	if (writer == 0) {
 		for (uint32_t i = 0; i < moves; i++) {
-			if (i % 64 == 0)
+			if (i % batch == 0)
 				harness_req(&attacker, VIS_OP_BATCH_BEGIN);
-			harness_req(&attacker, VIS_OP_MOVE, ids[i % windows],
-				    (uint32_t)(int32_t)(97 * i % 3000), (uint32_t)(int32_t)(61 * i % 1500));
-			if (i % 64 == 63 || i + 1 == moves)
+			harness_req(&attacker, VIS_OP_MOVE, ids[i % n], (uint32_t)(97 * i % span_x),
+				    (uint32_t)(61 * i % span_y));
+			if (i % batch == batch - 1 || i + 1 == moves)
 				harness_req(&attacker, VIS_OP_BATCH_COMMIT);
 		}
 		harness_req(&attacker, VIS_OP_SYNC);
 		_exit(0);
 	}
-	uint32_t last = attacker.seq + moves + 2 * ((moves + 63) / 64) + 1;
-	char row[100];
-	snprintf(row, sizeof row, "%u moves of %u windows of %u look %s (%u looks refused)", moves,
-		 windows, windows * rects, strips ? "strips" : "squares", refused);
+	uint32_t last = attacker.seq + moves + 2 * ((moves + batch - 1) / batch) + 1;
 	probe(&prober, &attacker, last, writer, start, row);
 	free(ids);
 	harness_close(&attacker);
@@ -190,12 +250,13 @@ static void run_looks(struct harness_daemon *d, uint32_t windows, uint32_t rects
 int main(int argc, char **argv)
 {
 	uint32_t windows = 5000, queries = 1000000, look_windows = 40, look_rects = 3000;
-	uint32_t moves = 704;
-	const char *attack = "both";
+	uint32_t moves = 704, batch = 64;
+	const char *attack = "queries,looks";
 	if (argc < 2 || argc % 2) {
 		fprintf(stderr, "usage: bench-stall VISD [--windows W] [--queries N] "
-				"[--look-windows L] [--look-rects R] [--moves M] "
-				"[--attack queries|looks|both] [--strips 0|1] [--fail-over MS]\n");
+				"[--look-windows L] [--look-rects R] [--moves M] [--batch B] "
+				"[--attack A[,A…]] [--strips 0|1] [--fail-over MS]\n"
+				"  attacks: queries looks windows shaped-parent\n");
 		return 2;
 	}
 	for (int i = 2; i + 1 < argc; i += 2) {
@@ -210,25 +271,38 @@ int main(int argc, char **argv)
 			look_rects = (uint32_t)v;
 		else if (!strcmp(argv[i], "--moves") && v >= 1 && v <= 1000000)
 			moves = (uint32_t)v;
+		else if (!strcmp(argv[i], "--batch") && v >= 1 && v <= 65536)
+			batch = (uint32_t)v;
 		else if (!strcmp(argv[i], "--fail-over") && v >= 1 && v <= 3600000)
 			fail_over = (double)v;
 		else if (!strcmp(argv[i], "--strips") && v <= 1)
 			strips = v;
-		else if (!strcmp(argv[i], "--attack") &&
-			 (!strcmp(argv[i + 1], "queries") || !strcmp(argv[i + 1], "looks") ||
-			  !strcmp(argv[i + 1], "both")))
+		else if (!strcmp(argv[i], "--attack"))
 			attack = argv[i + 1];
 		else {
 			fprintf(stderr, "bench-stall: bad option %s %s\n", argv[i], argv[i + 1]);
 			return 2;
 		}
 	}
+	static const char *const names[] = { "queries", "looks", "windows", "shaped-parent" };
+	bool wanted[4] = { false };
+	for (const char *a = attack; *a;) {
+		size_t len = strcspn(a, ","), k = 0;
+		while (k < 4 && (strlen(names[k]) != len || strncmp(a, names[k], len)))
+			k++;
+		if (k == 4) {
+			fprintf(stderr, "bench-stall: unknown attack '%.*s'\n", (int)len, a);
+			return 2;
+		}
+		wanted[k] = true;
+		a += len + (a[len] == ',');
+	}
 	struct harness_daemon d = { 0 };
 	harness_start(&d, argv[1], NULL);
 	printf("another client's sync round trip (ms) while a client makes the daemon work\n\n");
 	printf("| attack | attack ms | round trips | p50 | p99 | max |\n");
 	printf("|---|---|---|---|---|---|\n");
-	if (strcmp(attack, "looks")) {
+	if (wanted[0]) {
 		struct harness_conn owner;
 		harness_open_as(&owner, d.sock, VIS_ROLE_CLIENT);
 		harness_create_many(&owner, windows, 0, 0);
@@ -236,8 +310,12 @@ int main(int argc, char **argv)
 		run(&d, windows, queries, false);
 		harness_close(&owner);
 	}
-	if (strcmp(attack, "queries"))
-		run_looks(&d, look_windows, look_rects, moves);
+	if (wanted[1])
+		run_moves(&d, LOOKS, look_windows, look_rects, moves, batch);
+	if (wanted[2])
+		run_moves(&d, WINDOWS, windows, 0, moves, batch);
+	if (wanted[3])
+		run_moves(&d, SHAPED_PARENT, windows, look_rects, moves, batch);
 	harness_stop(&d);
 	return 0;
 }
