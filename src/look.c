@@ -5,6 +5,7 @@
  * box: pixman computes in int and must not meet edges near the 32-bit limits, and ranks keep every
  * union, intersection and difference (the map is strictly increasing on the edges involved).
  */
+#include <assert.h>
 #include <errno.h>
 #include <pixman.h>
 #include <stdlib.h>
@@ -407,6 +408,14 @@ int vis_look_cut_fill(struct vis_look_cut *cut, const struct vis_look *look, int
 		return -1;
 	cut->n = (uint32_t)tmp.stack.n;
 	cut->n_opaque = opaque;
+#ifndef NDEBUG
+	/* Each run banded (look.h): bands in order, a band's rectangles sharing top and bottom. */
+	for (uint32_t k = 1; k < cut->n; k++) {
+		struct vis_rect a = cut->rects[k - 1], b = cut->rects[k];
+		assert(k == opaque || (a.y == b.y && a.h == b.h && a.x + a.w <= b.x) ||
+		       a.y + a.h <= b.y);
+	}
+#endif
 	cut->border = look->border;
 	cut->width = width;
 	cut->height = height;

@@ -100,7 +100,10 @@ int vis_pieces_add_within(struct vis_pieces *pieces, const struct vis_look *look
  * A look's pieces cut once, for a border box of one size and relative to its corner: what a window
  * keeps across recomputes, so that placing it again costs its pieces' count, not their cutting.
  * rects[0 … n_opaque) are opaque, rects[n_opaque … n) see-through, all disjoint, their union the
- * window's pixels; valid for a window whose border and inside are border and width × height.
+ * window's pixels; each of the two runs is y-x banded as pixman's regions are (sorted by top, then
+ * left; the rectangles of a band share their top and bottom, and bands do not overlap), so that
+ * those meeting a box are found by a binary search. Valid for a window whose border and inside
+ * are border and width × height.
  * The zero cut is empty and not valid.
  */
 struct vis_look_cut {

@@ -85,10 +85,41 @@ static bool under_shape(const struct vis_window *w)
 	return false;
 }
 
+/* The first of the banded rects[lo … hi) whose bottom lies below y (hi when none). */
+static uint32_t first_below(const struct vis_rect *rects, uint32_t lo, uint32_t hi, int64_t y)
+{
+	while (lo < hi) {
+		uint32_t mid = lo + (hi - lo) / 2;
+		if ((int64_t)rects[mid].y + rects[mid].h > y)
+			hi = mid;
+		else
+			lo = mid + 1;
+	}
+	return lo;
+}
+
+/* Appends a box to *out (realloc'd, *cap long, *n used). 0, or -1 with ENOMEM. */
+static int append_box(struct vis_box **out, size_t *n, size_t *cap, struct vis_box box)
+{
+	if (*n == *cap) {
+		size_t more = *cap ? 2 * *cap : 16;
+		struct vis_box *grown = realloc(*out, more * sizeof(**out));
+		if (!grown) {
+			errno = ENOMEM;
+			return -1;
+		}
+		*out = grown;
+		*cap = more;
+	}
+	(*out)[(*n)++] = box;
+	return 0;
+}
+
 /*
  * Cuts boxes[0 … *nb) by one shaped ancestor a: the parts of each inside a's inside and a's
  * pixels, which its kept cut lists (their union is its shape in its border box), into *out
- * (realloc'd, *cap long). O(nb · b) for a's b pieces. 0, or -1 with errno.
+ * (realloc'd, *cap long). O(nb · (log b + p)) for a's b pieces, p of them in the bands a box
+ * crosses. 0, or -1 with errno.
  */
 static int cut_by(const struct vis_window *a, const struct vis_look_cut *cut,
 		  const struct vis_box *boxes, size_t nb, struct vis_box **out, size_t *n_out,
@@ -96,29 +127,27 @@ static int cut_by(const struct vis_window *a, const struct vis_look_cut *cut,
 {
 	int64_t b = a->look.border;
 	struct vis_box inside = { a->box.x1 + b, a->box.y1 + b, a->box.x2 - b, a->box.y2 - b };
+	const uint32_t runs[3] = { 0, cut->n_opaque, cut->n };
 	*n_out = 0;
 	for (size_t k = 0; k < nb; k++) {
 		struct vis_box in = vis_box_intersect(boxes[k], inside);
 		if (vis_box_empty(in))
 			continue;
-		for (uint32_t q = 0; q < cut->n; q++) {
-			struct vis_rect r = cut->rects[q];
-			struct vis_box piece = { a->box.x1 + r.x, a->box.y1 + r.y,
-						 a->box.x1 + r.x + r.w, a->box.y1 + r.y + r.h };
-			struct vis_box part = vis_box_intersect(piece, in);
-			if (vis_box_empty(part))
-				continue;
-			if (*n_out == *cap) {
-				size_t more = *cap ? 2 * *cap : 16;
-				struct vis_box *grown = realloc(*out, more * sizeof(**out));
-				if (!grown) {
-					errno = ENOMEM;
+		/* Each run of the cut is banded: from the first band reaching below the box's top to
+		 * the last starting above its bottom. */
+		for (int run = 0; run < 2; run++) {
+			uint32_t q = first_below(cut->rects, runs[run], runs[run + 1],
+						 in.y1 - a->box.y1);
+			for (; q < runs[run + 1]; q++) {
+				struct vis_rect r = cut->rects[q];
+				struct vis_box piece = { a->box.x1 + r.x, a->box.y1 + r.y,
+							 a->box.x1 + r.x + r.w, a->box.y1 + r.y + r.h };
+				if (piece.y1 >= in.y2)
+					break;
+				struct vis_box part = vis_box_intersect(piece, in);
+				if (!vis_box_empty(part) && append_box(out, n_out, cap, part) < 0)
 					return -1;
-				}
-				*out = grown;
-				*cap = more;
 			}
-			(*out)[(*n_out)++] = part;
 		}
 	}
 	return 0;

@@ -13,12 +13,13 @@
  * Windows: an attacker makes W mapped windows over the screen and moves them, in batches.
  * Shaped parent: an attacker makes one window whose shape is R squares and W children under it,
  * which its shape clips, and moves the children, in batches.
+ * With --shaped-backdrop 1, the prober keeps a shaped window of the screen's size under them.
  *
  * With --fail-over MS it is the stall test too: it fails when a round trip took longer.
  *
  * usage: bench-stall VISD [--windows W] [--queries N] [--look-windows L] [--look-rects R]
  *                         [--moves M] [--batch B] [--attack A[,A…]] [--strips 0|1]
- *                         [--fail-over MS]
+ *                         [--shaped-backdrop 0|1] [--fail-over MS]
  *        (defaults 5,000, 1,000,000, 40, 3,000, 704, 64, queries,looks; the attacks: queries,
  *        looks, windows, shaped-parent)
  */
@@ -107,6 +108,9 @@ static void run(struct harness_daemon *d, uint32_t windows, uint32_t queries, bo
 	harness_close(&prober);
 }
 
+/* With --shaped-backdrop 1: the prober keeps a shaped window under the attacker's. */
+static bool shaped_backdrop;
+
 /* How a look's rectangles lie: squares in a grid, or strips across the window, horizontal for a
  * shape and vertical for an opaque region, so that their n × n crossings are as many pieces. */
 static bool strips;
@@ -191,6 +195,12 @@ static void run_moves(struct harness_daemon *d, enum scene scene, uint32_t n, ui
 	struct harness_conn attacker, prober;
 	harness_open_as(&prober, d->sock, VIS_ROLE_CLIENT);
 	harness_open_as(&attacker, d->sock, VIS_ROLE_CLIENT);
+	if (shaped_backdrop) {
+		/* The prober's window under everything, shaped: one square less than the screen. */
+		uint32_t b = harness_create(&prober, 0, 0, 0, 3840, 2160, VIS_CREATE_MAP);
+		send_look(&prober, VIS_OP_SET_SHAPE, b, 1, 3000, 0);
+		harness_sync(&prober, NULL);
+	}
 	uint32_t *ids = malloc(n * sizeof *ids), refused = 0, parent = 0;
 	CHECK(ids, "out of memory");
 	char row[120];
@@ -255,7 +265,8 @@ int main(int argc, char **argv)
 	if (argc < 2 || argc % 2) {
 		fprintf(stderr, "usage: bench-stall VISD [--windows W] [--queries N] "
 				"[--look-windows L] [--look-rects R] [--moves M] [--batch B] "
-				"[--attack A[,A…]] [--strips 0|1] [--fail-over MS]\n"
+				"[--attack A[,A…]] [--strips 0|1] [--shaped-backdrop 0|1]\n"
+				"                   [--fail-over MS]\n"
 				"  attacks: queries looks windows shaped-parent\n");
 		return 2;
 	}
@@ -275,6 +286,8 @@ int main(int argc, char **argv)
 			batch = (uint32_t)v;
 		else if (!strcmp(argv[i], "--fail-over") && v >= 1 && v <= 3600000)
 			fail_over = (double)v;
+		else if (!strcmp(argv[i], "--shaped-backdrop") && v <= 1)
+			shaped_backdrop = v;
 		else if (!strcmp(argv[i], "--strips") && v <= 1)
 			strips = v;
 		else if (!strcmp(argv[i], "--attack"))
