@@ -48,7 +48,7 @@ static const char usage_text[] =
 	"  --max-look-rects N        shape and opaque rectangles of the windows one connection\n"
 	"                            owns (default 1048576)\n"
 	"  --max-look-pieces N       pieces the looks of one connection's windows cut into,\n"
-	"                            what recomputes cost (default 32768)\n"
+	"                            what recomputes cost (default 16384)\n"
 	"  --max-retained-per-uid N  retained windows that exist, made by connections of\n"
 	"                            one uid, alive or gone (default 262144)\n"
 	"  --max-retained N          retained windows that exist (default 1048576)\n"
@@ -327,7 +327,7 @@ int main(int argc, char **argv)
 		.hello_timeout = 10,
 		.max_windows = 262144,
 		.max_look_rects = 1048576,
-		.max_look_pieces = 32768,
+		.max_look_pieces = 16384,
 		.max_retained_per_uid = 262144,
 		.max_retained = 1048576,
 		.max_depth = 64,
