@@ -9,7 +9,7 @@
 # PIDS is a space-separated list (an empty one: the stall interval is a plain timeout). Safe
 # under set -eu.
 progress_stall=${progress_stall:-60}
-progress_ceiling=${progress_ceiling:-600}
+progress_ceiling=${progress_ceiling:-1800}
 progress_min=10
 progress_why=
 
