@@ -18,11 +18,9 @@
 #include <unistd.h>
 
 #include "harness.h"
+#include "progress.h"
 #include "vis/protocol.h"
 #include "wire.h"
-
-/* How long a reply may take: generous, for sanitizer builds on a busy machine. */
-#define REPLY_TIMEOUT_MS 20000
 
 static struct harness_daemon *running[8];
 static pid_t owner; /* the process that started them: forked children must leave them alone */
@@ -89,6 +87,37 @@ static void sleep_ms(int ms)
 	nanosleep(&t, NULL);
 }
 
+struct progress harness_working(const struct harness_daemon *d)
+{
+	pid_t pids[PROGRESS_MAX_PIDS];
+	size_t n = 0;
+	for (size_t i = 0; i < sizeof running / sizeof *running && n < PROGRESS_MAX_PIDS; i++)
+		if (running[i] && (!d || running[i] == d))
+			pids[n++] = running[i]->pid;
+	if (d && !n)
+		pids[n++] = d->pid;
+	struct progress p;
+	progress_begin(&p, pids, n);
+	return p;
+}
+
+/* Fails, saying what was waited for, when the daemons of the wait died or stopped working. */
+static void check_working(struct progress *p, const char *what)
+{
+	for (size_t i = 0; i < sizeof running / sizeof *running; i++)
+		for (size_t k = 0; k < p->n; k++)
+			if (running[i] && running[i]->pid == p->pid[k])
+				harness_check_alive(running[i]);
+	if (progress_stopped(p))
+		harness_fail(__FILE__, __LINE__, "%s: %s", what, p->why);
+}
+
+void harness_still_working(struct progress *p, const char *what)
+{
+	check_working(p, what);
+	sleep_ms(10);
+}
+
 void harness_start(struct harness_daemon *d, const char *visd, const char *const *extra)
 {
 	snprintf(d->dir, sizeof d->dir, "/tmp/visd-harness-XXXXXX");
@@ -131,13 +160,9 @@ void harness_start(struct harness_daemon *d, const char *visd, const char *const
 			break;
 		}
 	}
-	for (int i = 0; i < 1000; i++) {
-		if (access(d->sock, F_OK) == 0 && access(d->rsock, F_OK) == 0)
-			return;
-		harness_check_alive(d);
-		sleep_ms(10);
-	}
-	harness_fail(__FILE__, __LINE__, "visd did not create %s", d->sock);
+	for (struct progress p = harness_working(d);
+	     access(d->sock, F_OK) < 0 || access(d->rsock, F_OK) < 0;)
+		harness_still_working(&p, "visd did not create its sockets");
 }
 
 /* Fails when the log holds a sanitizer's report. */
@@ -178,9 +203,18 @@ void harness_stop(struct harness_daemon *d)
 	kill(d->pid, SIGTERM);
 	int status = 0;
 	pid_t r = 0;
-	for (int i = 0; i < 3000 && (r = waitpid(d->pid, &status, WNOHANG)) == 0; i++)
+	/* The exit may take a while: the leak check of a sanitizer build runs then. */
+	struct progress p = harness_working(d);
+	while ((r = waitpid(d->pid, &status, WNOHANG)) == 0) {
+		/* Gone since waitpid looked is what was awaited, not a failure. */
+		if (progress_stopped(&p) && (r = waitpid(d->pid, &status, WNOHANG)) == 0)
+			harness_fail(__FILE__, __LINE__, "visd did not exit after SIGTERM: %s",
+				     p.why);
+		if (r)
+			break;
 		sleep_ms(10);
-	CHECK(r == d->pid, "visd did not exit within 30 s of SIGTERM");
+	}
+	CHECK(r == d->pid, "waitpid: %s", strerror(errno));
 	for (size_t i = 0; i < sizeof running / sizeof *running; i++)
 		if (running[i] == d)
 			running[i] = NULL;
@@ -213,13 +247,13 @@ int harness_count_fds(const struct harness_daemon *d)
 
 void harness_wait_fds(const struct harness_daemon *d, int want)
 {
-	int n = -1;
-	for (int i = 0; i < 1000; i++) {
-		if ((n = harness_count_fds(d)) == want)
-			return;
+	struct progress p = harness_working(d);
+	for (int n; (n = harness_count_fds(d)) != want;) {
+		if (progress_stopped(&p))
+			harness_fail(__FILE__, __LINE__, "visd holds %d descriptors, wanted %d: %s",
+				     n, want, p.why);
 		sleep_ms(10);
 	}
-	harness_fail(__FILE__, __LINE__, "visd holds %d descriptors, wanted %d", n, want);
 }
 
 int harness_connect(const char *path)
@@ -352,7 +386,11 @@ int harness_recv(struct harness_conn *c, int timeout_ms, struct vis_msg *m)
 {
 	vis_buf_consume(&c->in, c->taken);
 	c->taken = 0;
-	long long deadline = now_ms() + timeout_ms;
+	/* HARNESS_WORKING: slices of a second, after the first of which the daemons must be
+	 * working (read from /proc only then: most messages come at once). */
+	struct progress work;
+	bool working = timeout_ms < 0, begun = false;
+	long long deadline = now_ms() + (working ? 1000 : timeout_ms);
 	for (;;) {
 		char why[200];
 		enum vis_decode r = vis_msg_decode(c->in.data, c->in.len, VIS_PROTOCOL_MAX_MESSAGE,
@@ -368,6 +406,14 @@ int harness_recv(struct harness_conn *c, int timeout_ms, struct vis_msg *m)
 		if (k < 0 && errno == EINTR)
 			continue;
 		CHECK(k >= 0, "poll: %s", strerror(errno));
+		if (k == 0 && working) {
+			if (!begun)
+				work = harness_working(NULL);
+			begun = true;
+			check_working(&work, "no message from visd");
+			deadline = now_ms() + 1000;
+			continue;
+		}
 		if (k == 0)
 			return -1;
 		size_t at = c->in.len;
@@ -390,8 +436,7 @@ int harness_recv(struct harness_conn *c, int timeout_ms, struct vis_msg *m)
 void harness_next_reply(struct harness_conn *c, struct vis_msg *m, size_t *notices)
 {
 	for (;;) {
-		int r = harness_recv(c, REPLY_TIMEOUT_MS, m);
-		CHECK(r >= 0, "no reply within %d ms", REPLY_TIMEOUT_MS);
+		int r = harness_recv(c, HARNESS_WORKING, m);
 		CHECK(r > 0, "the daemon closed the connection (request %u was the last)", c->seq);
 		if (m->type->dir != VIS_DIR_NOTICE)
 			return;
@@ -462,9 +507,7 @@ void harness_expect_error(struct harness_conn *c, uint32_t seq, uint32_t opcode,
 	/* Before the error: notices and replies to earlier requests; after it: the end. */
 	bool seen = false;
 	for (;;) {
-		int r = harness_recv(c, REPLY_TIMEOUT_MS, &m);
-		CHECK(r >= 0, "request %u: the connection was not closed within %d ms", seq,
-		      REPLY_TIMEOUT_MS);
+		int r = harness_recv(c, HARNESS_WORKING, &m);
 		if (r == 0)
 			break;
 		CHECK(!seen, "request %u: a %s after the fatal error", seq, m.type->name);

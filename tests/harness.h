@@ -1,8 +1,9 @@
 /*
  * A test harness for suites that face a real visd with raw bytes: it starts the daemon on a
  * private socket (a mkdtemp directory) with its stderr in a file, connects without libvisclient,
- * sends bytes, reads and decodes the daemon's messages with a timeout, and stops the daemon,
- * checking that it exits with status 0 and that no sanitizer wrote a report.
+ * sends bytes, reads and decodes the daemon's messages, waiting as long as the daemon works
+ * (progress.h) or within a timeout, and stops the daemon, checking that it exits with status 0
+ * and that no sanitizer wrote a report.
  *
  * Failures print where, the current context and the seed (when one is set), kill the daemons
  * started, and exit with status 1.
@@ -16,6 +17,7 @@
 #include <sys/types.h>
 
 #include "codec.h"
+#include "progress.h"
 
 /* A visd started by the harness. */
 struct harness_daemon {
@@ -66,8 +68,16 @@ void harness_stop(struct harness_daemon *d);
 void harness_check_alive(struct harness_daemon *d);
 /* The descriptors the daemon holds now (-1 if /proc cannot tell). */
 int harness_count_fds(const struct harness_daemon *d);
-/* Waits (up to 10 s) until the daemon holds exactly want descriptors. */
+/* Waits until the daemon holds exactly want descriptors (while it works: progress.h). */
 void harness_wait_fds(const struct harness_daemon *d, int want);
+/*
+ * A wait for something the daemon d (NULL: every daemon started) is working towards, as a loop:
+ *   for (struct progress p = harness_working(d); !done(); harness_still_working(&p, "what"));
+ * harness_still_working() fails, naming what, when a daemon of the wait died or none has used CPU
+ * time for PROGRESS_STALL_MS (or the ceiling passed); else it naps 10 ms.
+ */
+struct progress harness_working(const struct harness_daemon *d);
+void harness_still_working(struct progress *p, const char *what);
 
 /* A connected Unix socket, or -1 with errno set. */
 int harness_connect(const char *path);
@@ -98,7 +108,10 @@ uint32_t harness_request_raw(struct harness_conn *c, const void *p, size_t n);
 /*
  * The next message from the daemon: 1 (in *m, valid until the next call), 0 at the end of the
  * connection, -1 when nothing came within timeout_ms. A message that does not decode fails.
+ * timeout_ms HARNESS_WORKING waits as long as the daemons started make progress (progress.h):
+ * it fails, never returns -1, when one dies or they stop working.
  */
+#define HARNESS_WORKING (-1)
 int harness_recv(struct harness_conn *c, int timeout_ms, struct vis_msg *m);
 /* The next reply or error, skipping notices (counted in *notices when not NULL, and given to
  * on_notice). */

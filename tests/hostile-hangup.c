@@ -62,8 +62,12 @@ static uint8_t *hello_and_creates(uint32_t n, size_t *len)
 static void expect_orphans(size_t want, const char *what)
 {
 	size_t have = 0;
-	for (int tries = 0; tries < 500 && (have = count_orphans()) < want; tries++)
-		usleep(20000);
+	char why[200];
+	for (struct progress p = harness_working(&hostile_visd); (have = count_orphans()) < want;) {
+		snprintf(why, sizeof why, "%s: %zu retained windows exist, not %zu", what, have,
+			 want);
+		harness_still_working(&p, why);
+	}
 	CHECK(have == want, "%s: %zu retained windows exist, not %zu", what, have, want);
 	hostile_destroy_leftovers();
 	hostile_check_unaffected();
@@ -105,10 +109,11 @@ static void test_half_close(void)
 		      strerror(errno));
 		struct vis_msg m;
 		uint32_t seq = 1;
-		CHECK(harness_recv(&c, 20000, &m) > 0 && m.type->opcode == VIS_OP_HELLO_REPLY,
+		CHECK(harness_recv(&c, HARNESS_WORKING, &m) > 0 &&
+			      m.type->opcode == VIS_OP_HELLO_REPLY,
 		      "no hello-reply");
 		while (seq < 1 + 200 + 64) {
-			int r = harness_recv(&c, 20000, &m);
+			int r = harness_recv(&c, HARNESS_WORKING, &m);
 			CHECK(r > 0, "the connection ended after %u replies of %d", seq, 1 + 200 + 64);
 			if (m.type->dir == VIS_DIR_NOTICE)
 				continue;
@@ -117,7 +122,8 @@ static void test_half_close(void)
 				      m.type->opcode == (seq <= 201 ? VIS_OP_CREATED : VIS_OP_SYNCED),
 			      "reply %s answers request %u, not %u", m.type->name, m.args[0].u, seq);
 		}
-		CHECK(harness_recv(&c, 20000, &m) == 0, "the connection went on after its requests");
+		CHECK(harness_recv(&c, HARNESS_WORKING, &m) == 0,
+		      "the connection went on after its requests");
 		harness_close(&c);
 		expect_orphans(200, "after a half-close");
 	}

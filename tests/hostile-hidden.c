@@ -185,7 +185,8 @@ static void roundtrip(int p)
 	uint32_t seq = harness_req(&peer[p], VIS_OP_SYNC);
 	struct vis_msg m;
 	do {
-		CHECK(harness_recv(&peer[p], 20000, &m) > 0, "peer %d: no answer to sync", p);
+		CHECK(harness_recv(&peer[p], HARNESS_WORKING, &m) > 0, "peer %d: no answer to sync",
+		      p);
 		take(p, &m);
 	} while (m.type->opcode != VIS_OP_SYNCED || m.args[0].u != seq);
 	for (size_t i = 0; i < n_names; i++)

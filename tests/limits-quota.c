@@ -223,13 +223,14 @@ void limits_quota_hello_timeout(void)
 /* Waits until the manager sees n windows: the daemon has dropped a departed client's windows. */
 static void wait_windows(struct harness_conn *m, size_t n)
 {
-	for (int tries = 0;; tries++) {
+	char what[80];
+	for (struct progress p = harness_working(NULL);;) {
 		size_t k;
 		free(harness_get_tree(m, &k));
 		if (k == n)
 			return;
-		CHECK(tries < 1000, "the manager sees %zu windows, not %zu", k, n);
-		usleep(5000);
+		snprintf(what, sizeof what, "the manager sees %zu windows, not %zu", k, n);
+		harness_still_working(&p, what);
 	}
 }
 

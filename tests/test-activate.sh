@@ -23,23 +23,20 @@ fail() {
 	echo "FAIL: $*" >&2
 	failures=$((failures + 1))
 }
-# Waits up to 5 s for a socket to appear at $1.
-wait_socket() { for _ in $(seq 500); do [ -S "$1" ] && return; sleep 0.01; done; }
-# Waits up to 5 s for a line matching $2 in the file $1.
-wait_line() { for _ in $(seq 500); do grep -qF -- "$2" "$1" && return; sleep 0.01; done; }
-# A client that gives up: a daemon blocked in accept() must fail the test, not hang it.
-v() { timeout 10 "$visctl" "$@"; }
-# Stops process $1 with SIGTERM and returns its exit status; if it is still there after 10 s, it
-# is killed and the status is 124: a daemon stuck in a blocking call must not hang the test.
+# wait_progress PIDS COMMAND: COMMAND until it succeeds, while the processes named work.
+. "$(dirname "$0")/progress.sh"
+# Waits for a socket to appear at $2, as long as the process $1 (visd) works.
+wait_socket() { wait_progress "$1" test -S "$2"; }
+# Waits for a line matching $3 in the file $2, as long as the process $1 works.
+wait_line() { wait_progress "$1" grep -qF -- "$3" "$2"; }
+# A client that gives up: a daemon blocked in accept() must fail the test, not hang it. (A hang
+# guard, as long as the stall interval of a wait: a working visd answers at once.)
+v() { timeout "$progress_stall" "$visctl" "$@"; }
+# Stops process $1 with SIGTERM and returns its exit status; if it stops working without exiting,
+# it is killed and the status is 124: a daemon stuck in a blocking call must not hang the test.
 stop() {
-	local state
 	kill "$1" 2>/dev/null
-	for _ in $(seq 1000); do
-		state=$(sed 's/.*) //' "/proc/$1/stat" 2>/dev/null | cut -d' ' -f1)
-		[ -z "$state" ] || [ "$state" = Z ] && break
-		sleep 0.01
-	done
-	if [ -n "$state" ] && [ "$state" != Z ]; then
+	if ! wait_progress "$1" progress_gone "$1"; then
 		kill -9 "$1"
 		wait "$1"
 		return 124
@@ -63,7 +60,7 @@ done
 sock=$dir/sock
 "$activate" "${keep_env[@]}" -l "$sock" "$visd" 2>"$dir/log" &
 pid=$!
-wait_socket "$sock"
+wait_socket "$pid" "$sock"
 [ -S "$sock" ] || { echo "systemd-socket-activate did not listen" >&2; cat "$dir/log" >&2; exit 1; }
 [ ! -e "$sock.lock" ] || fail "visd ran before any connection"
 id=$(v -s "$sock" create 0 0 100 100 --map --retain) || fail "the first connection was not served"
@@ -77,12 +74,12 @@ for n in 1 2 3 4 5; do
 	v -s "$sock" sync || fail "connection $n after the first"
 done
 # The lock holds under activation: a second daemon on the path refuses, and leaves it alone.
-# (Every visd that should refuse to start runs under a timeout: one that starts must not hang the
-# test.)
-timeout 5 "$visd" --socket "$sock" 2>"$dir/err"
+# (Every visd that should refuse to start runs under a timeout, a hang guard: one that starts
+# must not hang the test.)
+timeout "$progress_stall" "$visd" --socket "$sock" 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "another visd is serving '$sock'" "$dir/err" ||
 	fail "a second visd on an activated socket: $(cat "$dir/err")"
-VISD_SOCKET=$sock timeout 5 "$visd" 2>"$dir/err"
+VISD_SOCKET=$sock timeout "$progress_stall" "$visd" 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "another visd" "$dir/err" || fail "a second visd by VISD_SOCKET: $(cat "$dir/err")"
 [ "$(v -s "$sock" --role observer states)" = "$id unobscured" ] || fail "the first daemon lost its socket"
 # SIGTERM: a clean exit; the socket is the manager's and stays, the lock goes.
@@ -97,16 +94,16 @@ main=$dir/main
 restr=$dir/restr
 "$activate" "${keep_env[@]}" -l "$restr" -l "$main" --fdname=restricted:visd.socket "$visd" 2>"$dir/log2" &
 pid=$!
-wait_socket "$main"
+wait_socket "$pid" "$main"
 v -s "$main" --role observer states >/dev/null 2>"$dir/err" ||
 	fail "observer on the main socket passed second: $(cat "$dir/err" "$dir/log2")"
 v -s "$restr" --role observer states >/dev/null 2>"$dir/err"
 [ $? -eq 1 ] || fail "a role was given on the socket named 'restricted'"
 v -s "$restr" states >/dev/null || fail "a client on the restricted socket"
-wait_line "$dir/log2" "restricted $restr (socket activation)"
+wait_line "$pid" "$dir/log2" "restricted $restr (socket activation)"
 grep -qF "listening on $main (socket activation) (screen 3840x2160), restricted $restr (socket activation)" \
 	"$dir/log2" || fail "the log of two sockets: $(cat "$dir/log2")"
-timeout 5 "$visd" --socket "$dir/other" --restricted-socket "$restr" 2>"$dir/err"
+timeout "$progress_stall" "$visd" --socket "$dir/other" --restricted-socket "$restr" 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "another visd is serving '$restr'" "$dir/err" ||
 	fail "a second visd on the activated restricted socket: $(cat "$dir/err")"
 [ ! -e "$dir/other" ] || fail "the refused daemon left its socket"
@@ -157,7 +154,7 @@ PY
 refused() {
 	local what=$1 msg=$2 kinds=$4 rc
 	# shellcheck disable=SC2086
-	env $3 timeout 5 python3 "$dir/pass.py" "$kinds" "$visd" --socket "$dir/bad" 2>"$dir/err"
+	env $3 timeout "$progress_stall" python3 "$dir/pass.py" "$kinds" "$visd" --socket "$dir/bad" 2>"$dir/err"
 	rc=$?
 	[ $rc -eq 1 ] && grep -qF -- "$msg" "$dir/err" ||
 		fail "$what: exit status $rc, want 1 and '$msg': $(cat "$dir/err")"
@@ -197,7 +194,7 @@ refused "--socket elsewhere" "--socket $dir/bad, but the socket passed (fd 3) is
 env LISTEN_PID=1 LISTEN_FDS=1 python3 "$dir/pass.py" file "$visd" --socket "$dir/own" \
 	2>"$dir/log3" &
 pid=$!
-wait_socket "$dir/own"
+wait_socket "$pid" "$dir/own"
 v -s "$dir/own" sync 2>"$dir/err" || fail "visd with another's LISTEN_PID: $(cat "$dir/err" "$dir/log3")"
 stop "$pid" || fail "visd with another's LISTEN_PID exited $?"
 pid=
@@ -206,7 +203,7 @@ grep -q "socket activation" "$dir/log3" && fail "another's LISTEN_PID was taken:
 # An abstract socket has no file, so no lock; its name is logged.
 env LISTEN_FDS=1 python3 "$dir/pass.py" abstract "$visd" 2>"$dir/log4" &
 pid=$!
-wait_line "$dir/log4" "listening on"
+wait_line "$pid" "$dir/log4" "listening on"
 grep -qF "listening on @$dir/fd0 (socket activation)" "$dir/log4" ||
 	fail "an abstract socket: $(cat "$dir/log4")"
 stop "$pid" || fail "visd on an abstract socket exited $?"

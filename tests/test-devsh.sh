@@ -4,7 +4,9 @@
 # the cause shown and the log's path given (it used to print nothing and exit 1).
 # With BUILD-DIR, the demo runs on that build's programs (`tools/dev.sh demo BUILD-DIR`) and every
 # line it prints must be labelled: a '== ' heading or, under one, an indented line; each engine's
-# time names the engine (the first line used to be a bare `compute_ms=0.137`).
+# time names the engine (the first line used to be a bare `compute_ms=0.137`). `tools/dev.sh test`
+# says what it runs before it runs it (its builds print nothing, and meson a test only when it
+# ends: the silence read as a hang), and names the build that failed.
 # Usage: test-devsh.sh [BUILD-DIR]
 set -u
 src=$(cd "$(dirname "$0")/.." && pwd)
@@ -63,6 +65,12 @@ echo '#error broken on purpose' >>"$tmp/broken/daemon/log.c"
 (cd "$tmp/broken" && tools/dev.sh release) >/dev/null 2>"$tmp/err"
 expect "a compile error" $? "dev.sh: building build-release (ninja -C build-release) failed" \
 	"broken on purpose" "build-release/dev-build.log"
+(cd "$tmp/broken" && tools/dev.sh test) >"$tmp/out" 2>"$tmp/err"
+expect "tools/dev.sh test on a compile error" $? "dev.sh: building build (ninja -C build) failed" \
+	"broken on purpose"
+grep -qE '^dev.sh: 1/4: building build .*about [0-9]+ (s|min)' "$tmp/out" ||
+	fail "tools/dev.sh test did not announce its first build with its time: $(cat "$tmp/out")"
+checks=$((checks + 1))
 
 copy nodeps
 mkdir -p "$tmp/empty"

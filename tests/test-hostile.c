@@ -112,15 +112,16 @@ void hostile_check_unaffected(void)
 	struct harness_conn c;
 	size_t notices = 0, n;
 	/* Connections still in the listening backlog run what they sent once accepted: wait. */
-	for (int tries = 0;; tries++) {
+	char what[80];
+	for (struct progress p = harness_working(&hostile_visd);;) {
 		harness_open_as(&c, hostile_visd.sock, VIS_ROLE_OBSERVER);
 		free(harness_get_tree(&c, &n));
 		harness_close(&c);
 		if (n == HOSTILE_WINDOWS)
 			break;
-		CHECK(tries < 500, "%zu windows, only the innocent's %d should be left", n,
-		      HOSTILE_WINDOWS);
-		usleep(20000);
+		snprintf(what, sizeof what, "%zu windows, only the innocent's %d should be left", n,
+			 HOSTILE_WINDOWS);
+		harness_still_working(&p, what);
 	}
 	harness_sync(&hostile_innocent, &notices);
 	CHECK(notices == 0, "the innocent client got %zu notices", notices);

@@ -67,9 +67,12 @@ pass
 
 "$visd" --socket "$tmp/sock" 2>"$tmp/visd.log" &
 visd_pid=$!
-for _ in $(seq 200); do [ -S "$tmp/sock" ] && break; sleep 0.05; done
-[ -S "$tmp/sock" ] || fail "the staged visd did not start: $(cat "$tmp/visd.log")"
-out=$(LD_LIBRARY_PATH=$(dirname "$lib") timeout 20 "$tmp/example" "$tmp/sock" 2>&1)
+# wait_progress PIDS COMMAND: COMMAND until it succeeds, while the processes named work.
+. "$(dirname "$0")/progress.sh"
+wait_progress "$visd_pid" test -S "$tmp/sock" ||
+	fail "the staged visd did not start ($progress_why): $(cat "$tmp/visd.log")"
+# A hang guard only (the example blocks on visd's answers): as long as a stall of visd's.
+out=$(LD_LIBRARY_PATH=$(dirname "$lib") timeout "$progress_stall" "$tmp/example" "$tmp/sock" 2>&1)
 rc=$?
 [ $rc -eq 0 ] || fail "the example exited $rc: $out"
 [[ "$out" =~ ^window\ [0-9]+\ is\ unobscured$ ]] || fail "the example printed '$out'"

@@ -22,6 +22,7 @@
 
 #include "engine.h"
 #include "look.h"
+#include "progress.h"
 #include "rng.h"
 #include "vis/visclient.h"
 
@@ -50,6 +51,22 @@ static void fail(int line, const char *fmt, ...)
 		if (!(cond))                      \
 			fail(__LINE__, __VA_ARGS__); \
 	} while (0)
+
+/* Naps 10 ms in a wait for the daemon's work; fails with what when it died or stopped working. */
+static void still_working(struct progress *p, int line, const char *what)
+{
+	if (progress_stopped(p))
+		fail(line, "%s: %s", what, p->why);
+	usleep(10000);
+}
+
+/* A wait on the daemon's work (progress.h). */
+static struct progress daemon_working(void)
+{
+	struct progress p;
+	progress_begin(&p, &daemon_pid, 1);
+	return p;
+}
 
 /* Recorded notices, with exposure rectangles copied. */
 struct rec {
@@ -115,12 +132,9 @@ static void start_daemon(const char *visd)
 		perror(visd);
 		_exit(127);
 	}
-	for (int i = 0; i < 500; i++) {
-		if (access(sock, F_OK) == 0 && access(rsock, F_OK) == 0)
-			return;
-		usleep(10000);
-	}
-	fail(__LINE__, "visd did not create %s", sock);
+	for (struct progress p = daemon_working();
+	     access(sock, F_OK) < 0 || access(rsock, F_OK) < 0;)
+		still_working(&p, __LINE__, "visd did not create its sockets");
 }
 
 static void stop_daemon(void)
@@ -510,13 +524,12 @@ static void test_errors_and_roles(void)
 	vis_client_destroy(r);
 	/* Once the manager goes, another may take the role. */
 	vis_client_destroy(mgr);
-	for (int i = 0;; i++) {
+	for (struct progress p = daemon_working();;) {
 		m2 = vis_client_connect(sock, VIS_ROLE_MANAGER);
 		if (!vis_client_error(m2))
 			break;
 		vis_client_destroy(m2);
-		CHECK(i < 200, "the manager role was not released");
-		usleep(10000);
+		still_working(&p, __LINE__, "the manager role was not released");
 	}
 	vis_client_destroy(m2);
 	vis_client_destroy(a);
@@ -544,10 +557,12 @@ static void expect_fatal(const uint8_t *bytes, size_t len, uint32_t seq, uint32_
 		fail(line, "raw connection: %s", strerror(errno));
 	uint8_t in[512];
 	size_t got = 0;
-	for (;;) {
+	for (struct progress work = daemon_working();;) {
 		struct pollfd p = { fd, POLLIN, 0 };
-		if (poll(&p, 1, 5000) != 1)
-			fail(line, "the daemon did not close the connection");
+		if (poll(&p, 1, 10) == 0) {
+			still_working(&work, line, "the daemon did not close the connection");
+			continue;
+		}
 		ssize_t r = read(fd, in + got, sizeof in - got);
 		if (r <= 0)
 			break;
@@ -590,16 +605,17 @@ static void test_fatal(void)
 /* Waits until the observer sees exactly `want` windows (disconnects are handled asynchronously). */
 static void wait_windows(struct vis_client *obs, size_t want)
 {
-	for (int i = 0; i < 300; i++) {
+	char what[80];
+	for (struct progress p = daemon_working();;) {
 		struct vis_window_info *t;
 		size_t n;
 		CHECK(vis_client_get_tree(obs, &t, &n) == 0, "get-tree");
 		free(t);
 		if (n == want)
 			return;
-		usleep(10000);
+		snprintf(what, sizeof what, "the observer sees %zu windows, not %zu", n, want);
+		still_working(&p, __LINE__, what);
 	}
-	fail(__LINE__, "the observer never saw %zu windows", want);
 }
 
 /* A batch is one recompute: changes that cancel out inside it send no visibility notice. */
@@ -665,9 +681,13 @@ static void test_newcomer(void)
 	      "queueing requests");
 	struct pollfd p = { .fd = vis_client_fd(c), .events = POLLIN };
 	/* Before any dispatch (which would write what waits): the daemon must have answered. */
-	CHECK(poll(&p, 1, 5000) == 1, "nothing to read: the requests were never sent");
-	for (int tries = 0; !last_visibility(&log, w) && tries < 50; tries++)
-		CHECK(poll(&p, 1, 100) >= 0 && vis_client_dispatch(c) >= 0, "dispatch");
+	for (struct progress work = daemon_working(); poll(&p, 1, 0) == 0;)
+		still_working(&work, __LINE__, "nothing to read: the requests were never sent");
+	for (struct progress work = daemon_working(); !last_visibility(&log, w);) {
+		CHECK(poll(&p, 1, 0) >= 0 && vis_client_dispatch(c) >= 0, "dispatch");
+		if (!last_visibility(&log, w))
+			still_working(&work, __LINE__, "no visibility notice");
+	}
 	CHECK(w && last_visibility(&log, w), "no reply or notice without a flush: created %u", w);
 	vis_client_destroy(c);
 	free(log.v);

@@ -41,7 +41,7 @@ bool limits_try_hello(struct harness_conn *c, const char *sock, const char *reas
 	      "wanted hello-reply or a limit error, got %s", r.type->name);
 	CHECK(!reason || memmem(r.args[3].s.p, r.args[3].s.len, reason, strlen(reason)),
 	      "refused with '%.*s', not for %s", (int)r.args[3].s.len, r.args[3].s.p, reason);
-	CHECK(harness_recv(c, 5000, &r) == 0, "a refused connection stayed open");
+	CHECK(harness_recv(c, HARNESS_WORKING, &r) == 0, "a refused connection stayed open");
 	harness_close(c);
 	return false;
 }
@@ -153,10 +153,9 @@ static void test_configured_limits(void)
 	CHECK(strstr(limits_read_log(&d), "--max-clients"), "the refusal is not logged");
 	harness_close(&more[1]);
 	/* The daemon frees the slot when it sees the hang-up: retry until it has. */
-	for (int tries = 0; !limits_try_hello(&extra, d.sock, "--max-clients"); tries++) {
-		CHECK(tries < 100, "a freed client slot was never reused");
-		usleep(10000);
-	}
+	for (struct progress p = harness_working(&d);
+	     !limits_try_hello(&extra, d.sock, "--max-clients");)
+		harness_still_working(&p, "a freed client slot was never reused");
 	harness_sync(&extra, NULL);
 	harness_sync(&c, NULL);
 	harness_close(&extra);
@@ -242,10 +241,8 @@ static void test_descriptor_shortage(void)
 		if (accepted[i])
 			harness_close(&conn[i]);
 	struct harness_conn c;
-	for (int tries = 0; !limits_try_hello(&c, d.sock, NULL); tries++) {
-		CHECK(tries < 100, "the daemon did not recover after the flood");
-		usleep(10000);
-	}
+	for (struct progress p = harness_working(&d); !limits_try_hello(&c, d.sock, NULL);)
+		harness_still_working(&p, "the daemon did not recover after the flood");
 	harness_create(&c, 0, 0, 0, 10, 10, VIS_CREATE_MAP);
 	harness_close(&c);
 	harness_stop(&d);
@@ -317,7 +314,8 @@ static void view_check(struct view *v, struct harness_conn *o, bool stack)
 	uint32_t seq = harness_req(o, VIS_OP_SYNC);
 	struct vis_msg m;
 	for (;;) {
-		CHECK(harness_recv(o, 20000, &m) > 0, "no synced from the slow reader's sync");
+		CHECK(harness_recv(o, HARNESS_WORKING, &m) > 0,
+		      "no synced from the slow reader's sync");
 		if (!view_apply(v, &m)) {
 			CHECK(m.type->opcode == VIS_OP_SYNCED && m.args[0].u == seq, "got %s",
 			      m.type->name);
@@ -448,7 +446,8 @@ static void test_held_stack(void)
 	seq = harness_req(&o, VIS_OP_SYNC);
 	uint32_t n = 0;
 	for (;;) {
-		CHECK(harness_recv(&o, 20000, &msg) > 0, "no synced after %u stack notices", n);
+		CHECK(harness_recv(&o, HARNESS_WORKING, &msg) > 0,
+		      "no synced after %u stack notices", n);
 		if (msg.type->opcode == VIS_OP_SYNCED && msg.args[0].u == seq)
 			break;
 		CHECK(msg.type->opcode == VIS_OP_STACK, "got %s", msg.type->name);
@@ -492,7 +491,7 @@ static double interactive_median(struct harness_conn *c, uint32_t w, int rounds)
 		harness_req(c, VIS_OP_MOVE, w, (uint32_t)(i % 2 ? 5 : -5000), 5);
 		struct vis_msg m;
 		do
-			CHECK(harness_recv(c, 20000, &m) > 0, "no visibility notice");
+			CHECK(harness_recv(c, HARNESS_WORKING, &m) > 0, "no visibility notice");
 		while (m.type->opcode != VIS_OP_VISIBILITY);
 		t[i] = now_us() - start;
 	}
@@ -550,13 +549,12 @@ static void test_fairness(void)
 	struct harness_conn o;
 	harness_open(&o, d.sock);
 	harness_hello(&o, VIS_ROLE_OBSERVER);
-	for (int tries = 0;; tries++) {
+	for (struct progress p = harness_working(&d);;) {
 		size_t n;
 		free(harness_get_tree(&o, &n));
 		if (n >= 1000)
 			break;
-		CHECK(tries < 2000, "the flooder never created its windows");
-		usleep(5000);
+		harness_still_working(&p, "the flooder never created its windows");
 	}
 	harness_close(&o);
 	kill(flooder, SIGSTOP);

@@ -19,12 +19,14 @@ fail() {
 	echo "FAIL: $*" >&2
 	failures=$((failures + 1))
 }
-# Waits up to 5 s for a socket to appear at $1.
-wait_socket() { for _ in $(seq 500); do [ -S "$1" ] && return; sleep 0.01; done; }
+# wait_progress PIDS COMMAND: COMMAND until it succeeds, while the processes named work.
+. "$(dirname "$0")/progress.sh"
+# Waits for a socket to appear at $2, as long as the process $1 (visd) works.
+wait_socket() { wait_progress "$1" test -S "$2"; }
 
 "$visd" --socket "$sock" --screen 3840x2160 2>"$dir/visd.log" &
 pid=$!
-wait_socket "$sock"
+wait_socket "$pid" "$sock"
 [ -S "$sock" ] || { echo "visd did not start" >&2; cat "$dir/visd.log" >&2; exit 1; }
 v() { "$visctl" -s "$sock" "$@"; }
 
@@ -107,7 +109,7 @@ out=$(printf 'load --any-screen %s\nstates\n' "$dir/small.scene" | v script - 2>
 
 # A plain client's new connection owns nothing and sees nothing: watch refuses at once (it would
 # wait forever), states and repaint say so on stderr; with windows of its own, no warning.
-timeout 10 "$visctl" -s "$sock" watch --count 1 >/dev/null 2>"$dir/err"
+timeout "$progress_stall" "$visctl" -s "$sock" watch --count 1 >/dev/null 2>"$dir/err"
 rc=$?
 [ $rc -eq 2 ] && grep -q "owns no windows" "$dir/err" ||
 	fail "watch as a client without windows: exit $rc, $(cat "$dir/err")"
@@ -199,16 +201,15 @@ v --role observer snapshot --svg "$dir/nodir/x.svg" 2>"$dir/err"
 v --role manager script "$dir/clear" || fail "clearing the snapshot's windows"
 
 # watch: notices as lines, and as JSON. A probe window tells when watch has subscribed.
-await_line() { # FILE PATTERN: waits up to 10 s for a line
-	for _ in $(seq 200); do grep -qE "$2" "$1" 2>/dev/null && return 0; sleep 0.05; done
-	return 1
+await_line() { # PIDS FILE PATTERN: waits for a line while PIDS (the watch, visd) work
+	wait_progress "$1" grep -qsE "$3" "$2"
 }
 "$visctl" -s "$sock" --role observer watch >"$dir/watch" &
 wpid=$!
 probe=$(v create 0 0 1 1 --retain) || fail "probe"
 until [ -s "$dir/watch" ]; do v --role manager move "$probe" 1 1 && v --role manager move "$probe" 0 0; done
 id=$(v create 10 10 50 50 --map --retain) || fail "create"
-await_line "$dir/watch" "^[0-9]+ visibility $id " || fail "watch saw no visibility of $id"
+await_line "$wpid $pid" "$dir/watch" "^[0-9]+ visibility $id " || fail "watch saw no visibility of $id"
 kill $wpid
 wait $wpid
 grep -qE "^[0-9]+ stack create $id 0 10,10,50,50 $probe$" "$dir/watch" &&
@@ -220,7 +221,7 @@ awk '{ if ($1 != NR) bad = 1 } END { exit bad }' "$dir/watch" || fail "watch ser
 wpid=$!
 until [ -s "$dir/watch.json" ]; do v --role manager resize "$id" 50 50 || break; done
 v --role manager move "$id" 3800 2000 || fail "move"
-await_line "$dir/watch.json" "visibility" || fail "watch --json saw no visibility notice"
+await_line "$wpid $pid" "$dir/watch.json" "visibility" || fail "watch --json saw no visibility notice"
 kill $wpid
 wait $wpid
 grep -q "\"notice\":\"visibility\",\"window\":$id,\"state\":\"partially-obscured\",\"previous\":\"unobscured\"" \
@@ -287,14 +288,14 @@ v stress -n 10 --count 10 >/dev/null 2>"$dir/err"
 v --role manager destroy "$keep" || fail "destroy"
 # (The daemon may see the watch's hello before an earlier manager's end: start it again then.)
 wpid=
-for _ in $(seq 200); do
+manager_taken() {
 	if [ -z "$wpid" ] || ! kill -0 "$wpid" 2>/dev/null; then
 		"$visctl" -s "$sock" --role manager watch >/dev/null 2>&1 &
 		wpid=$!
 	fi
-	v --role manager sync 2>/dev/null || break
-	sleep 0.05
-done
+	! v --role manager sync 2>/dev/null
+}
+wait_progress "$pid" manager_taken || fail "a watch did not take the manager role ($progress_why)"
 v stress -n 10 --count 10 >/dev/null 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "needs the manager role" "$dir/err" ||
 	fail "stress without the manager role: $(cat "$dir/err")"
@@ -331,7 +332,7 @@ chmod 777 "$dir/open"
 chmod 1777 "$dir/open"
 "$visd" --socket "$dir/open/s" 2>"$dir/err" &
 spid=$!
-wait_socket "$dir/open/s"
+wait_socket "$spid" "$dir/open/s"
 [ -S "$dir/open/s" ] || fail "a sticky directory was refused: $(cat "$dir/err")"
 kill $spid
 wait $spid || fail "visd in a sticky directory exited $?"
@@ -340,18 +341,18 @@ wait $spid || fail "visd in a sticky directory exited $?"
 # anything else there (a file, another daemon's socket) is left alone for SOCKET.PID.new.
 "$visd" --socket "$dir/pub.new" 2>/dev/null & # killed outright: leaves a stale socket there
 npid=$!
-wait_socket "$dir/pub.new"
+wait_socket "$npid" "$dir/pub.new"
 kill -9 $npid
 wait $npid 2>/dev/null
 [ -S "$dir/pub.new" ] || fail "no stale socket to test with"
 echo keep >"$dir/kept.new"
 "$visd" --socket "$dir/live.new" 2>/dev/null &
 livepid=$!
-wait_socket "$dir/live.new"
+wait_socket "$livepid" "$dir/live.new"
 for name in pub kept live; do
 	"$visd" --socket "$dir/$name" 2>"$dir/err" &
 	npid=$!
-	wait_socket "$dir/$name"
+	wait_socket "$npid" "$dir/$name"
 	"$visctl" -s "$dir/$name" states >/dev/null 2>"$dir/err.c" ||
 		fail "$name: refused as the socket appeared: $(cat "$dir/err.c" "$dir/err")"
 	kill $npid
@@ -367,10 +368,15 @@ wait $livepid || fail "visd --socket $dir/live.new exited $?"
 # A client past --max-clients hears why, even when its hello meets a closed socket.
 "$visd" --socket "$dir/lim" --max-clients 1 2>/dev/null &
 lpid=$!
-wait_socket "$dir/lim"
+wait_socket "$lpid" "$dir/lim"
+fds() { ls "/proc/$lpid/fd" | wc -l; }
+before=$(fds)
+accepted() { [ "$(fds)" -gt "$before" ]; }
 "$visctl" -s "$dir/lim" --role observer watch >/dev/null &
 wpid=$!
-sleep 0.3
+# The watch holds the one client slot once visd has accepted it.
+wait_progress "$lpid $wpid" accepted ||
+	fail "visd did not accept the watch ($progress_why)"
 "$visctl" -s "$dir/lim" states 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "limit: too many clients.*--max-clients" "$dir/err" ||
 	fail "past --max-clients: $(cat "$dir/err")"
@@ -450,14 +456,15 @@ grep -qx "$x2 $x1 10 10 100 100 mapped unobscured retained 0 - x11:0x1e00010" "$
 wpid=$!
 "$visctl" -s "$sock" watch --x11 >"$dir/watch.all" 2>&1 &
 wapid=$!
-await_line "$dir/watch.one" "visibility 0x1e00010 unobscured initial" ||
+await_line "$wpid $pid" "$dir/watch.one" "visibility 0x1e00010 unobscured initial" ||
 	fail "watch --x11 XID: $(cat "$dir/watch.one" "$dir/err")"
-for _ in $(seq 100); do [ -s "$dir/watch.all" ] && break; sleep 0.02; done
+wait_progress "$wapid $pid" test -s "$dir/watch.all" ||
+	fail "watch --x11 printed no initial notice ($progress_why)"
 v --role manager move "$x2" 20 20
 wait "$wpid" || fail "watch --x11 XID: exit $?"
 grep -qE "^[0-9]+ stack configure 0x1e00010 0x1e00003 20,20,100,100 0$" "$dir/watch.one" ||
 	fail "watch --x11 XID: $(cat "$dir/watch.one")"
-await_line "$dir/watch.all" "stack configure 0x1e00010 0x1e00003 20,20,100,100" ||
+await_line "$wapid $pid" "$dir/watch.all" "stack configure 0x1e00010 0x1e00003 20,20,100,100" ||
 	fail "watch --x11: $(cat "$dir/watch.all")"
 grep -qE "^[0-9]+ visibility 0x400001 unobscured initial$" "$dir/watch.all" &&
 	grep -qE "^[0-9]+ visibility $x4 [a-z-]+ initial$" "$dir/watch.all" ||

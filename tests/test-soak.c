@@ -4,8 +4,10 @@
  * The daemon's RSS is sampled as it runs and must level off; the active clients' latencies are
  * reported (p50, p99, max) and must stay bounded.
  *
- * usage: test-soak VISD [--seconds S] [--clients N] [--max-pending BYTES]
- * CI runs a short form with a small bound, so that the stalled observer reaches it in seconds.
+ * usage: test-soak VISD [--changes N] [--clients N] [--max-pending BYTES]
+ * Its length is a number of changes, not of seconds, so that a slow machine does the same work
+ * (the stalled observer's queue filled early, then as many changes again). CI runs a short form
+ * with a small bound, so that the stalled observer reaches it in the first few hundred changes.
  */
 #undef NDEBUG
 #include <poll.h>
@@ -69,30 +71,30 @@ static void send_move(struct active *a)
 int main(int argc, char **argv)
 {
 	if (argc < 2) {
-		fprintf(stderr, "usage: test-soak VISD [--seconds S] [--clients N] "
+		fprintf(stderr, "usage: test-soak VISD [--changes N] [--clients N] "
 				"[--max-pending BYTES]\n");
 		return 2;
 	}
-	double seconds = 4;
+	long changes = 20000;
 	int clients = 8;
 	const char *max_pending = "4194304";
 	for (int i = 2; i + 1 < argc; i += 2) {
-		if (strcmp(argv[i], "--seconds") == 0)
-			seconds = atof(argv[i + 1]);
+		if (strcmp(argv[i], "--changes") == 0)
+			changes = atol(argv[i + 1]);
 		else if (strcmp(argv[i], "--clients") == 0)
 			clients = atoi(argv[i + 1]);
 		else if (strcmp(argv[i], "--max-pending") == 0)
 			max_pending = argv[i + 1];
 	}
-	CHECK(seconds > 0 && clients >= 1 && clients <= MAX_CLIENTS,
-	      "want --seconds > 0 and --clients 1 to %d", MAX_CLIENTS);
+	CHECK(changes >= 40 && clients >= 1 && clients <= MAX_CLIENTS,
+	      "want --changes 40 or more and --clients 1 to %d", MAX_CLIENTS);
 	signal(SIGPIPE, SIG_IGN);
 	/*
 	 * Under ASan, freed memory waits in a quarantine of up to 256 MB, and the daemon's RSS grows
 	 * into it as fast as the daemon frees memory: one that frees little per change takes longer
 	 * than the soak to fill it, which would look like growth. With 4 MB, the RSS levels off
-	 * within the first samples (with 16 MB it still crept by 1–2.6 MB over CI's 4 s on a busy
-	 * machine, past the 2 MiB the check allows). (Without ASan, nothing reads the variable.)
+	 * within the first samples (with 16 MB it still crept by 1–2.6 MB over what was CI's 4 s on
+	 * a busy machine, past the 2 MiB the check allows). (Without ASan, nothing reads the variable.)
 	 */
 	const char *asan = getenv("ASAN_OPTIONS");
 	char asan_options[1024];
@@ -131,16 +133,29 @@ int main(int argc, char **argv)
 	CHECK(lat, "out of memory");
 	for (int i = 0; i < clients; i++)
 		send_move(&act[i]);
-	double start = now_s(), next_sample = start;
-	while (now_s() - start < seconds) {
-		if (now_s() >= next_sample && samples < MAX_SAMPLES) {
+	double start = now_s();
+	size_t next_sample = 0;
+	/* A notice is awaited as long as the daemon works (progress.h). */
+	struct progress work;
+	bool waiting = false;
+	while (n < (size_t)changes) {
+		if (n >= next_sample && samples < MAX_SAMPLES) {
 			rss[samples++] = rss_kib(d.pid);
-			next_sample += seconds / 40;
+			next_sample += (size_t)changes / 40;
 		}
 		struct pollfd p[MAX_CLIENTS];
 		for (int i = 0; i < clients; i++)
 			p[i] = (struct pollfd){ act[i].conn.fd, POLLIN, 0 };
-		CHECK(poll(p, (nfds_t)clients, 100) >= 0, "poll");
+		int ready = poll(p, (nfds_t)clients, 100);
+		CHECK(ready >= 0, "poll");
+		if (ready == 0) {
+			if (!waiting)
+				work = harness_working(&d);
+			waiting = true;
+			harness_still_working(&work, "no visibility notice");
+			continue;
+		}
+		waiting = false;
 		for (int i = 0; i < clients; i++) {
 			struct active *a = &act[i];
 			struct vis_msg msg;
@@ -163,12 +178,12 @@ int main(int argc, char **argv)
 	qsort(lat, n, sizeof *lat, by_value);
 	CHECK(n > 0, "no notice arrived");
 	double elapsed = now_s() - start;
-	printf("soak: %.1f s, %d active clients and one that never reads, %d background windows, "
+	printf("soak: %zu changes in %.1f s, %d active clients and one that never reads, %d background windows, "
 	       "--max-pending %s\n",
-	       elapsed, clients, BACKGROUND, max_pending);
-	printf("  changes: %zu (%.0f/s); latency move -> notice: p50 %.0f us, p99 %.0f us, "
+	       n, elapsed, clients, BACKGROUND, max_pending);
+	printf("  %.0f changes a second; latency move -> notice: p50 %.0f us, p99 %.0f us, "
 	       "max %.0f us\n",
-	       n, n / elapsed, lat[n / 2], lat[n * 99 / 100], lat[n - 1]);
+	       n / elapsed, lat[n / 2], lat[n * 99 / 100], lat[n - 1]);
 	printf("  daemon RSS (KiB) over time:");
 	for (int i = 0; i < samples; i += samples / 10 > 0 ? samples / 10 : 1)
 		printf(" %ld", rss[i]);

@@ -33,14 +33,8 @@ fail() {
 }
 ok() { echo "test-x11-faults: ok: $1"; }
 
-# Waits for the command to succeed: up to 20 s, or $steps times 50 ms.
-wait_for() {
-	for _ in $(seq "${steps:-400}"); do
-		"$@" && return 0
-		sleep 0.05
-	done
-	return 1
-}
+# wait_progress PIDS COMMAND: COMMAND until it succeeds, while the processes named work.
+. "$(dirname "$0")/progress.sh"
 
 # -noreset: X resets when its last client leaves, and a client that connects meanwhile fails
 # ("Failed to open the display": xprop, then openbox at once, raced it).
@@ -49,7 +43,8 @@ start_x() {
 	Xvfb -displayfd 3 -screen 0 800x600x24 -nolisten tcp -noreset >"$dir/xvfb.log" 2>&1 &
 	xpid=$!
 	exec 3>&-
-	wait_for test -s "$dir/display" || fail "Xvfb did not start" "$dir/xvfb.log"
+	wait_progress "$xpid" test -s "$dir/display" ||
+		fail "Xvfb did not start ($progress_why)" "$dir/xvfb.log"
 	export DISPLAY=:$(head -n 1 "$dir/display")
 }
 
@@ -60,21 +55,24 @@ start_wm() {
 	xprop -root -remove _NET_SUPPORTING_WM_CHECK 2>/dev/null
 	openbox --sm-disable "$@" >>"$dir/openbox.log" 2>&1 &
 	wpid=$!
-	wait_for wm_check || { cat "$dir/xvfb.log"; fail "openbox did not take the screen" "$dir/openbox.log"; }
+	wait_progress "$wpid $xpid" wm_check || { cat "$dir/xvfb.log"
+		fail "openbox did not take the screen ($progress_why)" "$dir/openbox.log"; }
 }
 
 start_visd() {
 	rm -f "$dir/sock"
 	"$visd" --socket "$dir/sock" --screen 800x600 "$@" 2>"$dir/visd.log" &
 	vpid=$!
-	wait_for test -S "$dir/sock" || fail "visd did not start" "$dir/visd.log"
+	wait_progress "$vpid" test -S "$dir/sock" ||
+		fail "visd did not start ($progress_why)" "$dir/visd.log"
 }
 
 start_bridge() {
 	: >"$dir/bridge.log"
 	"$bridge" -s "$dir/sock" ${BRIDGE_VERBOSE:--v} 2>"$dir/bridge.log" &
 	bpid=$!
-	wait_for grep -q 'mirrored' "$dir/bridge.log" || fail "visd-x11 did not start" "$dir/bridge.log"
+	wait_progress "$bpid $vpid $xpid" grep -q 'mirrored' "$dir/bridge.log" ||
+		fail "visd-x11 did not start ($progress_why)" "$dir/bridge.log"
 }
 
 # The bridge reads the tree again; its mirror must have been exact all along.
@@ -84,8 +82,10 @@ check_mirror() {
 	n=$(grep -c '^visd-x11: checked:' "$dir/bridge.log")
 	kill -USR1 "$bpid"
 	more_checks() { [ "$(grep -c '^visd-x11: checked:' "$dir/bridge.log")" -gt "$n" ]; }
-	# Twenty thousand windows under the sanitizers take a while.
-	steps=2400 wait_for more_checks || fail "$what: visd-x11 did not answer SIGUSR1" "$dir/bridge.log"
+	# Twenty thousand windows under the sanitizers on a busy machine take minutes: the bridge
+	# reads X's tree, visd takes the windows, and X answers while any of them works.
+	wait_progress "$bpid $vpid $xpid" more_checks ||
+		fail "$what: visd-x11 did not answer SIGUSR1 ($progress_why)" "$dir/bridge.log"
 	grep -q 'drifted\|resynchroniz' "$dir/bridge.log" &&
 		fail "$what: the mirror drifted" "$dir/bridge.log"
 	ok "$what: $(grep '^visd-x11: checked:' "$dir/bridge.log" | tail -n 1 | sed 's/^visd-x11: checked: //')"
@@ -103,7 +103,8 @@ check_mirror "start-up"
 # Windows destroyed between their CreateNotify and the bridge's read, reparented, restacked.
 "$churn" --windows 300 --rounds 20000 --seed 1 --hold >"$dir/churn.out" &
 churn_pid=$!
-wait_for grep -q 'live' "$dir/churn.out" || fail "x11-churn did not finish"
+wait_progress "$churn_pid $xpid" grep -qs 'live' "$dir/churn.out" ||
+	fail "x11-churn did not finish ($progress_why)"
 check_mirror "20,000 changes racing the bridge's reads"
 "$visctl" -s "$dir/sock" states --x11 >"$dir/states" || fail "visctl states --x11 failed"
 [ -s "$dir/states" ] || fail "visctl states --x11 printed nothing"
@@ -126,7 +127,8 @@ kill "$churn_pid"
 wait "$churn_pid" 2>/dev/null
 "$churn" --windows 20000 --rounds 0 --seed 2 --hold >"$dir/churn.out" &
 churn_pid=$!
-steps=2400 wait_for grep -q 'live' "$dir/churn.out" || fail "x11-churn did not create 20,000 windows"
+wait_progress "$churn_pid $xpid" grep -qs 'live' "$dir/churn.out" ||
+	fail "x11-churn did not create 20,000 windows ($progress_why)"
 check_mirror "20,000 more windows"
 kill "$churn_pid"
 wait "$churn_pid" 2>/dev/null

@@ -48,14 +48,8 @@ fail() {
 	exit 1
 }
 
-# Waits up to 10 s for the command to succeed.
-wait_for() {
-	for _ in $(seq 200); do
-		"$@" && return 0
-		sleep 0.05
-	done
-	return 1
-}
+# wait_progress PIDS COMMAND: COMMAND until it succeeds, while the processes named work.
+. "$(dirname "$0")/progress.sh"
 
 # -noreset: X resets when its last client leaves, and a client that connects meanwhile fails
 # ("Failed to open the display": xprop, then openbox at once, raced it).
@@ -63,7 +57,8 @@ exec 3>"$dir/display"
 Xvfb -displayfd 3 -screen 0 ${width}x${height}x24 -nolisten tcp -noreset >"$dir/xvfb.log" 2>&1 &
 xpid=$!
 exec 3>&-
-wait_for test -s "$dir/display" || fail "Xvfb did not start:" "$dir/xvfb.log"
+wait_progress "$xpid" test -s "$dir/display" ||
+	fail "Xvfb did not start ($progress_why):" "$dir/xvfb.log"
 display=:$(head -n 1 "$dir/display")
 
 # openbox sets _NET_SUPPORTING_WM_CHECK once it owns WM_S0 (and x11-desk waits for the owner).
@@ -72,7 +67,8 @@ wpid=$!
 wm_ready() {
 	DISPLAY=$display xprop -root _NET_SUPPORTING_WM_CHECK 2>/dev/null | grep -q 'window id'
 }
-wait_for wm_ready || { cat "$dir/xvfb.log"; fail "openbox did not take the screen:" "$dir/openbox.log"; }
+wait_progress "$wpid $xpid" wm_ready || { cat "$dir/xvfb.log"
+	fail "openbox did not take the screen ($progress_why):" "$dir/openbox.log"; }
 
 # visd's screen is X's, so that what lies past the root is off the screen for both. Each visd
 # (N: 1, 2, …) gets a bridge of its own, started with the arguments given.
@@ -86,7 +82,8 @@ start_bridge() {
 	sock=$dir/visd$n
 	"$visd" --socket "$sock" --screen ${width}x${height} 2>"$dir/visd$n.log" &
 	vpid=$!
-	wait_for test -S "$sock" || fail "visd did not start:" "$dir/visd$n.log"
+	wait_progress "$vpid" test -S "$sock" ||
+		fail "visd did not start ($progress_why):" "$dir/visd$n.log"
 	log=$dir/bridge$n.log
 	"$bridge" --display "$display" -s "$sock" "$@" 2>"$log" &
 	bpid=$!
@@ -102,7 +99,8 @@ checked_again() {
 check_bridge() {
 	before=$(checks)
 	kill -USR1 "$bpid"
-	wait_for checked_again || fail "visd-x11 did not check its mirror:" "$log"
+	wait_progress "$bpid $vpid $xpid" checked_again ||
+		fail "visd-x11 did not check its mirror ($progress_why):" "$log"
 	if grep -q -e drifted -e resynchronizing "$log"; then
 		fail "visd-x11's mirror drifted:" "$log"
 	fi
@@ -112,6 +110,7 @@ check_bridge() {
 status=0
 desk() {
 	"$x11_desk" --display "$display" --check "$visctl -s $sock states --x11" "$@" \
+		--working "$bpid" --working "$vpid" --working "$wpid" ${cpid:+--working "$cpid"} \
 		>"$dir/desk.out" || status=1
 	cat "$dir/desk.out"
 	kill -0 "$bpid" 2>/dev/null || fail "visd-x11 died:" "$log"
@@ -133,8 +132,12 @@ after() {
 # was not viewable in between), and its last line gives the state visd has now, for the windows
 # still there.
 check_watch() {
-	sleep 0.5
 	"$visctl" -s "$sock" states --x11 >"$dir/states.out" || fail "visctl states --x11 failed"
+	# A window of visd's own, gone with its client: once watch prints its end, it has printed
+	# every notice before it.
+	probe=$("$visctl" -s "$sock" create 0 0 1 1) || fail "visctl create failed"
+	wait_progress "$watch_pid $vpid" grep -q "^[0-9]* stack destroy $probe " "$dir/watch.out" ||
+		fail "visctl watch --x11 did not see the probe's end ($progress_why)" "$dir/watch.out"
 	kill -INT "$watch_pid"
 	wait "$watch_pid" 2>/dev/null
 	watch_pid=

@@ -10,21 +10,18 @@ Xvfb -displayfd 3 -screen 0 48x32x24 -nolisten tcp -noreset >"$dir/log" 2>&1 &
 xpid=$!
 vpid=
 trap 'kill $xpid $vpid 2>/dev/null; wait $xpid $vpid 2>/dev/null; rm -rf "$dir"' EXIT
-for _ in $(seq 100); do
-	[ -s "$dir/display" ] && break
-	sleep 0.1
-done
+# wait_progress PIDS COMMAND: COMMAND until it succeeds, while the processes named work.
+. "$(dirname "$0")/progress.sh"
+wait_progress "$xpid" test -s "$dir/display" ||
+	{ echo "Xvfb did not start ($progress_why):"; cat "$dir/log"; exit 1; }
 display=$(head -n 1 "$dir/display")
-[ -n "$display" ] || { echo "Xvfb did not start:"; cat "$dir/log"; exit 1; }
 # A visd with the same screen, for the trees made in both.
 set --
 if [ -n "$visd" ]; then
 	"$visd" --socket "$dir/visd" --screen 48x32 2>"$dir/visd.log" &
 	vpid=$!
-	for _ in $(seq 100); do
-		[ -S "$dir/visd" ] && break
-		sleep 0.05
-	done
+	wait_progress "$vpid" test -S "$dir/visd" ||
+		{ echo "visd did not start ($progress_why):"; cat "$dir/visd.log"; exit 1; }
 	set -- --visd "$dir/visd"
 fi
 DISPLAY=":$display" "$test_xorg" --count 400 "$@"

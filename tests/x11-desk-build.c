@@ -18,8 +18,6 @@
 #include "x11-desk.h"
 #include "xorg-shape.h"
 
-#define CLIENT_TIMEOUT_MS 10000
-
 /* WM_NORMAL_HINTS flags (ICCCM 4.1.2.3). */
 #define US_POSITION 1u
 #define US_SIZE 2u
@@ -225,13 +223,13 @@ static bool clients_mapped(struct desk *d, void *arg)
 /* The managed windows of the clients join the tops the operations drive. */
 static void wait_clients(struct desk *d)
 {
-	for (int waited = 0; waited < CLIENT_TIMEOUT_MS && !clients_mapped(d, NULL); waited += 50)
-		record_wait(d, 50, NULL, NULL);
+	pid_t pids[DESK_MAX_CLIENTS];
+	for (int i = 0; i < d->n_clients; i++)
+		pids[i] = d->clients[i].pid;
+	record_until(d, pids, (size_t)d->n_clients, clients_mapped, NULL,
+		     "the clients did not map their windows");
 	for (int i = 0; i < d->n_clients; i++) {
 		struct client *cl = &d->clients[i];
-		if (cl->xid == 0)
-			desk_die(d, 1, "%s did not map a window in %d s", cl->argv0,
-				 CLIENT_TIMEOUT_MS / 1000);
 		xcb_get_geometry_reply_t *g =
 			xcb_get_geometry_reply(d->c, xcb_get_geometry(d->c, cl->xid), NULL);
 		struct top *t = &d->tops[d->n_tops++];

@@ -23,9 +23,13 @@
 
 #include "x11-desk.h"
 
+/* A quiet point: no event for QUIET_MS, and the X server and the --working processes (the window
+ * manager, the compositor, the bridge, visd) ran less than QUIET_CPU_MS in that time: whatever
+ * they were doing about the last change is done, however slow the machine. At most QUIET_MAX_MS,
+ * for a desktop that never rests (the reads after it are then made again: x11-desk.c). */
 #define QUIET_MS 40
-#define QUIET_MAX_MS 2000
-#define SYNC_TIMEOUT_MS 5000
+#define QUIET_CPU_MS 1.0
+#define QUIET_MAX_MS 20000
 
 /* The monotonic clock in milliseconds, for the waits' deadlines. */
 static long now_ms(void)
@@ -223,6 +227,26 @@ void record_wait(struct desk *d, int ms, bool (*done)(struct desk *d, void *arg)
 	}
 }
 
+void record_until(struct desk *d, const pid_t *pids, size_t n,
+		  bool (*done)(struct desk *d, void *arg), void *arg, const char *what)
+{
+	pid_t all[PROGRESS_MAX_PIDS];
+	size_t k = 0;
+	for (size_t i = 0; i < d->n_working && k < PROGRESS_MAX_PIDS; i++)
+		all[k++] = d->working[i];
+	for (size_t i = 0; i < n && k < PROGRESS_MAX_PIDS; i++)
+		all[k++] = pids[i];
+	struct progress p;
+	progress_begin(&p, all, k);
+	for (;;) {
+		record_wait(d, 100, done, arg);
+		if (done(d, arg))
+			return;
+		if (progress_stopped(&p))
+			desk_die(d, 1, "%s: %s", what, p.why);
+	}
+}
+
 void record_round_trip(struct desk *d)
 {
 	free(xcb_get_input_focus_reply(d->c, xcb_get_input_focus(d->c), NULL));
@@ -282,18 +306,26 @@ void record_quiet(struct desk *d)
 {
 	long end = now_ms() + QUIET_MAX_MS;
 	record_round_trip(d);
+	double ran = progress_cpu_ms(d->working, d->n_working);
 	for (;;) {
 		long left = end - now_ms();
 		if (left <= 0)
 			break;
 		struct pollfd p = { .fd = xcb_get_file_descriptor(d->c), .events = POLLIN };
 		if (poll(&p, 1, left < QUIET_MS ? (int)left : QUIET_MS) == 0) {
+			double now = progress_cpu_ms(d->working, d->n_working);
+			bool idle = now - ran < QUIET_CPU_MS;
+			ran = now;
+			if (!idle)
+				continue;
 			if (!d->rec.late_pending)
 				break;
 			refresh_late(d);
+			ran = progress_cpu_ms(d->working, d->n_working);
 			continue;
 		}
 		record_drain(d);
+		ran = progress_cpu_ms(d->working, d->n_working);
 	}
 	if (d->rec.late_pending)
 		refresh_late(d);
@@ -310,9 +342,9 @@ void record_sync(struct desk *d, uint32_t k)
 	xcb_change_property(d->c, XCB_PROP_MODE_REPLACE, d->root, d->rec.sync_atom,
 			    XCB_ATOM_CARDINAL, 32, 1, &k);
 	xcb_flush(d->c);
-	record_wait(d, SYNC_TIMEOUT_MS, synced, &k);
-	if (d->rec.synced < k)
-		desk_die(d, 1, "the bridge did not answer sync %u", k);
+	char what[64];
+	snprintf(what, sizeof what, "the bridge did not answer sync %u", k);
+	record_until(d, NULL, 0, synced, &k, what);
 	record_round_trip(d);
 }
 

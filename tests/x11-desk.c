@@ -5,13 +5,15 @@
  * It starts the recorder before anything else (x11-desk-record.c), builds a desktop under the
  * running window manager (x11-desk-build.c), then performs --steps random operations from --seed
  * (x11-desk-ops.c). After the desktop is built and after each step it waits for a quiet point:
- * a round trip, then no event for 40 ms (the WM reacts on its own time), at most 2 s. Then,
+ * a round trip, then no event for 40 ms while the X server and the --working processes (the WM
+ * reacts on its own time) use no CPU time to speak of, at most 20 s. Then,
  * unless --no-bridge, the handshake with the bridge: the root's _VISD_X11_SYNC set to k, and
- * _VISD_X11_SYNCED awaited until it holds k (5 s at most), so that visd has applied everything X
- * told the bridge; then a round trip, so that every VisibilityNotify X sent is in. With --check
+ * _VISD_X11_SYNCED awaited until it holds k (as long as X and the --working processes, the
+ * bridge among them, make progress: progress.h), so that visd has applied everything X told the
+ * bridge; then a round trip, so that every VisibilityNotify X sent is in. With --check
  * CMD, CMD's states (visctl -s SOCK states --x11) must equal X's for every viewable InputOutput
  * window (x11-desk-check.c). When X reports a change between the quiet point and the end of
- * these reads (a window manager slower than 40 ms on a loaded machine), they describe no one
+ * these reads (a window manager that acted after the quiet point), they describe no one
  * desktop: the quiet point is awaited and read again, 5 times at most. With --no-bridge, X's
  * states are printed instead, step by step.
  *
@@ -42,17 +44,21 @@
 static void usage(FILE *f)
 {
 	fprintf(f, "usage: x11-desk [--display D] --seed S --steps N [--clients K] [--check CMD]\n"
-		   "                [--compositor] [--send-events auto|always|never] [--no-bridge] [-v]\n"
+		   "                [--compositor] [--send-events auto|always|never] [--no-bridge]\n"
+		   "                [--working PID]... [-v]\n"
 		   "  --display D   the X server (default: $DISPLAY)\n"
 		   "  --seed S      the seed of the desktop and of the operations\n"
 		   "  --steps N     how many operations\n"
 		   "  --clients K   top-level windows of its own (default 6, at most %d)\n"
 		   "  --check CMD   compare X's states with CMD's \"0x… STATE\" lines at every step\n"
-		   "  --compositor  a compositing manager runs (waits 5 s for one): what clients were\n"
+		   "  --compositor  a compositing manager runs (waits for one): what clients were\n"
 		   "                told must be visd's states; X's own differences are counted\n"
 		   "  --send-events the bridge's mode: never, no synthetic event may come; always, one\n"
 		   "                must follow every change of visd's state (default auto)\n"
 		   "  --no-bridge   no handshake with visd-x11; print X's states at every step\n"
+		   "  --working PID its waits (for the bridge, the clients, a manager) go on while\n"
+		   "                the X server or PID (the bridge, visd, a manager) works;\n"
+		   "                repeated for more\n"
 		   "  -v            the operations as they happen, and the count of each kind\n",
 		MAX_CLIENTS_OPTION);
 }
@@ -91,24 +97,25 @@ void desk_check_connection(struct desk *d)
 		desk_die(d, 1, "the X server closed the connection");
 }
 
-/* Waits up to 5 s for a manager to own the selection prefix + screen number (WM_S, _NET_WM_CM_S). */
+/* Whether someone owns the selection *(xcb_atom_t *)arg. */
+static bool owned(struct desk *d, void *arg)
+{
+	xcb_get_selection_owner_reply_t *o = xcb_get_selection_owner_reply(
+		d->c, xcb_get_selection_owner(d->c, *(xcb_atom_t *)arg), NULL);
+	bool yes = o != NULL && o->owner != XCB_NONE;
+	free(o);
+	desk_check_connection(d);
+	return yes;
+}
+
+/* Waits for a manager to own the selection prefix + screen number (WM_S, _NET_WM_CM_S). */
 static void wait_owner(struct desk *d, const char *prefix, int screen_no)
 {
-	char name[32];
+	char name[32], what[64];
 	snprintf(name, sizeof name, "%s%d", prefix, screen_no);
-	xcb_atom_t wm_s = record_intern(d, name);
-	for (int waited = 0;; waited += 50) {
-		xcb_get_selection_owner_reply_t *o = xcb_get_selection_owner_reply(
-			d->c, xcb_get_selection_owner(d->c, wm_s), NULL);
-		bool owned = o != NULL && o->owner != XCB_NONE;
-		free(o);
-		if (owned)
-			return;
-		desk_check_connection(d);
-		if (waited >= 5000)
-			desk_die(d, 1, "nobody owns %s", name);
-		record_wait(d, 50, NULL, NULL);
-	}
+	snprintf(what, sizeof what, "nobody owns %s", name);
+	xcb_atom_t atom = record_intern(d, name);
+	record_until(d, NULL, 0, owned, &atom, what);
 }
 
 static bool parse_ulong(const char *s, unsigned long *out)
@@ -127,12 +134,16 @@ int main(int argc, char **argv)
 		{ "steps", required_argument, NULL, 'n' },   { "clients", required_argument, NULL, 'k' },
 		{ "check", required_argument, NULL, 'c' },   { "no-bridge", no_argument, NULL, 'b' },
 		{ "compositor", no_argument, NULL, 'C' },    { "send-events", required_argument, NULL, 'e' },
-		{ "help", no_argument, NULL, 'h' },	     { NULL, 0, NULL, 0 },
+		{ "working", required_argument, NULL, 'w' }, { "help", no_argument, NULL, 'h' },
+		{ NULL, 0, NULL, 0 },
 	};
 	const char *display = NULL, *cmd = NULL;
 	unsigned long seed = 0, steps = 0, clients = 6;
 	bool have_seed = false, have_steps = false, bridge = true, verbose = false, compositor = false;
 	enum send_mode send_events = SEND_AUTO;
+	pid_t working[PROGRESS_MAX_PIDS];
+	size_t n_working = 1; /* [0]: the X server's, once connected */
+	unsigned long pid;
 	int opt;
 	while ((opt = getopt_long(argc, argv, "v", options, NULL)) != -1) {
 		switch (opt) {
@@ -172,6 +183,12 @@ int main(int argc, char **argv)
 			else
 				goto bad;
 			break;
+		case 'w':
+			if (!parse_ulong(optarg, &pid) || pid == 0 || pid > INT32_MAX ||
+			    n_working == PROGRESS_MAX_PIDS - DESK_MAX_CLIENTS)
+				goto bad;
+			working[n_working++] = (pid_t)pid;
+			break;
 		case 'v':
 			verbose = true;
 			break;
@@ -199,6 +216,9 @@ bad:
 		return 1;
 	}
 	dying = &d;
+	working[0] = progress_peer_pid(xcb_get_file_descriptor(d.c));
+	memcpy(d.working, working, n_working * sizeof *working);
+	d.n_working = n_working;
 	if (display != NULL)
 		setenv("DISPLAY", display, 1); /* for the clients */
 	xcb_screen_iterator_t si = xcb_setup_roots_iterator(xcb_get_setup(d.c));

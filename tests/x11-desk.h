@@ -15,6 +15,7 @@
 #include <sys/types.h>
 #include <xcb/xcb.h>
 
+#include "progress.h"
 #include "rng.h"
 
 /*
@@ -123,6 +124,10 @@ struct desk {
 	struct x_view *prev_visd;
 	size_t n_prev_visd;
 	unsigned long visd_changes, changes_untold;
+	/* The processes whose work the waits follow (progress.h): the X server, then those of
+	 * --working (the bridge, visd, the window manager, the compositor). */
+	pid_t working[PROGRESS_MAX_PIDS];
+	size_t n_working;
 };
 
 
@@ -145,12 +150,21 @@ void record_event(struct desk *d, xcb_generic_event_t *ev);
 int record_drain(struct desk *d);
 /* One X round trip, then every event it brought in. */
 void record_round_trip(struct desk *d);
-/* Round trip, then events until none for 40 ms (at most 2 s). */
+/* Round trip, then events until none for 40 ms while the X server and the --working processes
+ * rest (at most 20 s: x11-desk-record.c). */
 void record_quiet(struct desk *d);
-/* The _VISD_X11_SYNC / _VISD_X11_SYNCED handshake with the bridge for value k (dies after 5 s). */
+/* The _VISD_X11_SYNC / _VISD_X11_SYNCED handshake with the bridge for value k (dies when the
+ * bridge, visd and X stop working without answering: record_until). */
 void record_sync(struct desk *d, uint32_t k);
 /* Reads events for up to ms milliseconds (returns early when done() says so). */
 void record_wait(struct desk *d, int ms, bool (*done)(struct desk *d, void *arg), void *arg);
+/*
+ * Reads events until done() says so, as long as the X server, the --working processes or the n
+ * pids make progress (progress.h); dies saying what was awaited when they stop working, one of
+ * them dies, or the ceiling passes.
+ */
+void record_until(struct desk *d, const pid_t *pids, size_t n,
+		  bool (*done)(struct desk *d, void *arg), void *arg, const char *what);
 struct rec_window *record_find(struct recorder *r, xcb_window_t xid);
 /* Enters a window this connection creates, with its events selected at creation. */
 void record_own(struct desk *d, xcb_window_t xid, bool input_only);

@@ -103,12 +103,18 @@ static void wait_input(struct order *o, int ms)
 	poll(p, 2, ms < 0 ? 0 : ms);
 }
 
-/* The reply to request seq on c, the client's events read and timed meanwhile; dies after
- * TIMEOUT_MS. */
+/* A wait for an answer: it follows the work of X and the --working processes. */
+static struct progress working(const struct order *o)
+{
+	struct progress p;
+	progress_begin(&p, o->working, o->n_working);
+	return p;
+}
+
+/* The reply to request seq on c, the client's events read and timed meanwhile. */
 void *conn_await_reply(struct order *o, xcb_connection_t *c, unsigned seq, const char *what)
 {
-	uint64_t end = conn_now_ns() + TIMEOUT_MS * 1000000ull;
-	for (;;) {
+	for (struct progress p = working(o);;) {
 		conn_collect(o);
 		void *reply = NULL;
 		xcb_generic_error_t *e = NULL;
@@ -121,10 +127,9 @@ void *conn_await_reply(struct order *o, xcb_connection_t *c, unsigned seq, const
 			conn_collect(o); /* what was read with the reply */
 			return reply;
 		}
-		uint64_t t = conn_now_ns();
-		if (t >= end)
-			order_die("the X server did not answer %s in %d ms", what, TIMEOUT_MS);
-		wait_input(o, (int)((end - t) / 1000000u) + 1);
+		if (progress_stopped(&p))
+			order_die("the X server did not answer %s: %s", what, p.why);
+		wait_input(o, 100);
 	}
 }
 
@@ -158,8 +163,7 @@ void conn_handshake(struct order *o)
 	xcb_change_property(o->world, XCB_PROP_MODE_REPLACE, o->screen->root, o->sync,
 			    XCB_ATOM_CARDINAL, 32, 1, &o->k);
 	xcb_flush(o->world);
-	uint64_t end = conn_now_ns() + TIMEOUT_MS * 1000000ull;
-	for (;;) {
+	for (struct progress p = working(o);;) {
 		conn_collect(o);
 		if (o->synced_seen) {
 			o->synced_seen = false;
@@ -167,12 +171,11 @@ void conn_handshake(struct order *o)
 				return;
 			continue;
 		}
-		uint64_t t = conn_now_ns();
-		if (t >= end)
-			order_die("visd-x11 did not answer the _VISD_X11_SYNC handshake (%u) in %d "
-				  "ms: is it running on this display?",
-				  o->k, TIMEOUT_MS);
-		wait_input(o, (int)((end - t) / 1000000u) + 1);
+		if (progress_stopped(&p))
+			order_die("visd-x11 did not answer the _VISD_X11_SYNC handshake (%u): %s; is "
+				  "it running on this display?",
+				  o->k, p.why);
+		wait_input(o, 100);
 	}
 }
 
@@ -203,19 +206,19 @@ xcb_atom_t conn_intern(struct order *o, const char *name)
 	return atom;
 }
 
-/* Whether someone owns the selection name; waits up to 5 s for one when wait is set. */
+/* Whether someone owns the selection name; waits (progress.h) for one when wait is set. */
 bool conn_owned(struct order *o, const char *name, bool wait)
 {
 	xcb_atom_t atom = conn_intern(o, name);
-	for (int waited = 0;; waited += 50) {
+	for (struct progress p = working(o);;) {
 		xcb_get_selection_owner_reply_t *r = xcb_get_selection_owner_reply(
 			o->world, xcb_get_selection_owner(o->world, atom), NULL);
 		bool yes = r != NULL && r->owner != XCB_NONE;
 		free(r);
 		if (yes || !wait)
 			return yes;
-		if (waited >= TIMEOUT_MS)
-			order_die("nobody owns %s after %d ms", name, TIMEOUT_MS);
+		if (progress_stopped(&p))
+			order_die("nobody owns %s: %s", name, p.why);
 		nanosleep(&(struct timespec){ 0, 50000000 }, NULL);
 	}
 }

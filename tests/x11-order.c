@@ -513,13 +513,15 @@ static unsigned long report(const struct order *o, unsigned long repeat, bool cm
 static void usage(FILE *f)
 {
 	fputs("usage: x11-order [--display D] [--repeat N] [--bursts N] [--quiet-ms MS]\n"
-	      "                 [--check CMD] [--compositor] [-v]\n"
+	      "                 [--check CMD] [--compositor] [--working PID]... [-v]\n"
 	      "  --display D    the X server, where visd-x11 runs (default: $DISPLAY)\n"
 	      "  --repeat N     cycles of changes (default 100)\n"
 	      "  --bursts N     then N bursts of changes without waiting (default 0)\n"
 	      "  --quiet-ms MS  after each change, read events until none for MS (default 50)\n"
 	      "  --check CMD    also compare CMD's state of W (visctl -s SOCK states --x11)\n"
-	      "  --compositor   wait (5 s) for a compositing manager to own _NET_WM_CM_S0\n"
+	      "  --compositor   wait for a compositing manager to own _NET_WM_CM_S0\n"
+	      "  --working PID  waits for an answer go on while the X server or PID (the\n"
+	      "                 bridge, visd, the compositor) works; repeated for more\n"
 	      "  -v             every change's events, timed\n",
 	      f);
 }
@@ -533,10 +535,11 @@ int main(int argc, char **argv)
 		{ "check", required_argument, NULL, 'c' },
 		{ "compositor", no_argument, NULL, 'C' },
 		{ "bursts", required_argument, NULL, 'b' },
+		{ "working", required_argument, NULL, 'w' },
 		{ "help", no_argument, NULL, 'h' },
 		{ NULL, 0, NULL, 0 },
 	};
-	struct order o = { .quiet_ms = 50, .told = -1, .x_told = -1 };
+	struct order o = { .quiet_ms = 50, .told = -1, .x_told = -1, .n_working = 1 };
 	const char *display = NULL;
 	unsigned long repeat = 100, n_bursts = 0;
 	bool compositor = false;
@@ -565,6 +568,13 @@ int main(int argc, char **argv)
 		case 'c':
 			o.check = optarg;
 			break;
+		case 'w': {
+			long pid = strtol(optarg, &end, 10);
+			if (*end || pid <= 0 || pid > INT32_MAX || o.n_working == PROGRESS_MAX_PIDS)
+				goto bad;
+			o.working[o.n_working++] = (pid_t)pid;
+			break;
+		}
 		case 'C':
 			compositor = true;
 			break;
@@ -591,6 +601,7 @@ bad:
 	o.world = xcb_connect(display, NULL);
 	if (xcb_connection_has_error(o.client) || xcb_connection_has_error(o.world))
 		order_die("cannot connect to the X display %s", name);
+	o.working[0] = progress_peer_pid(xcb_get_file_descriptor(o.world)); /* the X server */
 	xcb_screen_iterator_t it = xcb_setup_roots_iterator(xcb_get_setup(o.client));
 	for (int i = 0; i < screen_no && it.rem; i++)
 		xcb_screen_next(&it);

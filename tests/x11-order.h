@@ -12,10 +12,10 @@
 #include <stdint.h>
 #include <xcb/xcb.h>
 
+#include "progress.h"
 #include "rect.h"
 
-#define TIMEOUT_MS 5000 /* for any answer: X's, the bridge's */
-#define MAX_SEEN 64     /* events kept of one change */
+#define MAX_SEEN 64 /* events kept of one change */
 
 /* W, the cover (over W's place), the part cover (over part of it), the far window (elsewhere). */
 enum { WIN_W, WIN_COVER, WIN_PART, WIN_FAR, N_WINS };
@@ -53,6 +53,9 @@ struct order {
 	int quiet_ms;
 	const char *check;
 	bool verbose;
+	/* What the waits for an answer follow (progress.h): the X server, then --working's. */
+	pid_t working[PROGRESS_MAX_PIDS];
+	size_t n_working;
 };
 
 /* x11-order.c: prints "x11-order: MESSAGE" and exits 1. */
@@ -64,18 +67,18 @@ uint64_t conn_now_ns(void);
 /* Reads every event that has come on both connections (dies when either is broken). */
 void conn_collect(struct order *o);
 /* The reply to request seq on c (the caller frees it), the client's events read meanwhile; dies
- * on an error or after TIMEOUT_MS. */
+ * on an error or when X and the --working processes stop making progress without one. */
 void *conn_await_reply(struct order *o, xcb_connection_t *c, unsigned seq, const char *what);
 /* A round trip on c: every event X generated for c before it is then read. */
 void conn_round_trip(struct order *o, xcb_connection_t *c, const char *what);
 /* The root's _VISD_X11_SYNC or _VISD_X11_SYNCED (0 when unset). */
 uint32_t conn_read_counter(struct order *o, xcb_atom_t atom);
-/* The handshake with the bridge (see x11-order.c); dies when it does not answer in TIMEOUT_MS. */
+/* The handshake with the bridge (see x11-order.c); dies when it stops making progress unanswered. */
 void conn_handshake(struct order *o);
 /* Reads the client's events until none came for quiet_ms (2 s at most). */
 void conn_quiet(struct order *o);
 xcb_atom_t conn_intern(struct order *o, const char *name);
-/* Whether someone owns the selection name; waits up to TIMEOUT_MS for one when wait is set. */
+/* Whether someone owns the selection name; waits (progress.h) for one when wait is set. */
 bool conn_owned(struct order *o, const char *name, bool wait);
 
 #endif

@@ -27,12 +27,15 @@
 #include "idmap.h"
 #include "vis/visclient.h"
 #include "proc-cpu.h"
+#include "progress.h"
 #include "xorg-replay.h"
 
 #define NS UINT64_C(1000000000)
-/* Without a reply or an event from X for this long, the replay gives up rather than hang: 30 s
- * an operation; 10 minutes while setting up, since X maps n windows in O(n²) (MapSubwindows
- * walks the siblings below each window it maps: about a minute at 100,000 windows). */
+/* Without a reply or an event from X for this long, and without X using CPU time meanwhile
+ * (progress.h: a server busy with other clients' requests answers late), the replay gives up
+ * rather than hang: 30 s an operation; 10 minutes while setting up, since X maps n windows in
+ * O(n²) (MapSubwindows walks the siblings below each window it maps: about a minute at 100,000
+ * windows). */
 #define STALL_NS (30 * NS)
 #define SETUP_STALL_NS (600 * NS)
 /* Requests sent before a round trip while setting up or reading back, so no queue grows without
@@ -61,6 +64,8 @@ struct replay {
 	struct pollfd *pfd;     /* the manager's, then each subscriber's */
 	uint64_t now, last_event, last_heard;
 	uint64_t stall;         /* STALL_NS or SETUP_STALL_NS */
+	pid_t x_pid;            /* the X server's, for its CPU time (0: unknown) */
+	double x_cpu_ms;        /* its CPU time when it last counted as progress */
 	bool failed;            /* an X error came */
 };
 
@@ -158,9 +163,16 @@ static int wait_io(struct replay *rp)
 		return -1;
 	}
 	if (n <= 0) {
+		/* Only while X is silent: a /proc read an operation would weigh on the latencies. */
+		double cpu = progress_cpu_ms(&rp->x_pid, 1);
+		if (cpu >= rp->x_cpu_ms + PROGRESS_MIN_CPU_MS) {
+			rp->x_cpu_ms = cpu;
+			rp->last_heard = rp->now;
+		}
 		if (rp->now - rp->last_heard <= rp->stall)
 			return 0;
-		fprintf(stderr, "xorg-replay: the X server has answered nothing for %llu s\n",
+		fprintf(stderr, "xorg-replay: the X server has answered nothing and done nothing "
+				"for %llu s\n",
 			(unsigned long long)(rp->stall / NS));
 		return -1;
 	}
@@ -534,8 +546,11 @@ int replay_x_run(const struct replay_options *o, const struct replay_script *s,
 		goto out;
 	}
 	uint64_t t0 = now_ns();
-	if (!(rp.mgr = connect_x(o, &screen)) || check_server(&rp, screen) < 0 ||
-	    make_desktop(&rp) < 0)
+	if (!(rp.mgr = connect_x(o, &screen)))
+		goto out;
+	rp.x_pid = o->pid ? o->pid : progress_peer_pid(xcb_get_file_descriptor(rp.mgr));
+	rp.x_cpu_ms = progress_cpu_ms(&rp.x_pid, 1);
+	if (check_server(&rp, screen) < 0 || make_desktop(&rp) < 0)
 		goto out;
 	r->setup_seconds = (double)(now_ns() - t0) / 1e9;
 

@@ -10,6 +10,8 @@
 set -euo pipefail
 called_from=$PWD
 cd "$(dirname "$0")/.."
+# wait_progress PIDS COMMAND: COMMAND until it succeeds, while the processes named work.
+. tests/progress.sh
 
 # scdoc: the man pages (man/); systemd: systemd-socket-activate for the socket activation test,
 # systemd-analyze to verify the user units (tests/test-activate.sh, tests/check-units.sh);
@@ -90,11 +92,17 @@ demo() {
 	echo "== the daemon: visd --socket $sock --screen 3840x2160"
 	"$bin/daemon/visd" --socket "$sock" --screen 3840x2160 &
 	visd_pid=$!
-	for _ in $(seq 100); do [ -S "$sock" ] && break; sleep 0.05; done
+	wait_progress "$visd_pid" test -S "$sock" ||
+		{ echo "dev.sh: visd did not start ($progress_why)" >&2; exit 1; }
 	echo "== an observer watches every window: visctl --role observer watch"
 	"$visctl" -s "$sock" --role observer watch >"$tmp/watch" &
 	watch_pid=$!
-	sleep 0.3
+	# It has subscribed once it reports a window of a client come and gone (its lines left out).
+	probed() { v create 0 0 1 1 >/dev/null && [ -s "$tmp/watch" ]; }
+	wait_progress "$watch_pid $visd_pid" probed ||
+		{ echo "dev.sh: visctl watch did not subscribe ($progress_why)" >&2; exit 1; }
+	local probes
+	probes=$(wc -l <"$tmp/watch")
 	"$visctl" gen random 200 1 >"$tmp/desk.scene"
 	echo "== visctl load --retain: 200 windows created and mapped in one batch"
 	v load --retain "$tmp/desk.scene" >"$tmp/map"
@@ -120,18 +128,39 @@ SCRIPT
 	popup=$(v create 50 50 800 600 --map --retain)
 	v --role manager move "$popup" 3000 1500
 	v --role manager destroy "$popup"
-	v sync
-	sleep 0.2
+	seen() { grep -q " stack destroy $popup " "$tmp/watch"; }
+	wait_progress "$watch_pid $visd_pid" seen ||
+		{ echo "dev.sh: visctl watch did not see the popup go ($progress_why)" >&2; exit 1; }
 	echo "== what the observer saw about them (serial, notice, window, …):"
 	grep -E " ($app|$popup) " "$tmp/watch" | sed 's/^/   /'
-	echo "== $(wc -l <"$tmp/watch") notices in all; visctl watch --json prints JSON; see proto/PROTOCOL.md"
+	echo "== $(($(wc -l <"$tmp/watch") - probes)) notices in all; visctl watch --json prints JSON; see proto/PROTOCOL.md"
 }
 
+# Says what runs next and roughly how long it takes: builds print nothing, and meson prints a
+# test's line only once it ends, so a long step would otherwise read as a hang.
+announce() {
+	echo "dev.sh: $*"
+}
+
+# The two passes, each announced with what it runs and about how long it takes on a 2-core
+# machine (measured with the other engineers' test runs beside it, 2026-11-28); a loaded machine
+# takes longer, and the suites' waits follow the programs' progress, not the clock
+# (docs/TESTING.md, Waits).
 run_tests() {
+	announce "1/4: building build (meson setup the first time, then ninja: about 1 min from" \
+		"scratch, seconds when up to date)"
 	build build
+	announce "2/4: every suite on build (meson test, in parallel, a line as each ends: about" \
+		"2.5 min in all; the longest: x11 about 2 min, x11-faults 35 s, differential and" \
+		"x11-order 20 s each)"
 	meson test -C build --print-errorlogs
 	# The sanitizer pass: b_lundef=false because the sanitizer runtimes resolve at run time.
+	announce "3/4: building build-san, a second build of everything, with ASan and UBSan (about" \
+		"1 min from scratch, seconds when up to date)"
 	build build-san -Db_sanitize=address,undefined -Db_lundef=false --buildtype=debug
+	announce "4/4: every suite again on build-san, under ASan and UBSan (about 15 min in all;" \
+		"the longest: x11 about 11 min, x11-faults 5 min, differential 3 min, wtree, look," \
+		"limits and seethrough about 1 min each)"
 	UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ASAN_OPTIONS=detect_leaks=1 \
 		meson test -C build-san --print-errorlogs --timeout-multiplier 4
 }

@@ -82,8 +82,13 @@ trap cleanup EXIT
 
 "$visd" --socket "$sock" --screen 3840x2160 --max-windows 1000000 2>"$tmp/visd.log" &
 visd_pid=$!
-for _ in $(seq 100); do [ -S "$sock" ] && break; sleep 0.05; done
-[ -S "$sock" ] || { echo "service-bench: visd did not start" >&2; cat "$tmp/visd.log" >&2; exit 1; }
+# wait_progress PIDS COMMAND: COMMAND until it succeeds, while the processes named work.
+. "$(dirname "$0")/../tests/progress.sh"
+wait_progress "$visd_pid" test -S "$sock" || {
+	echo "service-bench: visd did not start ($progress_why)" >&2
+	cat "$tmp/visd.log" >&2
+	exit 1
+}
 
 csv=$out/service.csv
 failed=0

@@ -47,10 +47,8 @@ cleanup() {
 }
 trap cleanup EXIT
 trap 'exit 1' INT TERM HUP
-wait_for() {
-	for _ in $(seq 200); do "$@" && return 0; sleep 0.05; done
-	return 1
-}
+# wait_progress PIDS COMMAND: COMMAND until it succeeds, while the processes named work.
+. "$(dirname "$0")/../tests/progress.sh"
 # Shows a log and stops.
 fail() {
 	echo "x11-order: $1" >&2
@@ -66,29 +64,35 @@ for run in "${runs[@]}"; do
 	exec 3>"$dir/display"
 	Xvfb -displayfd 3 -screen 0 1280x720x24 -nolisten tcp -noreset >"$dir/xvfb-$run.log" 2>&1 &
 	pids=($!)
+	xpid=$!
 	exec 3>&-
-	wait_for test -s "$dir/display" || fail "Xvfb did not start:" "$dir/xvfb-$run.log"
+	wait_progress "$xpid" test -s "$dir/display" ||
+		fail "Xvfb did not start ($progress_why):" "$dir/xvfb-$run.log"
 	display=:$(head -n 1 "$dir/display")
 	: >"$dir/display"
 	sock=$dir/sock-$run
 	"$build/daemon/visd" --socket "$sock" --screen 1280x720 2>"$dir/visd-$run.log" &
-	pids+=($!)
-	wait_for test -S "$sock" || fail "visd did not start:" "$dir/visd-$run.log"
-	cm=
+	vpid=$!
+	pids+=("$vpid")
+	wait_progress "$vpid" test -S "$sock" ||
+		fail "visd did not start ($progress_why):" "$dir/visd-$run.log"
+	cm= cmpid=
 	if [ "$run" != "$mode" ]; then
 		DISPLAY=$display xcompmgr >"$dir/xcompmgr-$run.log" 2>&1 &
-		pids+=($!)
+		cmpid=$!
+		pids+=("$cmpid")
 		cm=--compositor
 	fi
 	"$build/bridge/x11/visd-x11" --display "$display" -s "$sock" "${BRIDGE_VERBOSE:--v}" \
 		--send-events "$mode" 2>"$dir/bridge-$run.log" &
 	bpid=$!
 	pids+=("$bpid")
-	wait_for grep -q mirrored "$dir/bridge-$run.log" ||
-		fail "visd-x11 did not start:" "$dir/bridge-$run.log"
+	wait_progress "$bpid $vpid $xpid" grep -q mirrored "$dir/bridge-$run.log" ||
+		fail "visd-x11 did not start ($progress_why):" "$dir/bridge-$run.log"
 	echo
 	echo "== run $run: ${cm:+xcompmgr, }visd-x11 --send-events $mode"
 	"$build/tests/x11-order" --display "$display" --repeat "$repeat" --bursts "$bursts" $cm \
+		--working "$bpid" --working "$vpid" ${cmpid:+--working "$cmpid"} \
 		--check "$build/client/visctl/visctl -s $sock states --x11" || status=1
 	kill -0 "$bpid" 2>/dev/null || { echo "x11-order: visd-x11 died" >&2; status=1; }
 	kill "$bpid"

@@ -93,17 +93,16 @@ tmp=$(mktemp -d /tmp/visd-xorg-bench-XXXXXX)
 chmod 700 "$tmp"
 visd_pid=
 x_pid=
-# Stops the server a cell started, if it runs: SIGTERM, then SIGKILL after 10 s (an X server
-# still busy with a client's windows reads its signal only when it is done).
+# wait_progress PIDS COMMAND: COMMAND until it succeeds, while the processes named work.
+. "$(dirname "$0")/../tests/progress.sh"
+# Stops the server a cell started, if it runs: SIGTERM, then SIGKILL once it stops working
+# without exiting (an X server still busy with a client's windows reads its signal only when it
+# is done).
 stop() {
-	local pid=$1 state
+	local pid=$1
 	[ -n "$pid" ] || return 0
 	kill "$pid" 2>/dev/null || true
-	for _ in $(seq 100); do
-		state=$(ps -o stat= -p "$pid") || break
-		case $state in Z*) break ;; esac
-		sleep 0.1
-	done
+	wait_progress "$pid" progress_gone "$pid" || true
 	kill -9 "$pid" 2>/dev/null || true
 	wait "$pid" 2>/dev/null || true
 }
@@ -119,8 +118,8 @@ start_visd() {
 	rm -f "$tmp/visd"
 	"$visd" --socket "$tmp/visd" --screen "$screen" 2>"$tmp/visd.log" &
 	visd_pid=$!
-	for _ in $(seq 200); do [ -S "$tmp/visd" ] && return 0; sleep 0.05; done
-	echo "xorg-bench: visd did not start:" >&2
+	wait_progress "$visd_pid" test -S "$tmp/visd" && return 0
+	echo "xorg-bench: visd did not start ($progress_why):" >&2
 	cat "$tmp/visd.log" >&2
 	return 1
 }
@@ -133,13 +132,11 @@ start_x() {
 		>"$tmp/x.log" 2>&1 &
 	x_pid=$!
 	exec 3>&-
-	for _ in $(seq 200); do
+	if wait_progress "$x_pid" test -s "$tmp/display"; then
 		display=$(head -n 1 "$tmp/display")
-		[ -n "$display" ] && return 0
-		kill -0 "$x_pid" 2>/dev/null || break
-		sleep 0.05
-	done
-	echo "xorg-bench: Xvfb did not start:" >&2
+		return 0
+	fi
+	echo "xorg-bench: Xvfb did not start ($progress_why):" >&2
 	cat "$tmp/x.log" >&2
 	return 1
 }
