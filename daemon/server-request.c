@@ -275,7 +275,8 @@ static void do_configure(struct client *c, uint32_t seq, uint32_t op, const unio
 				w->look.border != (int32_t)border);
 	struct vis_look next = w->look;
 	next.border = (int32_t)border;
-	if (recut && !server_look_pieces_ok(c, seq, op, w, &next, (int32_t)width, (int32_t)height, &cut))
+	if (recut &&
+	    !server_look_pieces_ok(c, seq, op, w, &next, (int32_t)width, (int32_t)height, &cut))
 		return;
 	uint64_t old = server_look_charged(w);
 	server_damage(c->server, w); /* where it was */
