@@ -551,11 +551,7 @@ static void do_get_tree(struct client *c, uint32_t seq)
 		if (server_may_see(c, w)) {
 			/* A parent it may not see is 0, as in stack notices. */
 			uint32_t parent = server_seen_id(c, w->parent);
-			uint32_t flags = (w->mapped ? VIS_WINDOW_MAPPED : 0) |
-					 (w->state != VIS_WTREE_STATE_NONE ? VIS_WINDOW_VIEWABLE : 0) |
-					 (w->retained ? VIS_WINDOW_RETAINED : 0) |
-					 (!parent && w->parent->id ? VIS_WINDOW_PARENT_HIDDEN : 0) |
-					 server_look_flags(w);
+			uint32_t flags = server_window_flags(w, parent);
 			uint32_t rec[12] = { w->id,
 					     parent,
 					     (uint32_t)w->x,

@@ -237,16 +237,20 @@ void server_schedule_turn_end(struct server *server);
  */
 uint32_t server_seen_id(const struct client *viewer, const struct vis_window *w);
 /*
+ * The flags of a window in the tree reply and in stack notices, the one place that decides them:
+ * mapped, viewable (it and all its ancestors mapped, input-only windows too), retained, parent
+ * hidden (seen_parent, the parent's ID as the connection may see it, is 0 for a window that has
+ * one), shaped, translucent (window->translucent, kept by the tree), input-only. O(depth).
+ */
+uint32_t server_window_flags(const struct vis_window *w, uint32_t seen_parent);
+
+/*
  * A stack notice's words after the serial, as viewer may see them (NULL: as a connection that
  * sees every window): change, window, parent, geometry, sibling, flags, border, external ID (the
  * window's own: whoever may see it may know what it mirrors). For a client, parent is 0
- * when it may not see the parent (x, y stay relative to it), and sibling is the nearest window
- * below w among its siblings that the client may see, or 0: O(siblings passed over).
+ * when it may not see the parent (x, y stay relative to it), and sibling is the window just
+ * below w among its siblings when the client may see it, else 0. O(depth).
  */
-/* The flags of a window's look for the tree reply and stack notices: shaped, translucent,
- * input-only. */
-uint32_t server_look_flags(const struct vis_window *w);
-
 void server_stack_words(const struct client *viewer, const struct vis_window *w, uint32_t change,
 			uint32_t words[SERVER_STACK_WORDS]);
 /* Sends a stack notice about w to the connections subscribed to it, each as it may see it. */
