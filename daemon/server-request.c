@@ -214,7 +214,7 @@ static void do_create(struct client *c, uint32_t seq, const union vis_arg *a)
 		return;
 	}
 	c->n_windows++;
-	w->look.border = (int32_t)a[6].u; /* checked above */
+	vis_wtree_set_border(w, (int32_t)a[6].u); /* checked above: cannot fail */
 	if (input_only)
 		vis_wtree_set_input_only(w);
 	changed(c, w, VIS_STACK_CREATE);
@@ -278,9 +278,7 @@ static void do_configure(struct client *c, uint32_t seq, uint32_t op, const unio
 			(op == VIS_OP_CONFIGURE &&
 			 (w->width != (int32_t)width || w->height != (int32_t)height ||
 			  w->look.border != (int32_t)border));
-	w->look.border = (int32_t)border;
-	w->width = (int32_t)width;
-	w->height = (int32_t)height;
+	vis_wtree_set_size(w, (int32_t)width, (int32_t)height, (int32_t)border); /* checked above */
 	if (reshaped) {
 		/* As X with ForgetGravity: a resized window's contents are gone, all of it is exposed. */
 		struct window_data *d = w->data;

@@ -610,7 +610,7 @@ uint32_t server_window_flags(const struct vis_window *w, uint32_t seen_parent)
 	       (w->retained ? VIS_WINDOW_RETAINED : 0) |
 	       (!seen_parent && w->parent && w->parent->id ? VIS_WINDOW_PARENT_HIDDEN : 0) |
 	       (w->look.shaped ? VIS_WINDOW_SHAPED : 0) |
-	       (w->look.opaque != VIS_OPAQUE_ALL ? VIS_WINDOW_TRANSLUCENT : 0) |
+	       (w->translucent ? VIS_WINDOW_TRANSLUCENT : 0) |
 	       (w->look.input_only ? VIS_WINDOW_INPUT_ONLY : 0);
 }
 

@@ -388,6 +388,184 @@ out:
 	return ret;
 }
 
+/* The plane every window coordinate of a look lies in: a shape rectangle ends before 2^32. */
+static const struct vis_box plane = { INT32_MIN, INT32_MIN, (int64_t)UINT32_MAX,
+				      (int64_t)UINT32_MAX };
+
+static struct vis_box one_box_of(const void *src, size_t k, const void *arg)
+{
+	(void)k;
+	(void)arg;
+	return *(const struct vis_box *)src;
+}
+
+static int cmp_pair(const void *a, const void *b)
+{
+	const int64_t *x = a, *y = b;
+	return x[0] != y[0] ? (x[0] > y[0]) - (x[0] < y[0]) : (x[1] > y[1]) - (x[1] < y[1]);
+}
+
+/* Keeps the minimal pairs of v[0 … n) in place, u ascending and v descending; returns how many. */
+static size_t staircase(int64_t *v, size_t n)
+{
+	qsort(v, n, 2 * sizeof(*v), cmp_pair);
+	size_t k = 0;
+	for (size_t i = 0; i < n; i++)
+		if (k == 0 || v[2 * i + 1] < v[2 * k - 1]) {
+			v[2 * k] = v[2 * i];
+			v[2 * k + 1] = v[2 * i + 1];
+			k++;
+		}
+	return k;
+}
+
+/*
+ * The thresholds of the see-through boxes (rank space) in each quadrant around the inside's corner
+ * as staircases, into clear. 0, or -1 with ENOMEM.
+ */
+static int clear_quadrants(struct vis_look_clear *c, pixman_region32_t *d, const struct edges *e)
+{
+	int nb;
+	const pixman_box32_t *b = pixman_region32_rectangles(d, &nb);
+	int64_t *q[4];
+	size_t n[4] = { 0 }, all = 0;
+	q[0] = malloc(8 * ((size_t)nb + 1) * sizeof(int64_t));
+	if (q[0] == NULL) {
+		errno = ENOMEM;
+		return -1;
+	}
+	for (int k = 1; k < 4; k++)
+		q[k] = q[0] + 2 * k * ((size_t)nb + 1);
+	for (int k = 0; k < nb; k++) {
+		int64_t x1 = e->x[b[k].x1], x2 = e->x[b[k].x2], y1 = e->y[b[k].y1], y2 = e->y[b[k].y2];
+		int64_t px1 = x1 > 0 ? x1 : 0, py1 = y1 > 0 ? y1 : 0; /* its part right of, below 0 */
+		int64_t nx2 = x2 < 0 ? -x2 : 0, ny2 = y2 < 0 ? -y2 : 0; /* left of, above 0, negated */
+		int64_t pair[4][2] = { { px1, py1 }, { nx2, py1 }, { px1, ny2 }, { nx2, ny2 } };
+		bool in[4] = { x2 > 0 && y2 > 0, x1 < 0 && y2 > 0, x2 > 0 && y1 < 0, x1 < 0 && y1 < 0 };
+		for (int j = 0; j < 4; j++)
+			if (in[j]) {
+				q[j][2 * n[j]] = pair[j][0];
+				q[j][2 * n[j] + 1] = pair[j][1];
+				n[j]++;
+			}
+	}
+	for (int j = 0; j < 4; j++) {
+		n[j] = staircase(q[j], n[j]);
+		all += n[j];
+	}
+	c->uv = all ? malloc(2 * all * sizeof(int64_t)) : NULL;
+	if (all && c->uv == NULL) {
+		free(q[0]);
+		errno = ENOMEM;
+		return -1;
+	}
+	for (size_t j = 0, at = 0; j < 4; at += 2 * n[j], j++) {
+		memcpy(c->uv + at, q[j], 2 * n[j] * sizeof(int64_t));
+		c->n[j] = (uint32_t)n[j];
+	}
+	free(q[0]);
+	return 0;
+}
+
+int vis_look_clear_init(struct vis_look_clear *c, const struct vis_look *look)
+{
+	*c = (struct vis_look_clear){ 0 };
+	if (look->input_only || look->opaque == VIS_OPAQUE_ALL)
+		return 0;
+	if (!look->shaped && look->opaque == VIS_OPAQUE_NONE) {
+		c->always = true;
+		return 0;
+	}
+	size_t ns = look->shaped ? look->n_shape : 0;
+	size_t no = look->opaque == VIS_OPAQUE_RECTS ? look->n_opaque : 0;
+	if (ns + no > SIZE_MAX / 4 / sizeof(int64_t) - 2 || ns + no > INT32_MAX / 8) {
+		errno = EOVERFLOW;
+		return -1;
+	}
+	struct edges e = { malloc((2 * (ns + no) + 2) * sizeof(int64_t)),
+			   malloc((2 * (ns + no) + 2) * sizeof(int64_t)), 0, 0 };
+	pixman_region32_t sh, o, d;
+	int ret = -1;
+	pixman_region32_init(&sh);
+	pixman_region32_init(&o);
+	pixman_region32_init(&d);
+	if (e.x == NULL || e.y == NULL) {
+		errno = ENOMEM;
+		goto out;
+	}
+	add_edges(&e, plane);
+	for (size_t k = 0; k < ns + no; k++) {
+		struct vis_box r = to_box(k < ns ? look->shape[k] : look->opaque_rects[k - ns], 0, plane);
+		if (!vis_box_empty(r))
+			add_edges(&e, r);
+	}
+	e.nx = unique(e.x, e.nx);
+	e.ny = unique(e.y, e.ny);
+	pixman_region32_fini(&sh);
+	pixman_region32_fini(&o);
+	if ((look->shaped ? region_of(&sh, look->shape, ns, 0, plane, &e)
+			  : ranked_region(&sh, 1, one_box_of, &plane, NULL, &e)) < 0) {
+		pixman_region32_init(&sh);
+		pixman_region32_init(&o);
+		goto out;
+	}
+	if (region_of(&o, look->opaque_rects, no, 0, plane, &e) < 0) {
+		pixman_region32_init(&o);
+		goto out;
+	}
+	if (!pixman_region32_subtract(&d, &sh, &o)) {
+		errno = ENOMEM;
+		goto out;
+	}
+	ret = clear_quadrants(c, &d, &e);
+out:
+	pixman_region32_fini(&sh);
+	pixman_region32_fini(&o);
+	pixman_region32_fini(&d);
+	free(e.x);
+	free(e.y);
+	return ret;
+}
+
+bool vis_look_clear_meets(const struct vis_look_clear *c, int32_t width, int32_t height,
+			  int32_t border)
+{
+	if (c->always)
+		return true;
+	int64_t b = border, x = (int64_t)width + b, y = (int64_t)height + b;
+	const int64_t u[4] = { x, b, x, b }, v[4] = { y, y, b, b };
+	const int64_t *p = c->uv;
+	for (int q = 0; q < 4; p += 2 * (size_t)c->n[q], q++) {
+		size_t lo = 0, hi = c->n[q]; /* lo: the pairs with u below u[q] */
+		while (lo < hi) {
+			size_t mid = lo + (hi - lo) / 2;
+			if (p[2 * mid] < u[q])
+				lo = mid + 1;
+			else
+				hi = mid;
+		}
+		if (lo > 0 && p[2 * lo - 1] < v[q])
+			return true;
+	}
+	return false;
+}
+
+void vis_look_clear_finish(struct vis_look_clear *c)
+{
+	free(c->uv);
+	*c = (struct vis_look_clear){ 0 };
+}
+
+int vis_look_translucent(const struct vis_look *look, int32_t width, int32_t height)
+{
+	struct vis_look_clear c;
+	if (vis_look_clear_init(&c, look) < 0)
+		return -1;
+	bool meets = vis_look_clear_meets(&c, width, height, look->border);
+	vis_look_clear_finish(&c);
+	return meets;
+}
+
 int vis_pieces_init(struct vis_pieces *p, const struct vis_stack *windows)
 {
 	memset(p, 0, sizeof(*p));

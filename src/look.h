@@ -53,6 +53,47 @@ bool vis_look_plain(const struct vis_look *look);
 const char *vis_look_check(struct vis_rect rect, const struct vis_look *look);
 
 /*
+ * The translucent flag's rule: whether a window with this look, inside width × height, has a
+ * pixel that hides nothing, one of its pixels (its shape clipped to its border box) outside its
+ * opaque region. Never for mode all, an input-only window or one without pixels.
+ *
+ * The see-through region D (the shape, or the whole plane when not shaped, less the opaque
+ * rectangles; window coordinates, unclipped) changes only with the look, the border box with the
+ * geometry: clear keeps what tells, for any geometry, whether D meets the border box
+ * [−b, w + b) × [−b, h + b), which always holds the inside's corner pixel (0, 0). Cut at that
+ * corner into four quadrants, a box of D in the quadrant x, y ≥ 0 meets the border box iff its
+ * left edge is below w + b and its top edge below h + b; one in x < 0 ≤ y iff its right edge is
+ * past −b and its top edge below h + b; likewise for the other two. Each quadrant keeps the
+ * minimal pairs (u, v) of such thresholds, a staircase (u ascending, v descending), and a
+ * geometry asks whether one pair is below (U, V): the last pair with u < U has the least v.
+ */
+struct vis_look_clear {
+	bool always;  /* unshaped, mode none: every geometry has see-through pixels */
+	int64_t *uv;  /* the staircases' pairs, quadrant after quadrant; NULL when none */
+	uint32_t n[4];
+};
+
+/*
+ * Sets clear up for look. 0, or -1 with ENOMEM or EOVERFLOW (clear is then empty).
+ * O(k log k + p) for the look's k rectangles and the p boxes of its see-through region; keeps
+ * O(k) words (a staircase holds a pair per distinct edge at most).
+ */
+int vis_look_clear_init(struct vis_look_clear *clear, const struct vis_look *look);
+
+/* Whether the look clear was made from has see-through pixels for this geometry. O(log k). */
+bool vis_look_clear_meets(const struct vis_look_clear *clear, int32_t width, int32_t height,
+			  int32_t border);
+
+/* Frees what clear holds; an empty or finished clear is a no-op. O(1). */
+void vis_look_clear_finish(struct vis_look_clear *clear);
+
+/*
+ * vis_look_clear_meets() for one geometry, with the look's border: 1 translucent, 0 not, or -1
+ * with ENOMEM or EOVERFLOW. O(k log k + p).
+ */
+int vis_look_translucent(const struct vis_look *look, int32_t width, int32_t height);
+
+/*
  * The pieces of a stack of windows with looks: disjoint rectangles per window, bottom to top,
  * each opaque or see-through, as the engines take them (pieces.stack).
  */

@@ -184,6 +184,7 @@ void vis_wtree_destroy(struct vis_wtree *tree, struct vis_window *window,
 		tree->count--;
 		free(w->look.shape);
 		free(w->look.opaque_rects);
+		vis_look_clear_finish(&w->clear);
 		free(w);
 		w = parent;
 	}
@@ -283,17 +284,25 @@ struct vis_box vis_wtree_box(const struct vis_window *window)
 	return b;
 }
 
-int vis_wtree_set_border(struct vis_window *window, int32_t border)
+int vis_wtree_set_size(struct vis_window *window, int32_t width, int32_t height, int32_t border)
 {
 	/* Positions are checked where pieces are cut, against the clip: only the sizes here. */
-	if (border < 0 || window->look.input_only ||
-	    (int64_t)window->width + 2 * (int64_t)border > INT32_MAX ||
-	    (int64_t)window->height + 2 * (int64_t)border > INT32_MAX) {
+	if (width < 1 || height < 1 || border < 0 || (border && window->look.input_only) ||
+	    (int64_t)width + 2 * (int64_t)border > INT32_MAX ||
+	    (int64_t)height + 2 * (int64_t)border > INT32_MAX) {
 		errno = EINVAL;
 		return -1;
 	}
+	window->width = width;
+	window->height = height;
 	window->look.border = border;
+	window->translucent = vis_look_clear_meets(&window->clear, width, height, border);
 	return 0;
+}
+
+int vis_wtree_set_border(struct vis_window *window, int32_t border)
+{
+	return vis_wtree_set_size(window, window->width, window->height, border);
 }
 
 /* Copies n rectangles into a new array (NULL for none). 0, or -1 with ENOMEM. */
@@ -312,38 +321,61 @@ static int copy_rects(const struct vis_rect *rects, uint32_t n, struct vis_rect 
 	return 0;
 }
 
+/*
+ * Gives the window the look next (whose arrays become the window's, the old ones freed), its
+ * see-through pixels found first. 0, or -1 with ENOMEM or EOVERFLOW (nothing changes then, next's
+ * arrays freed).
+ */
+static int set_look(struct vis_window *window, struct vis_look next)
+{
+	struct vis_look_clear clear;
+	if (vis_look_clear_init(&clear, &next) < 0) {
+		if (next.shape != window->look.shape)
+			free(next.shape);
+		if (next.opaque_rects != window->look.opaque_rects)
+			free(next.opaque_rects);
+		return -1;
+	}
+	if (next.shape != window->look.shape)
+		free(window->look.shape);
+	if (next.opaque_rects != window->look.opaque_rects)
+		free(window->look.opaque_rects);
+	window->look = next;
+	vis_look_clear_finish(&window->clear);
+	window->clear = clear;
+	window->translucent = vis_look_clear_meets(&clear, window->width, window->height,
+						   next.border);
+	return 0;
+}
+
 int vis_wtree_set_shape(struct vis_window *window, bool shaped, const struct vis_rect *rects,
 			uint32_t n)
 {
-	struct vis_rect *copy;
+	struct vis_look next = window->look;
 	if (window->look.input_only) {
 		errno = EINVAL;
 		return -1;
 	}
-	if (copy_rects(rects, shaped ? n : 0, &copy) < 0)
+	if (copy_rects(rects, shaped ? n : 0, &next.shape) < 0)
 		return -1;
-	free(window->look.shape);
-	window->look.shape = copy;
-	window->look.n_shape = shaped ? n : 0;
-	window->look.shaped = shaped;
-	return 0;
+	next.n_shape = shaped ? n : 0;
+	next.shaped = shaped;
+	return set_look(window, next);
 }
 
 int vis_wtree_set_opaque(struct vis_window *window, enum vis_opaque mode,
 			 const struct vis_rect *rects, uint32_t n)
 {
-	struct vis_rect *copy;
+	struct vis_look next = window->look;
 	if (window->look.input_only || (unsigned)mode > VIS_OPAQUE_RECTS) {
 		errno = EINVAL;
 		return -1;
 	}
-	if (copy_rects(rects, mode == VIS_OPAQUE_RECTS ? n : 0, &copy) < 0)
+	if (copy_rects(rects, mode == VIS_OPAQUE_RECTS ? n : 0, &next.opaque_rects) < 0)
 		return -1;
-	free(window->look.opaque_rects);
-	window->look.opaque_rects = copy;
-	window->look.n_opaque = mode == VIS_OPAQUE_RECTS ? n : 0;
-	window->look.opaque = (uint8_t)mode;
-	return 0;
+	next.n_opaque = mode == VIS_OPAQUE_RECTS ? n : 0;
+	next.opaque = (uint8_t)mode;
+	return set_look(window, next);
 }
 
 void vis_wtree_set_input_only(struct vis_window *window)

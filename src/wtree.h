@@ -47,6 +47,11 @@ struct vis_window {
 	int32_t x, y;
 	int32_t width, height;
 	struct vis_look look; /* border, shape, opaque region, input-only: see the setters below */
+	/* The protocol's translucent flag: some of its pixels hide nothing (vis_look_translucent()),
+	 * kept by the setters of its size, border and look, which keep clear (look.h) to answer for
+	 * a new size or border in O(log k). */
+	bool translucent;
+	struct vis_look_clear clear;
 	/* What the window mirrors (an X window of a bridge, …): an opaque tag in a namespace (enum
 	 * vis_external_namespace), 0 and 0 for none; set once, by vis_wtree_set_external(). */
 	uint32_t ext_namespace;
@@ -122,15 +127,20 @@ void vis_wtree_destroy(struct vis_wtree *tree, struct vis_window *window,
 		       void (*gone)(void *data, struct vis_window *w), void *data);
 
 /*
- * Sets a window's border width (≥ 0). Returns 0, or -1 with EINVAL when the border box's sides
- * would pass INT32_MAX or the window is input-only. O(1).
+ * Sets a window's inside, width × height (≥ 1), and its border width (≥ 0). Returns 0, or -1
+ * with EINVAL when the border box's sides would pass INT32_MAX or an input-only window would
+ * get a border (nothing changes then). O(log k) for the k rectangles of its look.
  */
+int vis_wtree_set_size(struct vis_window *window, int32_t width, int32_t height, int32_t border);
+
+/* vis_wtree_set_size() with the window's inside as it is. */
 int vis_wtree_set_border(struct vis_window *window, int32_t border);
 
 /*
  * Sets a window's bounding shape to a copy of rects[0 … n) (window coordinates, each w, h ≥ 1,
  * overlaps allowed; n = 0: no pixels), or with shaped false back to its border box. Returns 0, or
- * -1 with ENOMEM, or EINVAL for an input-only window (nothing changes then). O(n).
+ * -1 with ENOMEM, or EINVAL for an input-only window (nothing changes then). O(k log k + p) for
+ * the k rectangles of its new look and the p boxes of its see-through pixels (look.h).
  */
 int vis_wtree_set_shape(struct vis_window *window, bool shaped, const struct vis_rect *rects,
 			uint32_t n);
@@ -138,7 +148,8 @@ int vis_wtree_set_shape(struct vis_window *window, bool shaped, const struct vis
 /*
  * Sets which of a window's pixels hide what lies below: mode VIS_OPAQUE_ALL or _NONE (rects
  * ignored), or VIS_OPAQUE_RECTS with a copy of rects[0 … n). Returns 0, or -1 with ENOMEM, or
- * EINVAL for an input-only window or an unknown mode (nothing changes then). O(n).
+ * EINVAL for an input-only window or an unknown mode (nothing changes then). As
+ * vis_wtree_set_shape(), O(k log k + p).
  */
 int vis_wtree_set_opaque(struct vis_window *window, enum vis_opaque mode,
 			 const struct vis_rect *rects, uint32_t n);

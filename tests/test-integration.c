@@ -1089,8 +1089,12 @@ static void test_random(uint64_t seed, int steps)
 		uint8_t want[64];
 		size_t mapped = 0, stateless = 0;
 		for (size_t i = 0; i < n; i++) {
+			struct vis_look look = m[i].look;
+			look.shape = m[i].shape;
+			look.opaque_rects = m[i].opaque;
 			uint32_t look_flags = (m[i].look.shaped ? VIS_WINDOW_SHAPED : 0) |
-					      (m[i].look.opaque ? VIS_WINDOW_TRANSLUCENT : 0) |
+					      (vis_look_translucent(&look, m[i].r.w, m[i].r.h) > 0
+						       ? VIS_WINDOW_TRANSLUCENT : 0) |
 					      (m[i].look.input_only ? VIS_WINDOW_INPUT_ONLY : 0);
 			CHECK(t[i].window == m[i].id && t[i].x == m[i].r.x && t[i].y == m[i].r.y &&
 				      t[i].width == (uint32_t)m[i].r.w &&

@@ -107,6 +107,81 @@ static void test_viewable(const struct harness_daemon *d)
 	harness_close(&c);
 }
 
+/* Sends set-shape (shaped 1) or set-opaque (mode) with n rectangles of x, y, width, height. */
+static void set_look(struct harness_conn *c, uint32_t op, uint32_t id, uint32_t mode,
+		     const int32_t (*r)[4], uint32_t n)
+{
+	uint32_t words[3 + 4 * 8] = { id, mode, n };
+	for (uint32_t i = 0; i < n; i++)
+		for (int k = 0; k < 4; k++)
+			words[3 + 4 * i + k] = (uint32_t)r[i][k];
+	harness_request(c, op, words, 3 + 4 * n);
+}
+
+/* Whether get-tree and the last stack notice about id both have the translucent flag as want. */
+static void expect_translucent(struct harness_conn *c, const struct notices *log, uint32_t id,
+			       bool want, const char *what)
+{
+	harness_sync(c, NULL);
+	uint32_t tree = node_of(c, id).flags, notice = stack_flags(log, id);
+	CHECK(!!(tree & VIS_WINDOW_TRANSLUCENT) == want &&
+		      !!(notice & VIS_WINDOW_TRANSLUCENT) == want,
+	      "%s: get-tree flags %#x, stack notice %#x; translucent should be %s", what, tree,
+	      notice, want ? "set" : "clear");
+}
+
+/*
+ * The translucent flag says whether some pixel of the window (its shape clipped to its border
+ * box) hides nothing, whatever the opaque mode says: opaque rectangles that cover every pixel
+ * (abutting or overlapping) leave it clear, one pixel left free sets it; a resize or a border
+ * that uncovers pixels sets it, as in get-tree as in stack notices; a window without pixels is
+ * never translucent, nor an input-only one.
+ */
+static void test_translucent(const struct harness_daemon *d)
+{
+	harness_context("the translucent flag from the pixels");
+	struct harness_conn c;
+	struct notices log;
+	open_logged(&c, d, VIS_ROLE_CLIENT, &log);
+	harness_req(&c, VIS_OP_SUBSCRIBE, 0, VIS_NOTICE_STACK, 0);
+	uint32_t w = harness_create(&c, 0, 10, 10, 10, 10, VIS_CREATE_MAP);
+	const int32_t halves[2][4] = { { 0, 0, 5, 10 }, { 5, 0, 5, 10 } };
+	const int32_t overlap[2][4] = { { 0, 0, 7, 10 }, { 3, 0, 7, 10 } };
+	const int32_t but_one[2][4] = { { 0, 0, 10, 9 }, { 0, 9, 9, 1 } };
+	const int32_t framed[1][4] = { { -1, -1, 12, 12 } };
+	set_look(&c, VIS_OP_SET_OPAQUE, w, VIS_OPAQUE_MODE_RECTS, halves, 2);
+	expect_translucent(&c, &log, w, false, "abutting opaque rectangles covering the window");
+	set_look(&c, VIS_OP_SET_OPAQUE, w, VIS_OPAQUE_MODE_RECTS, overlap, 2);
+	expect_translucent(&c, &log, w, false, "overlapping opaque rectangles covering the window");
+	set_look(&c, VIS_OP_SET_OPAQUE, w, VIS_OPAQUE_MODE_RECTS, but_one, 2);
+	expect_translucent(&c, &log, w, true, "one pixel left out of the opaque rectangles");
+	harness_req(&c, VIS_OP_RESIZE, w, 10, 9);
+	expect_translucent(&c, &log, w, false, "resized so that the free pixel is gone");
+	harness_req(&c, VIS_OP_RESIZE, w, 11, 9);
+	expect_translucent(&c, &log, w, true, "resized wider than the opaque rectangles");
+	harness_req(&c, VIS_OP_CONFIGURE, w, 10, 10, 10, 10, 1);
+	set_look(&c, VIS_OP_SET_OPAQUE, w, VIS_OPAQUE_MODE_RECTS, halves, 2);
+	expect_translucent(&c, &log, w, true, "a border outside the opaque rectangles");
+	set_look(&c, VIS_OP_SET_OPAQUE, w, VIS_OPAQUE_MODE_RECTS, framed, 1);
+	expect_translucent(&c, &log, w, false, "opaque rectangles covering the border too");
+	harness_req(&c, VIS_OP_CONFIGURE, w, 10, 10, 10, 10, 2);
+	expect_translucent(&c, &log, w, true, "a border grown past the opaque rectangles");
+	set_look(&c, VIS_OP_SET_SHAPE, w, 1, framed, 1);
+	expect_translucent(&c, &log, w, false, "shaped to the opaque rectangle");
+	set_look(&c, VIS_OP_SET_OPAQUE, w, VIS_OPAQUE_MODE_RECTS, halves, 2);
+	expect_translucent(&c, &log, w, true, "shaped into the border, opaque only inside it");
+	harness_req(&c, VIS_OP_CONFIGURE, w, 10, 10, 10, 10, 0);
+	expect_translucent(&c, &log, w, false, "the same without a border: its inside, opaque");
+	set_look(&c, VIS_OP_SET_SHAPE, w, 1, NULL, 0);
+	set_look(&c, VIS_OP_SET_OPAQUE, w, VIS_OPAQUE_MODE_NONE, NULL, 0);
+	expect_translucent(&c, &log, w, false, "no pixels at all (mode none)");
+	set_look(&c, VIS_OP_SET_SHAPE, w, 0, NULL, 0);
+	expect_translucent(&c, &log, w, true, "its border box again (mode none)");
+	uint32_t io = harness_create(&c, 0, 0, 0, 5, 5, VIS_CREATE_MAP | VIS_CREATE_INPUT_ONLY);
+	expect_translucent(&c, &log, io, false, "an input-only window");
+	harness_close(&c);
+}
+
 int main(int argc, char **argv)
 {
 	if (argc != 2) {
@@ -118,6 +193,7 @@ int main(int argc, char **argv)
 	struct harness_daemon d = { 0 };
 	harness_start(&d, visd, NULL);
 	test_viewable(&d);
+	test_translucent(&d);
 	harness_stop(&d);
 	printf("spec: the daemon does what PROTOCOL.md says\n");
 	return 0;

@@ -435,7 +435,7 @@ static const char *change_look(struct vis_rng *r, enum look_op op, int i)
 		int ra = vis_wtree_set_border(a, v), rb = vis_wtree_set_border(b, v);
 		bool fits = (int64_t)a->width + 2 * (int64_t)v <= INT32_MAX &&
 			    (int64_t)a->height + 2 * (int64_t)v <= INT32_MAX;
-		assert(ra == rb && (ra == 0) == (fits && !a->look.input_only));
+		assert(ra == rb && (ra == 0) == (fits && (!a->look.input_only || v == 0)));
 		break;
 	}
 	case SHAPE: {
