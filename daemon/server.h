@@ -144,6 +144,9 @@ struct client {
 	uint32_t seq;
 	uint64_t serial;
 	struct evbuffer *batch;
+	/* The held requests' bytes, what a batch is charged (the numbers batch prefixes them with
+	 * are the daemon's own bookkeeping): at most opt.max_batch. */
+	size_t batch_bytes;
 	struct evbuffer *answers;
 	struct vis_buf *capture; /* while a batch's change runs: where its reply goes */
 	struct sub *subs;

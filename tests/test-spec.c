@@ -12,9 +12,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "harness.h"
 #include "vis/protocol.h"
+#include "wire.h"
 
 static const char *visd;
 
@@ -182,6 +184,57 @@ static void test_translucent(const struct harness_daemon *d)
 	harness_close(&c);
 }
 
+/* Reads n synced replies, answering the requests from first on, straight from the socket. */
+static void read_synced(struct harness_conn *c, uint32_t first, uint32_t n)
+{
+	enum { SYNCED = VIS_MSG_HEADER + 4 };
+	CHECK(c->in.len == c->taken, "bytes left over before the synced replies");
+	static uint8_t b[SYNCED << 12];
+	size_t have = 0;
+	for (uint32_t got = 0; got < n;) {
+		ssize_t k = read(c->fd, b + have, sizeof b - have);
+		CHECK(k > 0, "the connection ended after %u of %u synced replies", got, n);
+		have += (size_t)k;
+		size_t at = 0;
+		for (; have - at >= SYNCED && got < n; at += SYNCED, got++)
+			CHECK(vis_wire_get_u32(b + at) == SYNCED &&
+				      vis_wire_get_u32(b + at + 4) == VIS_OP_SYNCED &&
+				      vis_wire_get_u32(b + at + 8) == first + got,
+			      "reply %u of %u is not synced for request %u", got + 1, n, first + got);
+		memmove(b, b + at, have - at);
+		have -= at;
+	}
+	CHECK(have == 0, "more than the synced replies");
+}
+
+/*
+ * A batch is charged its requests' bytes: 2,097,152 syncs of 8 bytes are 16 MiB, which it holds
+ * (and then answers every one); one sync more is the limit error that names the bound and ends
+ * the connection.
+ */
+static void test_batch_bytes(const struct harness_daemon *d)
+{
+	harness_context("a batch charged its requests' bytes");
+	const uint32_t fit = (16u << 20) / VIS_MSG_HEADER;
+	uint8_t sync[VIS_MSG_HEADER];
+	harness_put(sync, VIS_OP_SYNC);
+	struct harness_conn c;
+	harness_open_as(&c, d->sock, VIS_ROLE_CLIENT);
+	harness_req(&c, VIS_OP_BATCH_BEGIN);
+	uint32_t first = c.seq + 1;
+	harness_send_copies(&c, sync, sizeof sync, fit);
+	harness_req(&c, VIS_OP_BATCH_COMMIT);
+	read_synced(&c, first, fit);
+	harness_sync(&c, NULL);
+	harness_close(&c);
+
+	harness_open_as(&c, d->sock, VIS_ROLE_CLIENT);
+	harness_req(&c, VIS_OP_BATCH_BEGIN);
+	harness_send_copies(&c, sync, sizeof sync, fit + 1);
+	harness_expect_error(&c, 2 + fit + 1, VIS_OP_SYNC, VIS_ERROR_LIMIT, "16777216 bytes", true);
+	harness_close(&c);
+}
+
 int main(int argc, char **argv)
 {
 	if (argc != 2) {
@@ -194,6 +247,7 @@ int main(int argc, char **argv)
 	harness_start(&d, visd, NULL);
 	test_viewable(&d);
 	test_translucent(&d);
+	test_batch_bytes(&d);
 	harness_stop(&d);
 	printf("spec: the daemon does what PROTOCOL.md says\n");
 	return 0;
