@@ -235,6 +235,36 @@ static void test_batch_bytes(const struct harness_daemon *d)
 	harness_close(&c);
 }
 
+/*
+ * create with MAP is reported as create then map: two stack notices, the first with the flags of
+ * an unmapped window (0), the second with mapped and viewable, both before the created reply.
+ */
+static void test_create_mapped(const struct harness_daemon *d)
+{
+	harness_context("create with MAP: two stack notices");
+	struct harness_conn c;
+	struct notices log;
+	open_logged(&c, d, VIS_ROLE_CLIENT, &log);
+	harness_req(&c, VIS_OP_SUBSCRIBE, 0, VIS_NOTICE_STACK, 0);
+	harness_sync(&c, NULL);
+	uint32_t w = harness_create(&c, 0, 5, 5, 20, 20, VIS_CREATE_MAP);
+	CHECK(log.n == 2, "create with MAP sent %zu stack notices before its reply, not 2", log.n);
+	const union vis_arg *a = log.v[0].args, *b = log.v[1].args;
+	CHECK(log.v[0].opcode == VIS_OP_STACK && a[1].u == VIS_STACK_CREATE && a[2].u == w &&
+		      a[9].u == 0,
+	      "the first notice: change %u of window %u, flags %#x; wanted create of %u, flags 0",
+	      a[1].u, a[2].u, a[9].u, w);
+	CHECK(log.v[1].opcode == VIS_OP_STACK && b[1].u == VIS_STACK_MAP && b[2].u == w &&
+		      b[9].u == (VIS_WINDOW_MAPPED | VIS_WINDOW_VIEWABLE),
+	      "the second notice: change %u of window %u, flags %#x; wanted map of %u, flags 3",
+	      b[1].u, b[2].u, b[9].u, w);
+	CHECK(a[0].q + 1 == b[0].q, "serials %llu and %llu are not consecutive",
+	      (unsigned long long)a[0].q, (unsigned long long)b[0].q);
+	harness_sync(&c, NULL);
+	CHECK(log.n == 2, "%zu more notices after the reply", log.n - 2);
+	harness_close(&c);
+}
+
 int main(int argc, char **argv)
 {
 	if (argc != 2) {
@@ -248,6 +278,7 @@ int main(int argc, char **argv)
 	test_viewable(&d);
 	test_translucent(&d);
 	test_batch_bytes(&d);
+	test_create_mapped(&d);
 	harness_stop(&d);
 	printf("spec: the daemon does what PROTOCOL.md says\n");
 	return 0;
