@@ -294,6 +294,7 @@ int server_init(struct server *server, struct event_base *base, const struct ser
 	vis_idmap_init(&server->quotas);
 	vis_buf_init(&server->scratch);
 	vis_wtree_init(&server->tree, opt->screen_width, opt->screen_height);
+	vis_wtree_set_id_key(&server->tree, opt->id_key);
 	if (vis_wtree_live_from(&server->tree, opt->live_from) < 0)
 		return -1;
 	server->listener_retry = evtimer_new(base, on_listener_retry, server);

@@ -21,6 +21,7 @@ struct server_options {
 	int32_t screen_width, screen_height;
 	uint32_t max_request;   /* bytes, header included */
 	uint32_t max_batch;     /* bytes held by one open batch */
+	uint64_t id_key;        /* window IDs' permutation key (vis_wtree_set_id_key); 0: sequential */
 	uint32_t max_clients;   /* connections at once */
 	uint32_t owner_reserve; /* of max_clients, slots kept for allowed_uid on the main socket */
 	uint32_t max_clients_per_uid;    /* connections of one uid other than allowed_uid */

@@ -29,6 +29,37 @@ void vis_wtree_finish(struct vis_wtree *tree)
 	vis_wtree_live_destroy(tree->live);
 }
 
+void vis_wtree_set_id_key(struct vis_wtree *tree, uint64_t key)
+{
+	tree->id_key = key;
+}
+
+/* The Feistel network: 16-bit halves, round keys drawn from key by a 64-bit mix. */
+static uint32_t feistel(uint64_t key, uint32_t x)
+{
+	uint32_t l = x >> 16, r = x & 0xffff;
+	for (uint64_t round = 1; round <= 6; round++) {
+		uint64_t h = (key ^ (round << 56) ^ r) * 0x9e3779b97f4a7c15ull;
+		h ^= h >> 31;
+		h *= 0xbf58476d1ce4e5b9ull;
+		h ^= h >> 29;
+		uint32_t next = l ^ (uint32_t)(h >> 48);
+		l = r;
+		r = next;
+	}
+	return l << 16 | r;
+}
+
+uint32_t vis_wtree_id_permute(uint64_t key, uint32_t n)
+{
+	if (key == 0)
+		return n;
+	uint32_t id = feistel(key, n);
+	while (id == 0)
+		id = feistel(key, id);
+	return id;
+}
+
 struct vis_window *vis_wtree_find(const struct vis_wtree *tree, uint32_t id)
 {
 	return vis_idmap_get(&tree->ids, id);
@@ -137,7 +168,7 @@ struct vis_window *vis_wtree_create(struct vis_wtree *tree, struct vis_window *p
 	struct vis_window *w = calloc(1, sizeof *w);
 	if (!w)
 		return NULL;
-	w->id = tree->next_id;
+	w->id = vis_wtree_id_permute(tree->id_key, tree->next_id);
 	if (vis_idmap_put(&tree->ids, w->id, w) < 0) {
 		free(w);
 		return NULL;

@@ -86,7 +86,10 @@ struct vis_wtree {
 	struct vis_window root; /* the screen; id 0 */
 	struct vis_idmap ids;
 	struct vis_idmap externals; /* hash of (namespace, tag) → chain, see above */
+	/* IDs handed out so far + 1, the counter IDs are made from (0 once 2^32 − 1 were): a window's
+	 * ID is vis_wtree_id_permute(id_key, its number), unique and never reused. */
 	uint32_t next_id;
+	uint64_t id_key; /* vis_wtree_set_id_key(); 0: IDs are the counter itself */
 	size_t count;
 	/* Viewable windows in pre-order (bottom to top) after vis_wtree_compute(); windows destroyed
 	 * since leave NULL behind. */
@@ -107,6 +110,22 @@ void vis_wtree_finish(struct vis_wtree *tree);
 
 /* Frees the recomputes' scratch, for vis_wtree_finish(); NULL is a no-op. */
 void vis_wtree_work_destroy(struct vis_wtree_work *work);
+
+/*
+ * Makes the IDs of the windows created from now on say nothing about the windows others created:
+ * the n-th window gets vis_wtree_id_permute(key, n) instead of n. The daemon gives a random key at
+ * start-up; key 0 (the default) keeps IDs sequential, for tests. Set it before the first window.
+ */
+void vis_wtree_set_id_key(struct vis_wtree *tree, uint64_t key);
+
+/*
+ * A keyed bijection of 1 … 2^32 − 1 onto itself, n itself for key 0: a 6-round Feistel network
+ * over 32 bits, walking its cycle past 0 (the screen's ID, never a window's). So IDs made from a
+ * counter stay unique, and none is reused, while consecutive ones are unrelated numbers: a client
+ * cannot count the windows created between two of its own. O(1) expected (a walk past 0 takes
+ * one more round trip, for one n of 2^32).
+ */
+uint32_t vis_wtree_id_permute(uint64_t key, uint32_t n);
 
 /* The window with this ID, or NULL (the root is not found: its ID 0 means "the screen"). */
 struct vis_window *vis_wtree_find(const struct vis_wtree *tree, uint32_t id);

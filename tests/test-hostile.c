@@ -132,8 +132,11 @@ void hostile_check_unaffected(void)
 	for (size_t i = 0; i < HOSTILE_WINDOWS; i++) {
 		if (layout[i].state == VIS_VISIBILITY_NONE)
 			continue;
-		CHECK(k < n && s[k].window == hostile_win[i] && s[k].state == layout[i].state,
-		      "the innocent's window %u is not %u", hostile_win[i], layout[i].state);
+		size_t j = 0; /* ascending ID, not the order they were created in */
+		while (j < n && s[j].window != hostile_win[i])
+			j++;
+		CHECK(j < n && s[j].state == layout[i].state, "the innocent's window %u is not %u",
+		      hostile_win[i], layout[i].state);
 		k++;
 	}
 	CHECK(k == n, "the innocent has %zu viewable windows, not %zu", n, k);

@@ -265,6 +265,64 @@ static void test_create_mapped(const struct harness_daemon *d)
 	harness_close(&c);
 }
 
+static int cmp_u32(const void *a, const void *b)
+{
+	uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+	return (x > y) - (x < y);
+}
+
+/*
+ * Window IDs say nothing about other clients' windows: two clients creating in turn do not get
+ * IDs one apart, nor IDs that grow, so neither can count the other's windows between two of its
+ * own; and the IDs of one daemon are all distinct (never 0) over many creations.
+ */
+static void test_ids(const struct harness_daemon *d)
+{
+	harness_context("window IDs");
+	enum { TURNS = 64, MANY = 20000 };
+	struct harness_conn a, b;
+	harness_open_as(&a, d->sock, VIS_ROLE_CLIENT);
+	harness_open_as(&b, d->sock, VIS_ROLE_CLIENT);
+	uint32_t *ids = malloc((2 * TURNS + MANY) * sizeof *ids);
+	CHECK(ids, "out of memory");
+	size_t n = 0, adjacent = 0, growing = 0;
+	for (int i = 0; i < TURNS; i++) {
+		ids[n++] = harness_create(&a, 0, 0, 0, 5, 5, 0);
+		ids[n++] = harness_create(&b, 0, 0, 0, 5, 5, 0);
+	}
+	for (int i = 2; i < 2 * TURNS; i += 2) { /* a's consecutive IDs: b created one between */
+		adjacent += ids[i] - ids[i - 2] == 2 || ids[i] - ids[i - 1] == 1;
+		growing += ids[i] > ids[i - 2];
+	}
+	CHECK(adjacent <= 2 && growing < TURNS - 8,
+	      "a client's IDs tell the other's windows: %zu of %d steps are 2 apart, %zu grow",
+	      adjacent, TURNS - 1, growing);
+	/* Many more, in batches of creates destroyed again: none is 0, none comes back. */
+	uint8_t create[VIS_MSG_HEADER + 40], destroy[VIS_MSG_HEADER + 4];
+	harness_put(create, VIS_OP_CREATE, 0, 0, 0, 5, 5, 0, 0, 0, 0, 0);
+	for (int round = 0; round < MANY / 1000; round++) {
+		harness_send_copies(&a, create, sizeof create, 1000);
+		for (int i = 0; i < 1000; i++) {
+			struct vis_msg m;
+			harness_next_reply(&a, &m, NULL);
+			CHECK(m.type->opcode == VIS_OP_CREATED, "create: %s", m.type->name);
+			ids[n++] = m.args[1].u;
+		}
+		for (size_t i = n - 1000; i < n; i++) {
+			harness_put(destroy, VIS_OP_DESTROY, ids[i]);
+			harness_request_raw(&a, destroy, sizeof destroy);
+		}
+		harness_sync(&a, NULL);
+	}
+	qsort(ids, n, sizeof *ids, cmp_u32);
+	CHECK(ids[0] != 0, "window ID 0");
+	for (size_t i = 1; i < n; i++)
+		CHECK(ids[i] != ids[i - 1], "window ID %u handed out twice", ids[i]);
+	free(ids);
+	harness_close(&a);
+	harness_close(&b);
+}
+
 int main(int argc, char **argv)
 {
 	if (argc != 2) {
@@ -279,6 +337,7 @@ int main(int argc, char **argv)
 	test_translucent(&d);
 	test_batch_bytes(&d);
 	test_create_mapped(&d);
+	test_ids(&d);
 	harness_stop(&d);
 	printf("spec: the daemon does what PROTOCOL.md says\n");
 	return 0;
