@@ -417,10 +417,11 @@ bool vis_wtree_changes(const struct vis_wtree *tree, struct vis_window *const **
 
 /*
  * The window's own visible pixels (its shape inside its clip, not covered by an opaque pixel of
- * any later window in pre-order, descendants included, as X's clip list) as rectangles relative
- * to its border box's corner (window->box's, not the inside's: a border or a shape reaching into
- * it starts at 0), y-x banded, into a pixman region (pixman_region32_t *, initialized by the
- * caller); empty for input-only windows. Needs a computed tree. 0 or -1 (ENOMEM).
+ * any later window in pre-order, descendants included, as X's clip list) as rectangles in window
+ * coordinates, relative to its inside's top-left corner as shapes are (its border lies at
+ * −border … 0 and width … width + border), y-x banded, into a pixman region
+ * (pixman_region32_t *, initialized by the caller); empty for input-only windows. Needs a
+ * computed tree. 0 or -1 (ENOMEM).
  * O(n + r log r) for r pieces of the window and of the later windows that overlap it.
  */
 int vis_wtree_visible_region(const struct vis_wtree *tree, const struct vis_window *window,

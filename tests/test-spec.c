@@ -9,6 +9,7 @@
  */
 #undef NDEBUG
 #include <signal.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -114,10 +115,12 @@ static void set_look(struct harness_conn *c, uint32_t op, uint32_t id, uint32_t 
 		     const int32_t (*r)[4], uint32_t n)
 {
 	uint32_t words[3 + 4 * 8] = { id, mode, n };
+	uint8_t b[VIS_MSG_HEADER + sizeof words];
+	CHECK(n <= 8, "%u rectangles", n);
 	for (uint32_t i = 0; i < n; i++)
 		for (int k = 0; k < 4; k++)
 			words[3 + 4 * i + k] = (uint32_t)r[i][k];
-	harness_request(c, op, words, 3 + 4 * n);
+	harness_request_raw(c, b, harness_build(b, op, words, 3 + 4 * n));
 }
 
 /* Whether get-tree and the last stack notice about id both have the translucent flag as want. */
@@ -265,6 +268,121 @@ static void test_create_mapped(const struct harness_daemon *d)
 	harness_close(&c);
 }
 
+/* Rectangles x, y, width, height (window coordinates). */
+struct rects {
+	int32_t r[64][4];
+	uint32_t n;
+};
+
+static struct rects region_of(struct harness_conn *c, uint32_t id)
+{
+	struct vis_msg m;
+	harness_expect(c, harness_req(c, VIS_OP_GET_REGION, id), VIS_OP_REGION, &m);
+	struct rects out = { .n = m.args[3].a.n };
+	CHECK(m.args[2].u == 0 && out.n <= 64, "a region of %u rectangles", out.n);
+	for (uint32_t i = 0; i < out.n; i++)
+		for (uint32_t k = 0; k < 4; k++)
+			out.r[i][k] = (int32_t)vis_arg_word(&m.args[3], 'R', i, k);
+	return out;
+}
+
+/* The rectangles of the last exposure notice about id in log. */
+static struct rects exposure_of(const struct notices *log, uint32_t id)
+{
+	for (size_t i = log->n; i-- > 0;)
+		if (log->v[i].opcode == VIS_OP_EXPOSURE && log->v[i].args[1].u == id) {
+			struct rects out = { .n = log->v[i].args[4].a.n };
+			CHECK(out.n <= 64, "an exposure of %u rectangles", out.n);
+			memcpy(out.r, log->v[i].rects, out.n * sizeof out.r[0]);
+			return out;
+		}
+	harness_fail(__FILE__, __LINE__, "no exposure notice about window %u", id);
+}
+
+static bool holds(const struct rects *r, int32_t x, int32_t y)
+{
+	for (uint32_t i = 0; i < r->n; i++)
+		if (x >= r->r[i][0] && x < r->r[i][0] + r->r[i][2] && y >= r->r[i][1] &&
+		    y < r->r[i][1] + r->r[i][3])
+			return true;
+	return false;
+}
+
+/* A bordered window seen in part, as the test places it: its pixels, in window coordinates. */
+struct scene {
+	int32_t width, height, border;
+	const struct rects *shape; /* NULL: the border box */
+	int32_t cover[4];          /* a window above it, in its window coordinates (w 0: none) */
+};
+
+/* Checks rectangles against the scene, pixel by pixel around the border box. */
+static void check_pixels(const struct rects *got, const struct scene *s, const char *what)
+{
+	int32_t b = s->border;
+	for (int32_t y = -b - 2; y < s->height + b + 2; y++)
+		for (int32_t x = -b - 2; x < s->width + b + 2; x++) {
+			bool mine = x >= -b && x < s->width + b && y >= -b && y < s->height + b &&
+				    (!s->shape || holds(s->shape, x, y));
+			bool covered = x >= s->cover[0] && x < s->cover[0] + s->cover[2] &&
+				       y >= s->cover[1] && y < s->cover[1] + s->cover[3];
+			CHECK(holds(got, x, y) == (mine && !covered),
+			      "%s: pixel %d,%d (window coordinates) is %s in the %u rectangles "
+			      "(first %d,%d %dx%d)",
+			      what, x, y, holds(got, x, y) ? "in" : "not", got->n, got->r[0][0],
+			      got->r[0][1], got->r[0][2], got->r[0][3]);
+		}
+}
+
+/*
+ * Regions and exposures are in window coordinates, from the inside's corner, as shapes are: a
+ * bordered window's border lies at negative coordinates in get-region and in exposure notices,
+ * and a shape reaching into the border is seen where its pixels are.
+ */
+static void test_coordinates(const struct harness_daemon *d)
+{
+	harness_context("window coordinates of regions and exposures");
+	struct harness_conn c;
+	struct notices log;
+	open_logged(&c, d, VIS_ROLE_CLIENT, &log);
+	uint32_t w = harness_create(&c, 0, 10, 10, 20, 10, 0);
+	harness_req(&c, VIS_OP_CONFIGURE, w, 10, 10, 20, 10, 3);
+	harness_req(&c, VIS_OP_SUBSCRIBE, w, VIS_NOTICE_EXPOSURE, 0);
+	harness_req(&c, VIS_OP_MAP, w);
+	harness_sync(&c, NULL);
+	struct scene s = { 20, 10, 3, NULL, { 0 } };
+	struct rects r = region_of(&c, w);
+	CHECK(r.n == 1 && r.r[0][0] == -3 && r.r[0][1] == -3 && r.r[0][2] == 26 && r.r[0][3] == 16,
+	      "the whole bordered window: get-region %u rectangles, first %d,%d %dx%d; wanted "
+	      "-3,-3 26x16",
+	      r.n, r.r[0][0], r.r[0][1], r.r[0][2], r.r[0][3]);
+	struct rects e = exposure_of(&log, w);
+	check_pixels(&e, &s, "exposure on map");
+	/* A window over its top-left corner, at the border box's corner: window coordinates -3, -3. */
+	uint32_t cover = harness_create(&c, 0, 10, 10, 5, 5, VIS_CREATE_MAP);
+	s.cover[0] = s.cover[1] = -3;
+	s.cover[2] = s.cover[3] = 5;
+	harness_sync(&c, NULL);
+	r = region_of(&c, w);
+	check_pixels(&r, &s, "get-region under a window");
+	harness_req(&c, VIS_OP_MOVE, cover, 200, 200);
+	harness_sync(&c, NULL);
+	e = exposure_of(&log, w);
+	CHECK(e.n == 1 && e.r[0][0] == -3 && e.r[0][1] == -3 && e.r[0][2] == 5 && e.r[0][3] == 5,
+	      "uncovered: exposure %u rectangles, first %d,%d %dx%d; wanted -3,-3 5x5", e.n,
+	      e.r[0][0], e.r[0][1], e.r[0][2], e.r[0][3]);
+	/* A shape reaching into the border, and past the border box. */
+	const int32_t shape[3][4] = { { -2, -2, 5, 5 }, { 10, 0, 5, 5 }, { 18, 8, 10, 10 } };
+	set_look(&c, VIS_OP_SET_SHAPE, w, 1, shape, 3);
+	struct rects sh = { .n = 3 };
+	memcpy(sh.r, shape, sizeof shape);
+	s.shape = &sh;
+	s.cover[2] = 0;
+	harness_sync(&c, NULL);
+	r = region_of(&c, w);
+	check_pixels(&r, &s, "get-region of a shape reaching into the border");
+	harness_close(&c);
+}
+
 static int cmp_u32(const void *a, const void *b)
 {
 	uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
@@ -338,6 +456,7 @@ int main(int argc, char **argv)
 	test_batch_bytes(&d);
 	test_create_mapped(&d);
 	test_ids(&d);
+	test_coordinates(&d);
 	harness_stop(&d);
 	printf("spec: the daemon does what PROTOCOL.md says\n");
 	return 0;

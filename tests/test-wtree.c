@@ -78,8 +78,10 @@ static void check(uint64_t seed)
 				seen += shows(q, x, y, 0);
 				int own = shows(q, x, y, 1);
 				own_all += own;
-				int in = pixman_region32_contains_point(&reg, (int)(x - ax),
-									(int)(y - ay), NULL);
+				/* Window coordinates: from the inside's corner. */
+				int64_t bw = q->look.border;
+				int in = pixman_region32_contains_point(&reg, (int)(x - ax - bw),
+									(int)(y - ay - bw), NULL);
 				if (own != in) {
 					fprintf(stderr, "seed %llu: window %u pixel %lld,%lld own %d "
 							"region %d\n",

@@ -7,7 +7,9 @@
 #define VIS_PROTOCOL_H
 
 #define VIS_PROTOCOL_MAGIC 0x44534956u /* "VISD" in little-endian bytes */
-#define VIS_PROTOCOL_VERSION 3u /* 3: external IDs (2: borders, shapes, opaque regions, input-only) */
+/* 4: regions and exposures in window coordinates, from the inside's corner (3: external IDs;
+ * 2: borders, shapes, opaque regions, input-only). The history is PROTOCOL.md's. */
+#define VIS_PROTOCOL_VERSION 4u
 
 /* Every message, either way, is at most this many bytes, header included. */
 #define VIS_PROTOCOL_MAX_MESSAGE (16u << 20)
