@@ -460,7 +460,8 @@ static int clear_quadrants(struct vis_look_clear *c, pixman_region32_t *d, const
 		return -1;
 	}
 	for (size_t j = 0, at = 0; j < 4; at += 2 * n[j], j++) {
-		memcpy(c->uv + at, q[j], 2 * n[j] * sizeof(int64_t));
+		if (n[j])
+			memcpy(c->uv + at, q[j], 2 * n[j] * sizeof(int64_t));
 		c->n[j] = (uint32_t)n[j];
 	}
 	free(q[0]);
@@ -530,8 +531,8 @@ out:
 bool vis_look_clear_meets(const struct vis_look_clear *c, int32_t width, int32_t height,
 			  int32_t border)
 {
-	if (c->always)
-		return true;
+	if (c->always || c->uv == NULL)
+		return c->always;
 	int64_t b = border, x = (int64_t)width + b, y = (int64_t)height + b;
 	const int64_t u[4] = { x, b, x, b }, v[4] = { y, y, b, b };
 	const int64_t *p = c->uv;
