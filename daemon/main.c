@@ -13,8 +13,10 @@
 #include <string.h>
 #include <stddef.h>
 #include <sys/file.h>
+#include <sys/random.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "activation.h"
@@ -306,6 +308,27 @@ static struct event_base *new_event_base(void)
 	return base;
 }
 
+/*
+ * A random key for the window IDs' permutation, so that a client's IDs say nothing of the windows
+ * others created. Without the kernel's randomness (no getrandom), the clock and the pid: the IDs
+ * are then still unique, only easier to guess.
+ */
+static uint64_t id_key(void)
+{
+	uint64_t key = 0;
+	ssize_t got;
+	while ((got = getrandom(&key, sizeof key, 0)) < 0 && errno == EINTR)
+		;
+	if (got != (ssize_t)sizeof key) {
+		struct timespec t;
+		clock_gettime(CLOCK_REALTIME, &t);
+		log_warn("getrandom: %s: window IDs keyed by the clock",
+			 got < 0 ? strerror(errno) : "short read");
+		key = ((uint64_t)t.tv_sec << 32 ^ (uint64_t)t.tv_nsec ^ (uint64_t)getpid() << 16);
+	}
+	return key ? key : 1; /* 0 would keep IDs sequential */
+}
+
 static void on_signal(evutil_socket_t sig, short what, void *data)
 {
 	(void)what;
@@ -436,6 +459,7 @@ int main(int argc, char **argv)
 		log_error("cannot handle signals");
 		goto out_base;
 	}
+	opt.id_key = id_key();
 	if (server_init(&server, base, &opt) == 0) {
 		const char *passed = " (socket activation)";
 		log_info("listening on %s%s (screen %dx%d)%s%s%s", opt.socket_path,

@@ -281,22 +281,26 @@ static void handle(struct client *c, uint32_t seq, const struct vis_msg *m, cons
 			return; /* nobody can read its answer: it would be work for nothing */
 		if (op == VIS_OP_BATCH_COMMIT)
 			server_client_error(c, seq, op, VIS_ERROR_STATE, "batch-commit without a batch");
-		else if (op == VIS_OP_BATCH_BEGIN)
+		else if (op == VIS_OP_BATCH_BEGIN) {
 			c->in_batch = true;
+			c->batch_bytes = 0;
+		}
 		else
 			server_client_dispatch(c, seq, m);
 		return;
 	}
 	if (op == VIS_OP_BATCH_COMMIT) {
 		server_batch_commit(c);
-	} else if (evbuffer_get_length(c->batch) + 4 + m->size > c->server->opt.max_batch) {
+	} else if (c->batch_bytes + m->size > c->server->opt.max_batch) {
 		/* Fatal: answering now would break the order of the replies to what is held. */
 		server_client_error(c, seq, op, VIS_ERROR_LIMIT,
-				    "the batch holds over %u bytes; closing the connection",
+				    "the batch's requests would take over %u bytes; closing the "
+				    "connection",
 				    c->server->opt.max_batch);
 		server_client_close(c);
 	} else {
 		uint8_t s[4];
+		c->batch_bytes += m->size;
 		vis_wire_put_u32(s, seq);
 		if (evbuffer_add(c->batch, s, 4) < 0 || evbuffer_add(c->batch, raw, m->size) < 0) {
 			log_error("client %u: out of memory holding a batch", c->id);

@@ -214,7 +214,7 @@ static void do_create(struct client *c, uint32_t seq, const union vis_arg *a)
 		return;
 	}
 	c->n_windows++;
-	w->look.border = (int32_t)a[6].u; /* checked above */
+	vis_wtree_set_border(w, (int32_t)a[6].u); /* checked above: cannot fail */
 	if (input_only)
 		vis_wtree_set_input_only(w);
 	changed(c, w, VIS_STACK_CREATE);
@@ -288,9 +288,7 @@ static void do_configure(struct client *c, uint32_t seq, uint32_t op, const unio
 			(op == VIS_OP_CONFIGURE &&
 			 (w->width != (int32_t)width || w->height != (int32_t)height ||
 			  w->look.border != (int32_t)border));
-	w->look.border = (int32_t)border;
-	w->width = (int32_t)width;
-	w->height = (int32_t)height;
+	vis_wtree_set_size(w, (int32_t)width, (int32_t)height, (int32_t)border); /* checked above */
 	if (recut)
 		server_look_keep(c->server, w, old, &cut);
 	if (reshaped) {
@@ -581,11 +579,7 @@ static void do_get_tree(struct client *c, uint32_t seq)
 		if (server_may_see(c, w)) {
 			/* A parent it may not see is 0, as in stack notices. */
 			uint32_t parent = server_seen_id(c, w->parent);
-			uint32_t flags = (w->mapped ? VIS_WINDOW_MAPPED : 0) |
-					 (w->state != VIS_WTREE_STATE_NONE ? VIS_WINDOW_VIEWABLE : 0) |
-					 (w->retained ? VIS_WINDOW_RETAINED : 0) |
-					 (!parent && w->parent->id ? VIS_WINDOW_PARENT_HIDDEN : 0) |
-					 server_look_flags(w);
+			uint32_t flags = server_window_flags(w, parent);
 			uint32_t rec[12] = { w->id,
 					     parent,
 					     (uint32_t)w->x,

@@ -294,6 +294,7 @@ int server_init(struct server *server, struct event_base *base, const struct ser
 	vis_idmap_init(&server->quotas);
 	vis_buf_init(&server->scratch);
 	vis_wtree_init(&server->tree, opt->screen_width, opt->screen_height);
+	vis_wtree_set_id_key(&server->tree, opt->id_key);
 	if (vis_wtree_live_from(&server->tree, opt->live_from) < 0)
 		return -1;
 	server->listener_retry = evtimer_new(base, on_listener_retry, server);
@@ -596,21 +597,21 @@ void server_stack_words(const struct client *viewer, const struct vis_window *w,
 	words[5] = (uint32_t)w->width;
 	words[6] = (uint32_t)w->height;
 	words[7] = server_seen_id(viewer, w->below); /* O(1): no walk past others' windows */
-	words[8] = (w->mapped ? VIS_WINDOW_MAPPED : 0) |
-		   (vis_wtree_viewable(w) ? VIS_WINDOW_VIEWABLE : 0) |
-		   (w->retained ? VIS_WINDOW_RETAINED : 0) |
-		   (!words[2] && w->parent && w->parent->id ? VIS_WINDOW_PARENT_HIDDEN : 0) |
-		   server_look_flags(w);
+	words[8] = server_window_flags(w, words[2]);
 	words[9] = (uint32_t)w->look.border;
 	words[10] = w->ext_namespace;
 	words[11] = (uint32_t)w->external;
 	words[12] = (uint32_t)(w->external >> 32);
 }
 
-uint32_t server_look_flags(const struct vis_window *w)
+uint32_t server_window_flags(const struct vis_window *w, uint32_t seen_parent)
 {
-	return (w->look.shaped ? VIS_WINDOW_SHAPED : 0) |
-	       (w->look.opaque != VIS_OPAQUE_ALL ? VIS_WINDOW_TRANSLUCENT : 0) |
+	return (w->mapped ? VIS_WINDOW_MAPPED : 0) |
+	       (vis_wtree_viewable(w) ? VIS_WINDOW_VIEWABLE : 0) |
+	       (w->retained ? VIS_WINDOW_RETAINED : 0) |
+	       (!seen_parent && w->parent && w->parent->id ? VIS_WINDOW_PARENT_HIDDEN : 0) |
+	       (w->look.shaped ? VIS_WINDOW_SHAPED : 0) |
+	       (vis_wtree_translucent(w) ? VIS_WINDOW_TRANSLUCENT : 0) |
 	       (w->look.input_only ? VIS_WINDOW_INPUT_ONLY : 0);
 }
 

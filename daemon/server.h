@@ -21,6 +21,7 @@ struct server_options {
 	int32_t screen_width, screen_height;
 	uint32_t max_request;   /* bytes, header included */
 	uint32_t max_batch;     /* bytes held by one open batch */
+	uint64_t id_key;        /* window IDs' permutation key (vis_wtree_set_id_key); 0: sequential */
 	uint32_t max_clients;   /* connections at once */
 	uint32_t owner_reserve; /* of max_clients, slots kept for allowed_uid on the main socket */
 	uint32_t max_clients_per_uid;    /* connections of one uid other than allowed_uid */
@@ -145,6 +146,9 @@ struct client {
 	uint32_t seq;
 	uint64_t serial;
 	struct evbuffer *batch;
+	/* The held requests' bytes, what a batch is charged (the numbers batch prefixes them with
+	 * are the daemon's own bookkeeping): at most opt.max_batch. */
+	size_t batch_bytes;
 	struct evbuffer *answers;
 	struct vis_buf *capture; /* while a batch's change runs: where its reply goes */
 	struct sub *subs;
@@ -239,16 +243,20 @@ void server_schedule_turn_end(struct server *server);
  */
 uint32_t server_seen_id(const struct client *viewer, const struct vis_window *w);
 /*
+ * The flags of a window in the tree reply and in stack notices, the one place that decides them:
+ * mapped, viewable (it and all its ancestors mapped, input-only windows too), retained, parent
+ * hidden (seen_parent, the parent's ID as the connection may see it, is 0 for a window that has
+ * one), shaped, translucent (vis_wtree_translucent()), input-only. O(depth).
+ */
+uint32_t server_window_flags(const struct vis_window *w, uint32_t seen_parent);
+
+/*
  * A stack notice's words after the serial, as viewer may see them (NULL: as a connection that
  * sees every window): change, window, parent, geometry, sibling, flags, border, external ID (the
  * window's own: whoever may see it may know what it mirrors). For a client, parent is 0
- * when it may not see the parent (x, y stay relative to it), and sibling is the nearest window
- * below w among its siblings that the client may see, or 0: O(siblings passed over).
+ * when it may not see the parent (x, y stay relative to it), and sibling is the window just
+ * below w among its siblings when the client may see it, else 0. O(depth).
  */
-/* The flags of a window's look for the tree reply and stack notices: shaped, translucent,
- * input-only. */
-uint32_t server_look_flags(const struct vis_window *w);
-
 void server_stack_words(const struct client *viewer, const struct vis_window *w, uint32_t change,
 			uint32_t words[SERVER_STACK_WORDS]);
 /* Sends a stack notice about w to the connections subscribed to it, each as it may see it. */

@@ -450,6 +450,20 @@ int vis_pieces_add_cut(struct vis_pieces *p, const struct vis_look_cut *cut, str
 	return was_cut;
 }
 
+int vis_look_translucent(const struct vis_look *look, int32_t width, int32_t height)
+{
+	if (look->input_only)
+		return 0;
+	if (!vis_look_cuts_inside(look))
+		return look->opaque == VIS_OPAQUE_NONE; /* its whole border box, of one mode */
+	struct vis_look_cut cut = { 0 };
+	if (vis_look_cut_fill(&cut, look, width, height) < 0)
+		return -1;
+	int rc = vis_look_cut_translucent(&cut);
+	vis_look_cut_finish(&cut);
+	return rc;
+}
+
 int vis_pieces_init(struct vis_pieces *p, const struct vis_stack *windows)
 {
 	memset(p, 0, sizeof(*p));

@@ -56,6 +56,16 @@ bool vis_look_cuts_inside(const struct vis_look *look);
 const char *vis_look_check(struct vis_rect rect, const struct vis_look *look);
 
 /*
+ * The translucent flag's rule: whether a window with this look, inside width × height, has a
+ * pixel that hides nothing, one of its pixels (its shape clipped to its border box) outside its
+ * opaque region. Never for mode all, an input-only window or one without pixels. 1 translucent,
+ * 0 not, or -1 with ENOMEM or EOVERFLOW. O(1) without a shape or opaque rectangles, else
+ * O(k log k + b) for the look's k rectangles and its b pieces (a window keeps its pieces:
+ * vis_wtree_translucent() costs O(1) when they are kept).
+ */
+int vis_look_translucent(const struct vis_look *look, int32_t width, int32_t height);
+
+/*
  * The pieces of a stack of windows with looks: disjoint rectangles per window, bottom to top,
  * each opaque or see-through, as the engines take them (pieces.stack).
  */
@@ -120,6 +130,12 @@ struct vis_look_cut {
  */
 int vis_look_cut_fill(struct vis_look_cut *cut, const struct vis_look *look, int32_t width,
 		      int32_t height);
+
+/* Whether a valid cut has a see-through piece: the look's translucent flag at its size. O(1). */
+static inline bool vis_look_cut_translucent(const struct vis_look_cut *cut)
+{
+	return cut->n > cut->n_opaque;
+}
 
 /* Frees a cut's array and leaves it zero. O(1). */
 void vis_look_cut_finish(struct vis_look_cut *cut);

@@ -30,10 +30,10 @@ static int pieces_region(const struct vis_pieces *p, uint32_t num, bool opaque, 
 	return ok ? 0 : -1;
 }
 
-int vis_wtree_visible_region(const struct vis_wtree *tree, const struct vis_window *window,
-			     void *out)
+/* vis_wtree_visible_region() relative to the border box's corner, where the pieces are cut. */
+static int border_box_region(const struct vis_wtree *tree, const struct vis_window *window,
+			     pixman_region32_t *region)
 {
-	pixman_region32_t *region = out;
 	struct vis_box clip = window->clip;
 	pixman_region32_clear(region);
 	if (window->state == VIS_WTREE_STATE_NONE || window->state == VIS_FULLY_OBSCURED ||
@@ -42,7 +42,7 @@ int vis_wtree_visible_region(const struct vis_wtree *tree, const struct vis_wind
 	if (wtree_live_order_stale(tree))
 		return wtree_live_walk_region(tree, window, region);
 	/* Its own pixels, numbered 0, and the later windows' inside its clip, numbered 1. The boxes
-	 * lie in the clip, so in window coordinates in [0, INT32_MAX) (the box's sides' range). */
+	 * lie in the clip, so relative to the box in [0, INT32_MAX) (the box's sides' range). */
 	struct vis_wtree_work wk = { 0 };
 	int64_t ox = window->box.x1, oy = window->box.y1;
 	int rc = -1;
@@ -69,6 +69,18 @@ out:
 	if (rc < 0)
 		errno = ENOMEM;
 	return rc;
+}
+
+int vis_wtree_visible_region(const struct vis_wtree *tree, const struct vis_window *window,
+			     void *out)
+{
+	pixman_region32_t *region = out;
+	if (border_box_region(tree, window, region) < 0)
+		return -1;
+	/* Window coordinates: the inside's corner is the border's width into the border box, and
+	 * the border box's sides (at most INT32_MAX) keep every edge within 32 bits. */
+	pixman_region32_translate(region, -window->look.border, -window->look.border);
+	return 0;
 }
 
 /*

@@ -29,6 +29,37 @@ void vis_wtree_finish(struct vis_wtree *tree)
 	vis_wtree_live_destroy(tree->live);
 }
 
+void vis_wtree_set_id_key(struct vis_wtree *tree, uint64_t key)
+{
+	tree->id_key = key;
+}
+
+/* The Feistel network: 16-bit halves, round keys drawn from key by a 64-bit mix. */
+static uint32_t feistel(uint64_t key, uint32_t x)
+{
+	uint32_t l = x >> 16, r = x & 0xffff;
+	for (uint64_t round = 1; round <= 6; round++) {
+		uint64_t h = (key ^ (round << 56) ^ r) * 0x9e3779b97f4a7c15ull;
+		h ^= h >> 31;
+		h *= 0xbf58476d1ce4e5b9ull;
+		h ^= h >> 29;
+		uint32_t next = l ^ (uint32_t)(h >> 48);
+		l = r;
+		r = next;
+	}
+	return l << 16 | r;
+}
+
+uint32_t vis_wtree_id_permute(uint64_t key, uint32_t n)
+{
+	if (key == 0)
+		return n;
+	uint32_t id = feistel(key, n);
+	while (id == 0)
+		id = feistel(key, id);
+	return id;
+}
+
 struct vis_window *vis_wtree_find(const struct vis_wtree *tree, uint32_t id)
 {
 	return vis_idmap_get(&tree->ids, id);
@@ -137,7 +168,7 @@ struct vis_window *vis_wtree_create(struct vis_wtree *tree, struct vis_window *p
 	struct vis_window *w = calloc(1, sizeof *w);
 	if (!w)
 		return NULL;
-	w->id = tree->next_id;
+	w->id = vis_wtree_id_permute(tree->id_key, tree->next_id);
 	if (vis_idmap_put(&tree->ids, w->id, w) < 0) {
 		free(w);
 		return NULL;
@@ -286,15 +317,17 @@ struct vis_box vis_wtree_box(const struct vis_window *window)
 	return b;
 }
 
-int vis_wtree_set_border(struct vis_window *window, int32_t border)
+int vis_wtree_set_size(struct vis_window *window, int32_t width, int32_t height, int32_t border)
 {
 	/* Positions are checked where pieces are cut, against the clip: only the sizes here. */
-	if (border < 0 || window->look.input_only ||
-	    (int64_t)window->width + 2 * (int64_t)border > INT32_MAX ||
-	    (int64_t)window->height + 2 * (int64_t)border > INT32_MAX) {
+	if (width < 1 || height < 1 || border < 0 || (border && window->look.input_only) ||
+	    (int64_t)width + 2 * (int64_t)border > INT32_MAX ||
+	    (int64_t)height + 2 * (int64_t)border > INT32_MAX) {
 		errno = EINVAL;
 		return -1;
 	}
+	window->width = width;
+	window->height = height;
 	window->look.border = border;
 	return 0;
 }
@@ -345,6 +378,11 @@ void vis_wtree_keep_cut(struct vis_window *window, struct vis_look_cut *cut)
 	*cut = (struct vis_look_cut){ 0 };
 }
 
+int vis_wtree_set_border(struct vis_window *window, int32_t border)
+{
+	return vis_wtree_set_size(window, window->width, window->height, border);
+}
+
 /* Copies n rectangles into a new array (NULL for none). 0, or -1 with ENOMEM. */
 static int copy_rects(const struct vis_rect *rects, uint32_t n, struct vis_rect **out)
 {
@@ -361,50 +399,64 @@ static int copy_rects(const struct vis_rect *rects, uint32_t n, struct vis_rect 
 	return 0;
 }
 
+/*
+ * Gives the window the look next (whose arrays become the window's, the old ones freed), with
+ * room for its pieces. 0, or -1 with ENOMEM (nothing changes then, next's arrays freed).
+ */
+static int set_look(struct vis_window *window, struct vis_look next)
+{
+	if (prepare_cut(window, vis_look_cuts_inside(&next)) < 0) {
+		if (next.shape != window->look.shape)
+			free(next.shape);
+		if (next.opaque_rects != window->look.opaque_rects)
+			free(next.opaque_rects);
+		return -1;
+	}
+	if (next.shape != window->look.shape)
+		free(window->look.shape);
+	if (next.opaque_rects != window->look.opaque_rects)
+		free(window->look.opaque_rects);
+	window->look = next;
+	return 0;
+}
+
+bool vis_wtree_translucent(const struct vis_window *window)
+{
+	if (!window->cut)
+		return !window->look.input_only && window->look.opaque == VIS_OPAQUE_NONE;
+	const struct vis_look_cut *cut = vis_wtree_cut(window);
+	/* Without memory to cut the look, say what its mode says. */
+	return cut ? vis_look_cut_translucent(cut) : window->look.opaque != VIS_OPAQUE_ALL;
+}
+
 int vis_wtree_set_shape(struct vis_window *window, bool shaped, const struct vis_rect *rects,
 			uint32_t n)
 {
-	struct vis_rect *copy;
+	struct vis_look next = window->look;
 	if (window->look.input_only) {
 		errno = EINVAL;
 		return -1;
 	}
-	if (copy_rects(rects, shaped ? n : 0, &copy) < 0)
+	if (copy_rects(rects, shaped ? n : 0, &next.shape) < 0)
 		return -1;
-	struct vis_look next = window->look;
+	next.n_shape = shaped ? n : 0;
 	next.shaped = shaped;
-	if (prepare_cut(window, vis_look_cuts_inside(&next)) < 0) {
-		free(copy);
-		return -1;
-	}
-	free(window->look.shape);
-	window->look.shape = copy;
-	window->look.n_shape = shaped ? n : 0;
-	window->look.shaped = shaped;
-	return 0;
+	return set_look(window, next);
 }
 
 int vis_wtree_set_opaque(struct vis_window *window, enum vis_opaque mode,
 			 const struct vis_rect *rects, uint32_t n)
 {
-	struct vis_rect *copy;
+	struct vis_look next = window->look;
 	if (window->look.input_only || (unsigned)mode > VIS_OPAQUE_RECTS) {
 		errno = EINVAL;
 		return -1;
 	}
-	if (copy_rects(rects, mode == VIS_OPAQUE_RECTS ? n : 0, &copy) < 0)
+	if (copy_rects(rects, mode == VIS_OPAQUE_RECTS ? n : 0, &next.opaque_rects) < 0)
 		return -1;
-	struct vis_look next = window->look;
+	next.n_opaque = mode == VIS_OPAQUE_RECTS ? n : 0;
 	next.opaque = (uint8_t)mode;
-	if (prepare_cut(window, vis_look_cuts_inside(&next)) < 0) {
-		free(copy);
-		return -1;
-	}
-	free(window->look.opaque_rects);
-	window->look.opaque_rects = copy;
-	window->look.n_opaque = mode == VIS_OPAQUE_RECTS ? n : 0;
-	window->look.opaque = (uint8_t)mode;
-	return 0;
+	return set_look(window, next);
 }
 
 void vis_wtree_set_input_only(struct vis_window *window)

@@ -84,7 +84,10 @@ struct vis_wtree {
 	struct vis_window root; /* the screen; id 0 */
 	struct vis_idmap ids;
 	struct vis_idmap externals; /* hash of (namespace, tag) → chain, see above */
+	/* IDs handed out so far + 1, the counter IDs are made from (0 once 2^32 − 1 were): a window's
+	 * ID is vis_wtree_id_permute(id_key, its number), unique and never reused. */
 	uint32_t next_id;
+	uint64_t id_key; /* vis_wtree_set_id_key(); 0: IDs are the counter itself */
 	size_t count;
 	/* Viewable windows in pre-order (bottom to top) after vis_wtree_compute(); windows destroyed
 	 * since leave NULL behind. */
@@ -106,6 +109,22 @@ void vis_wtree_finish(struct vis_wtree *tree);
 /* Frees the recomputes' scratch, for vis_wtree_finish(); NULL is a no-op. */
 void vis_wtree_work_destroy(struct vis_wtree_work *work);
 
+/*
+ * Makes the IDs of the windows created from now on say nothing about the windows others created:
+ * the n-th window gets vis_wtree_id_permute(key, n) instead of n. The daemon gives a random key at
+ * start-up; key 0 (the default) keeps IDs sequential, for tests. Set it before the first window.
+ */
+void vis_wtree_set_id_key(struct vis_wtree *tree, uint64_t key);
+
+/*
+ * A keyed bijection of 1 … 2^32 − 1 onto itself, n itself for key 0: a 6-round Feistel network
+ * over 32 bits, walking its cycle past 0 (the screen's ID, never a window's). So IDs made from a
+ * counter stay unique, and none is reused, while consecutive ones are unrelated numbers: a client
+ * cannot count the windows created between two of its own. O(1) expected (a walk past 0 takes
+ * one more round trip, for one n of 2^32).
+ */
+uint32_t vis_wtree_id_permute(uint64_t key, uint32_t n);
+
 /* The window with this ID, or NULL (the root is not found: its ID 0 means "the screen"). */
 struct vis_window *vis_wtree_find(const struct vis_wtree *tree, uint32_t id);
 
@@ -125,15 +144,20 @@ void vis_wtree_destroy(struct vis_wtree *tree, struct vis_window *window,
 		       void (*gone)(void *data, struct vis_window *w), void *data);
 
 /*
- * Sets a window's border width (≥ 0). Returns 0, or -1 with EINVAL when the border box's sides
- * would pass INT32_MAX or the window is input-only. O(1).
+ * Sets a window's inside, width × height (≥ 1), and its border width (≥ 0). Returns 0, or -1
+ * with EINVAL when the border box's sides would pass INT32_MAX or an input-only window would
+ * get a border (nothing changes then). O(log k) for the k rectangles of its look.
  */
+int vis_wtree_set_size(struct vis_window *window, int32_t width, int32_t height, int32_t border);
+
+/* vis_wtree_set_size() with the window's inside as it is. */
 int vis_wtree_set_border(struct vis_window *window, int32_t border);
 
 /*
  * Sets a window's bounding shape to a copy of rects[0 … n) (window coordinates, each w, h ≥ 1,
  * overlaps allowed; n = 0: no pixels), or with shaped false back to its border box. Returns 0, or
- * -1 with ENOMEM, or EINVAL for an input-only window (nothing changes then). O(n).
+ * -1 with ENOMEM, or EINVAL for an input-only window (nothing changes then). O(k log k + p) for
+ * the k rectangles of its new look and the p boxes of its see-through pixels (look.h).
  */
 int vis_wtree_set_shape(struct vis_window *window, bool shaped, const struct vis_rect *rects,
 			uint32_t n);
@@ -141,7 +165,8 @@ int vis_wtree_set_shape(struct vis_window *window, bool shaped, const struct vis
 /*
  * Sets which of a window's pixels hide what lies below: mode VIS_OPAQUE_ALL or _NONE (rects
  * ignored), or VIS_OPAQUE_RECTS with a copy of rects[0 … n). Returns 0, or -1 with ENOMEM, or
- * EINVAL for an input-only window or an unknown mode (nothing changes then). O(n).
+ * EINVAL for an input-only window or an unknown mode (nothing changes then). As
+ * vis_wtree_set_shape(), O(k log k + p).
  */
 int vis_wtree_set_opaque(struct vis_window *window, enum vis_opaque mode,
 			 const struct vis_rect *rects, uint32_t n);
@@ -174,6 +199,13 @@ const struct vis_look_cut *vis_wtree_cut(const struct vis_window *window);
  * cut is left zero. O(1).
  */
 void vis_wtree_keep_cut(struct vis_window *window, struct vis_look_cut *cut);
+
+/*
+ * The protocol's translucent flag: whether some pixel of the window hides nothing
+ * (vis_look_translucent()), from the pieces it keeps. O(1) when they are kept for its size, else
+ * as vis_wtree_cut().
+ */
+bool vis_wtree_translucent(const struct vis_window *window);
 
 /* Makes a window input-only: no pixels, no state; only right after creating it. O(1). */
 void vis_wtree_set_input_only(struct vis_window *window);
@@ -406,10 +438,11 @@ bool vis_wtree_changes(const struct vis_wtree *tree, struct vis_window *const **
 
 /*
  * The window's own visible pixels (its shape inside its clip, not covered by an opaque pixel of
- * any later window in pre-order, descendants included, as X's clip list) as rectangles relative
- * to its border box's corner (window->box's, not the inside's: a border or a shape reaching into
- * it starts at 0), y-x banded, into a pixman region (pixman_region32_t *, initialized by the
- * caller); empty for input-only windows. Needs a computed tree. 0 or -1 (ENOMEM).
+ * any later window in pre-order, descendants included, as X's clip list) as rectangles in window
+ * coordinates, relative to its inside's top-left corner as shapes are (its border lies at
+ * −border … 0 and width … width + border), y-x banded, into a pixman region
+ * (pixman_region32_t *, initialized by the caller); empty for input-only windows. Needs a
+ * computed tree. 0 or -1 (ENOMEM).
  * O(n + r log r) for r pieces of the window and of the later windows that overlap it.
  */
 int vis_wtree_visible_region(const struct vis_wtree *tree, const struct vis_window *window,

@@ -19,7 +19,7 @@
 #include "vis/protocol.h"
 
 enum { MANAGER, B, OTHER1, OTHER2, N_PEERS };
-#define MAX_IDS 8192	/* window IDs one run may hand out */
+#define MAX_IDS 8192	/* window IDs one run may hand out; a power of two */
 #define MOST_WINDOWS 48 /* past this many, operations destroy */
 #define NO_OWNER 0xff
 #define HIDDEN_STEPS 500 /* operations a run */
@@ -39,7 +39,10 @@ struct named {
 
 static struct vis_rng rng;
 static struct harness_conn peer[N_PEERS];
-static uint8_t owner[MAX_IDS]; /* by window ID: the peer that created it */
+/* The peer that created each window, hashed by ID (IDs are not small numbers): ids[k] 0 is a
+ * free slot. */
+static uint32_t ids[2 * MAX_IDS];
+static uint8_t owner[2 * MAX_IDS];
 static uint32_t last_created[N_PEERS];
 /* What b sent that may come back in an error: the window it named, by request number. */
 static uint32_t b_named[256];
@@ -55,10 +58,19 @@ static struct {
 	size_t stack, under_hidden, sibling_skipped, in_subtree, errors, flood, resync;
 } covered;
 
+/* The slot of window id (not 0), taken for it if new. */
+static size_t slot(uint32_t id)
+{
+	size_t k = (size_t)((id * 0x9e3779b97f4a7c15ull) >> 32) & (2 * MAX_IDS - 1), probes = 0;
+	for (; ids[k] && ids[k] != id; k = (k + 1) & (2 * MAX_IDS - 1))
+		CHECK(++probes < MAX_IDS, "more than %d window IDs", MAX_IDS);
+	ids[k] = id;
+	return k;
+}
+
 static uint32_t owner_of(uint32_t id)
 {
-	CHECK(id < MAX_IDS, "window ID %u past the test's range", id);
-	return owner[id];
+	return owner[slot(id)];
 }
 
 /* Grows *v (of *cap elements of size) to hold one more than n. */
@@ -148,7 +160,7 @@ static void take(int p, const struct vis_msg *m)
 	uint32_t op = m->type->opcode;
 	if (op == VIS_OP_CREATED) {
 		CHECK(owner_of(a[1].u) == NO_OWNER, "window %u created twice", a[1].u);
-		owner[a[1].u] = (uint8_t)p;
+		owner[slot(a[1].u)] = (uint8_t)p;
 		last_created[p] = a[1].u;
 	}
 	if (p != B) {
@@ -635,6 +647,7 @@ static void run(const char *visd, uint64_t seed, int steps)
 	harness_seed(seed);
 	rng.state = seed;
 	memset(owner, NO_OWNER, sizeof owner);
+	memset(ids, 0, sizeof ids);
 	memset(b_named, 0, sizeof b_named);
 	n_got = n_names = 0;
 	overflows = 0;

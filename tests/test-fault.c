@@ -22,6 +22,7 @@
  */
 #include <errno.h>
 #include <signal.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,6 +33,7 @@
 
 #include "engine.h"
 #include "harness.h"
+#include "idmap.h"
 #include "rng.h"
 #include "vis/protocol.h"
 #include "wire.h"
@@ -46,7 +48,16 @@
 
 static struct harness_daemon d;
 static struct harness_conn mgr;
-static uint32_t max_id; /* the largest window ID seen: hostile clients aim around it */
+/* The latest window IDs seen (of survivors and at quiet points): hostile clients aim at them,
+ * and next to them (IDs come in no order, so no other number is likely to be a window's). */
+#define SEEN_IDS 64
+static uint32_t seen_ids[SEEN_IDS];
+static uint32_t n_seen;
+
+static void note_seen(uint32_t id)
+{
+	seen_ids[n_seen++ % SEEN_IDS] = id;
+}
 static struct {
 	int forked, cut, orphans, checks;
 } stats;
@@ -60,8 +71,9 @@ struct model_window {
 
 /* What a connection's notices told it: each window's last state, and the serials. */
 struct told {
-	uint8_t *state; /* by window ID: the state of the last visibility notice, 3 before any */
-	size_t n;
+	/* By window ID (IDs are not small numbers): the state of the last visibility notice + 1;
+	 * none before any. The zero map is an empty one. */
+	struct vis_idmap state;
 	uint64_t serial; /* the last notice's */
 	int overflows;
 };
@@ -120,12 +132,14 @@ struct hostile_mind {
 	size_t n_ids;
 };
 
-/* A window ID to aim at: one of its own when it knows some, else one near the latest. */
+/* A window ID to aim at: one of its own when it knows some, else a latest one or next to it. */
 static uint32_t pick(struct hostile_mind *h)
 {
 	if (h->n_ids && vis_rng_below(&h->rng, 4))
 		return h->ids[vis_rng_below(&h->rng, h->n_ids)];
-	return (uint32_t)((int64_t)max_id + vis_rng_range(&h->rng, -8, 24));
+	uint32_t n = n_seen < SEEN_IDS ? n_seen : SEEN_IDS;
+	uint32_t id = n ? seen_ids[vis_rng_below(&h->rng, n)] : 1;
+	return vis_rng_below(&h->rng, 4) ? id : id + (uint32_t)vis_rng_range(&h->rng, -2, 2);
 }
 
 /* Writes one random request (now and then a malformed one) to out; returns its size. */
@@ -305,21 +319,15 @@ static void on_notice(void *data, const struct vis_msg *m)
 	uint32_t id = m->args[1].u;
 	if (m->type->opcode != VIS_OP_VISIBILITY)
 		return;
-	if (id >= t->n) {
-		size_t n = 2 * (size_t)id + 64;
-		uint8_t *more = realloc(t->state, n);
-		CHECK(more, "out of memory");
-		memset(more + t->n, VIS_VISIBILITY_NONE, n - t->n);
-		t->state = more;
-		t->n = n;
-	}
-	t->state[id] = (uint8_t)m->args[2].u;
+	CHECK(vis_idmap_put(&t->state, id, (void *)(uintptr_t)(m->args[2].u + 1)) == 0,
+	      "out of memory");
 }
 
 /* The state the last notice told of window id. */
 static uint32_t told_state(const struct told *t, uint32_t id)
 {
-	return id < t->n ? t->state[id] : VIS_VISIBILITY_NONE;
+	uintptr_t v = (uintptr_t)vis_idmap_get(&t->state, id);
+	return v ? (uint32_t)(v - 1) : VIS_VISIBILITY_NONE;
 }
 
 /* Moves model window k of s to index to (after removing it). */
@@ -343,7 +351,7 @@ static void survivor_step(struct survivor *s, struct vis_rng *r)
 		bool map = vis_rng_below(r, 5) != 0;
 		uint32_t id = harness_create(&s->c, 0, x, y, w, h, map ? VIS_CREATE_MAP : 0);
 		s->w[s->n++] = (struct model_window){ id, { x, y, (int32_t)w, (int32_t)h }, map };
-		max_id = id > max_id ? id : max_id;
+		note_seen(id);
 		return;
 	}
 	size_t k = (size_t)vis_rng_below(r, s->n), j = (size_t)vis_rng_below(r, s->n);
@@ -505,7 +513,7 @@ static void quiet_check(int base_fds, int done)
 		size_t at;
 		if (!owner_of(t[i].window, &at))
 			harness_req(&mgr, VIS_OP_DESTROY, t[i].window);
-		max_id = t[i].window > max_id ? t[i].window : max_id;
+		note_seen(t[i].window);
 	}
 	harness_sync(&mgr, NULL);
 	doomed_start();
@@ -593,10 +601,10 @@ int main(int argc, char **argv)
 	harness_context("shutdown");
 	for (size_t i = 0; i < SURVIVORS; i++) {
 		harness_close(&surv[i].c);
-		free(surv[i].told.state);
+		vis_idmap_finish(&surv[i].told.state);
 	}
 	harness_close(&stalled.c);
-	free(stalled.told.state);
+	vis_idmap_finish(&stalled.told.state);
 	harness_close(&doomed);
 	harness_wait_fds(&d, base_fds - SURVIVORS - 2);
 	size_t n;
@@ -606,7 +614,6 @@ int main(int argc, char **argv)
 	struct harness_conn last;
 	harness_open(&last, d.sock);
 	harness_hello(&last, VIS_ROLE_CLIENT);
-	uint32_t last_window = harness_create(&last, 0, 0, 0, 1, 1, 0);
 	harness_close(&last);
 	harness_stop(&d);
 	int survivor_ops = 0;
@@ -614,14 +621,14 @@ int main(int argc, char **argv)
 		survivor_ops += surv[i].ops;
 	printf("fault: seed %llu: %d hostile clients (%d killed processes, %d cut connections; "
 	       "visd "
-	       "accepted %u connections and made %u windows) died mid-session while %d survivors "
+	       "accepted %u connections) died mid-session while %d survivors "
 	       "made %d changes and an observer that read only at quiet points overflowed %d "
 	       "times; "
 	       "%d full checks of the states against the brute force, %d retained leftovers; "
 	       "visd's "
 	       "RSS %ld KiB before, %ld after; %.1f s\n",
 	       (unsigned long long)seed, stats.forked + stats.cut, stats.forked, stats.cut, last.id,
-	       last_window, SURVIVORS, survivor_ops, stalled.told.overflows, stats.checks,
+	       SURVIVORS, survivor_ops, stalled.told.overflows, stats.checks,
 	       stats.orphans, rss_start, rss_end, (double)(now_us() - start) / 1e6);
 	return 0;
 }

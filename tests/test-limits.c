@@ -250,9 +250,10 @@ static void test_descriptor_shortage(void)
 
 /* What a subscriber makes of its notices: the last state of each window, and what it saw. */
 struct view {
-	uint32_t *state; /* by window ID; 3 unknown or not viewable */
-	bool *exists;    /* by window ID, from stack notices */
-	size_t cap;
+	uint32_t *ids;   /* the windows heard of, hashed by ID (0: a free slot) */
+	uint32_t *state; /* by slot; 3 unknown or not viewable */
+	bool *exists;    /* by slot, from stack notices */
+	size_t cap;      /* a power of two */
 	uint64_t serial;
 	uint32_t coalesced, overflows, resync_left, dropped;
 };
@@ -260,11 +261,24 @@ struct view {
 static void view_init(struct view *v, size_t cap)
 {
 	*v = (struct view){ .cap = cap };
+	v->ids = calloc(cap, sizeof *v->ids);
 	v->state = malloc(cap * sizeof *v->state);
 	v->exists = calloc(cap, sizeof *v->exists);
-	CHECK(v->state && v->exists, "out of memory");
+	CHECK(v->ids && v->state && v->exists, "out of memory");
 	for (size_t i = 0; i < cap; i++)
 		v->state[i] = VIS_VISIBILITY_NONE;
+}
+
+/* The slot of window id (not 0) in the view, taken for it if new. IDs are not small numbers. */
+static size_t slot(struct view *v, uint32_t id)
+{
+	size_t k = (size_t)((id * 0x9e3779b97f4a7c15ull) >> 32) & (v->cap - 1);
+	for (size_t probes = 0; v->ids[k] && v->ids[k] != id; probes++) {
+		CHECK(probes < v->cap, "more than %zu windows in the view", v->cap);
+		k = (k + 1) & (v->cap - 1);
+	}
+	v->ids[k] = id;
+	return k;
 }
 
 /* Applies one message if it is a notice; false for replies. */
@@ -280,18 +294,16 @@ static bool view_apply(struct view *v, const struct vis_msg *m)
 		v->resync_left--;
 	switch (m->type->opcode) {
 	case VIS_OP_VISIBILITY:
-		CHECK(a[1].u < v->cap, "window %u", a[1].u);
-		v->state[a[1].u] = a[2].u;
+		v->state[slot(v, a[1].u)] = a[2].u;
 		v->coalesced += a[4].u;
 		break;
 	case VIS_OP_EXPOSURE:
 		v->coalesced += a[3].u;
 		break;
 	case VIS_OP_STACK:
-		CHECK(a[2].u < v->cap, "window %u", a[2].u);
-		v->exists[a[2].u] = a[1].u != VIS_STACK_DESTROY;
+		v->exists[slot(v, a[2].u)] = a[1].u != VIS_STACK_DESTROY;
 		if (!(a[9].u & VIS_WINDOW_VIEWABLE))
-			v->state[a[2].u] = VIS_VISIBILITY_NONE;
+			v->state[slot(v, a[2].u)] = VIS_VISIBILITY_NONE;
 		break;
 	case VIS_OP_OVERFLOW:
 		CHECK(!v->resync_left, "an overflow notice inside a resync");
@@ -331,9 +343,9 @@ static void view_check(struct view *v, struct harness_conn *o, bool stack)
 	CHECK(viewable == n, "the subscriber knows %zu viewable windows, the daemon %zu", viewable,
 	      n);
 	for (size_t i = 0; i < n; i++)
-		CHECK(s[i].window < v->cap && v->state[s[i].window] == s[i].state,
+		CHECK(v->state[slot(v, s[i].window)] == s[i].state,
 		      "window %u: the subscriber says %u, the daemon %u", s[i].window,
-		      s[i].window < v->cap ? v->state[s[i].window] : 9, s[i].state);
+		      v->state[slot(v, s[i].window)], s[i].state);
 	free(s);
 	if (stack) {
 		struct harness_node *t = harness_get_tree(o, &n);
@@ -342,7 +354,7 @@ static void view_check(struct view *v, struct harness_conn *o, bool stack)
 			known += v->exists[i];
 		CHECK(known == n, "the subscriber knows %zu windows, the daemon %zu", known, n);
 		for (size_t i = 0; i < n; i++)
-			CHECK(t[i].window < v->cap && v->exists[t[i].window],
+			CHECK(v->exists[slot(v, t[i].window)],
 			      "window %u unknown to the subscriber", t[i].window);
 		free(t);
 	}
@@ -392,6 +404,7 @@ static void test_slow_readers(void)
 	      v.overflows);
 	printf("slow reader of states: %llu notices, standing for %u more\n",
 	       (unsigned long long)v.serial, v.coalesced);
+	free(v.ids);
 	free(v.state);
 	free(v.exists);
 
@@ -400,6 +413,7 @@ static void test_slow_readers(void)
 	CHECK(v.overflows > 0 && v.dropped > 0, "a stalled stack subscriber never overflowed");
 	printf("slow reader of everything: %llu notices, %u overflows dropping %u\n",
 	       (unsigned long long)v.serial, v.overflows, v.dropped);
+	free(v.ids);
 	free(v.state);
 	free(v.exists);
 
@@ -411,6 +425,7 @@ static void test_slow_readers(void)
 	      v.coalesced, v.overflows);
 	printf("slow reader of states, default bound: %llu notices, standing for %u more\n",
 	       (unsigned long long)v.serial, v.coalesced);
+	free(v.ids);
 	free(v.state);
 	free(v.exists);
 }

@@ -148,9 +148,11 @@ raise @1
 batch-commit
 states
 SCRIPT
-out=$(v script "$dir/script" | tail -n 2 | cut -d' ' -f2 | tr '\n' ' ') ||
-	fail "batch script failed"
-[ "$out" = "unobscured partially-obscured " ] || fail "batch script states: $out"
+out=$(v script "$dir/script") || fail "batch script failed"
+# The creates print @1's and @2's IDs; states come in ascending ID, which is no creation order.
+state_of() { echo "$out" | awk -v id="$(echo "$out" | sed -n "$1p")" 'NR > 2 && $1 == id { print $2 }'; }
+[ "$(state_of 1) $(state_of 2)" = "unobscured partially-obscured" ] ||
+	fail "batch script states: $out"
 printf 'create 0 0 10 10\nbatch-begin\nmove @1 5 5\nmap 999999\nbatch-commit\n' >"$dir/bad-script"
 v script "$dir/bad-script" >/dev/null 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "bad-script:5: batch from line 2: map: window: no such window" "$dir/err" ||
@@ -417,7 +419,7 @@ for q in "states" "region $(head -n 1 "$dir/tree" | cut -d' ' -f1)" "repaint 0 0
 done
 "$visctl" tree --help | grep -q "ID PARENT X Y W H MAPPED STATE RETAINED BORDER LOOK EXTERNAL" ||
 	fail "tree --help: no columns"
-"$visctl" region --help | grep -q "window's own" || fail "region --help: no coordinates"
+"$visctl" region --help | grep -q "inside's top-left corner" || fail "region --help: no coordinates"
 # External IDs: a manager's windows mirror X windows (and a private namespace's); a plain client
 # may not give one; states --x11, lookup, tree and watch --x11 name them by XID. The observer
 # role is what --x11 and lookup take without --role.

@@ -422,6 +422,110 @@ static void test_within(uint64_t seed, size_t count)
 	}
 }
 
+/* The translucent flag by the painter: whether some pixel of the window hides nothing. */
+static bool painted_translucent(struct vis_rect r, const struct vis_look *look)
+{
+	struct vis_box bb = border_box(r, look);
+	for (int64_t y = bb.y1; y < bb.y2; y++)
+		for (int64_t x = bb.x1; x < bb.x2; x++) {
+			bool mine, opaque;
+			pixel_of(r, look, x, y, &mine, &opaque);
+			if (mine && !opaque)
+				return true;
+		}
+	return false;
+}
+
+/* One look whose flag is known, at the geometry w × h (its border is the look's). */
+static void check_translucent(const char *what, struct vis_look look, int32_t w, int32_t h,
+			      bool want)
+{
+	int got = vis_look_translucent(&look, w, h);
+	if (got != want) {
+		fprintf(stderr, "test-look: translucent: %s: got %d, wanted %d\n", what, got, want);
+		failures++;
+	}
+}
+
+/*
+ * vis_look_translucent(): the cases of the rule, then random looks at random geometries against
+ * the painter.
+ */
+static void test_translucent(uint64_t seed, size_t count)
+{
+	const struct vis_rect whole = { 0, 0, 10, 10 }, halves[2] = { { 0, 0, 5, 10 }, { 5, 0, 5, 10 } };
+	const struct vis_rect overlap[2] = { { 0, 0, 7, 10 }, { 3, 0, 7, 10 } };
+	const struct vis_rect but_one[2] = { { 0, 0, 10, 9 }, { 0, 9, 9, 1 } };
+	const struct vis_rect framed = { -2, -2, 14, 14 };
+	const struct vis_rect far = { INT32_MAX - 4, INT32_MAX - 4, INT32_MAX, INT32_MAX };
+	struct vis_look l = { .opaque = VIS_OPAQUE_RECTS, .n_opaque = 1 };
+	l.opaque_rects = (struct vis_rect *)&whole;
+	check_translucent("opaque rectangle = inside", l, 10, 10, false);
+	check_translucent("opaque rectangle < inside after a resize", l, 11, 10, true);
+	check_translucent("opaque rectangle > inside after a resize", l, 9, 9, false);
+	l.border = 1;
+	check_translucent("border outside the opaque rectangle", l, 10, 10, true);
+	l.opaque_rects = (struct vis_rect *)&framed;
+	l.border = 2;
+	check_translucent("opaque rectangle = border box", l, 10, 10, false);
+	l.border = 3;
+	check_translucent("a border grown past the opaque rectangle", l, 10, 10, true);
+	l.border = 0;
+	l.n_opaque = 2;
+	l.opaque_rects = (struct vis_rect *)halves;
+	check_translucent("abutting opaque rectangles", l, 10, 10, false);
+	l.opaque_rects = (struct vis_rect *)overlap;
+	check_translucent("overlapping opaque rectangles", l, 10, 10, false);
+	l.opaque_rects = (struct vis_rect *)but_one;
+	check_translucent("one pixel left free", l, 10, 10, true);
+	check_translucent("the free pixel resized away", l, 10, 9, false);
+	struct vis_look empty = { .shaped = true, .opaque = VIS_OPAQUE_NONE };
+	check_translucent("no pixels, mode none", empty, 10, 10, false);
+	empty.opaque = VIS_OPAQUE_RECTS;
+	check_translucent("no pixels, opaque rectangles", empty, 10, 10, false);
+	struct vis_look out = { .shaped = true, .n_shape = 1, .opaque = VIS_OPAQUE_NONE };
+	out.shape = (struct vis_rect *)&far;
+	check_translucent("a shape beyond the border box", out, 10, 10, false);
+	check_translucent("a border box reaching the shape", out, INT32_MAX - 2, INT32_MAX - 2, true);
+	struct vis_look shaped = { .shaped = true, .n_shape = 1, .opaque = VIS_OPAQUE_RECTS,
+				   .n_opaque = 2, .border = 2 };
+	shaped.shape = (struct vis_rect *)&framed;
+	shaped.opaque_rects = (struct vis_rect *)halves;
+	check_translucent("a shape reaching into the border", shaped, 10, 10, true);
+	shaped.border = 0;
+	check_translucent("the same shape, no border", shaped, 10, 10, false);
+	check_translucent("mode none", (struct vis_look){ .opaque = VIS_OPAQUE_NONE }, 1, 1, true);
+	check_translucent("mode all", (struct vis_look){ .border = 3 }, 1, 1, false);
+	check_translucent("input-only", (struct vis_look){ .input_only = true }, 1, 1, false);
+
+	for (size_t i = 0; i < count; i++) {
+		struct vis_rng rng = { seed + i };
+		struct vis_scene s;
+		random_scene(&rng, &s, 4);
+		for (size_t k = 0; k < s.n; k++) {
+			struct vis_look look = s.looks ? s.looks[k] : (struct vis_look){ 0 };
+			for (int g = 0; g < 4; g++) {
+				struct vis_rect r = s.rects[k];
+				if (g > 0) { /* resized, its border changed */
+					r.w = (int32_t)vis_rng_range(&rng, 1, 40);
+					r.h = (int32_t)vis_rng_range(&rng, 1, 40);
+					if (!look.input_only)
+						look.border = (int32_t)vis_rng_range(&rng, 0, 6);
+				}
+				bool want = painted_translucent(r, &look);
+				if (vis_look_translucent(&look, r.w, r.h) != want) {
+					fprintf(stderr, "test-look: seed %" PRIu64 ": window %zu at "
+							"%dx%d border %d: translucent should be %d\n",
+						seed + i, k, r.w, r.h, look.border, want);
+					print_scene(&s);
+					failures++;
+				}
+			}
+		}
+		vis_scene_finish(&s);
+	}
+}
+
 int main(int argc, char **argv)
 {
 	uint64_t seed = 1;
@@ -440,12 +544,14 @@ int main(int argc, char **argv)
 	test_cases();
 	test_random(seed, count);
 	test_within(seed, count / 4);
+	test_translucent(seed, count / 4);
 	if (failures) {
 		fprintf(stderr, "test-look: %d failures\n", failures);
 		return 1;
 	}
 	printf("test-look: %zu random scenes (and each moved to both 32-bit ends) and the cases "
-	       "agree with the painter on every engine; %zu windows cut within a clip and boxes\n",
-	       count, count / 4);
+	       "agree with the painter on every engine; %zu windows cut within a clip and boxes; "
+	       "the translucent flag of %zu scenes' windows at 4 geometries each\n",
+	       count, count / 4, count / 4);
 	return 0;
 }

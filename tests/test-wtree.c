@@ -78,8 +78,10 @@ static void check(uint64_t seed)
 				seen += shows(q, x, y, 0);
 				int own = shows(q, x, y, 1);
 				own_all += own;
-				int in = pixman_region32_contains_point(&reg, (int)(x - ax),
-									(int)(y - ay), NULL);
+				/* Window coordinates: from the inside's corner. */
+				int64_t bw = q->look.border;
+				int in = pixman_region32_contains_point(&reg, (int)(x - ax - bw),
+									(int)(y - ay - bw), NULL);
 				if (own != in) {
 					fprintf(stderr, "seed %llu: window %u pixel %lld,%lld own %d "
 							"region %d\n",
@@ -435,7 +437,7 @@ static const char *change_look(struct vis_rng *r, enum look_op op, int i)
 		int ra = vis_wtree_set_border(a, v), rb = vis_wtree_set_border(b, v);
 		bool fits = (int64_t)a->width + 2 * (int64_t)v <= INT32_MAX &&
 			    (int64_t)a->height + 2 * (int64_t)v <= INT32_MAX;
-		assert(ra == rb && (ra == 0) == (fits && !a->look.input_only));
+		assert(ra == rb && (ra == 0) == (fits && (!a->look.input_only || v == 0)));
 		break;
 	}
 	case SHAPE: {
@@ -1026,6 +1028,46 @@ static void externals(void)
  * test-wtree [--scale K] [--first S]: K times as many random trees of each family (default 1),
  * seeds from S on (default 1), for longer runs by hand; a failure prints the seed to rerun from.
  */
+static int cmp_id(const void *a, const void *b)
+{
+	uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+	return (x > y) - (x < y);
+}
+
+/*
+ * Window IDs: the counter itself with key 0; with a key, a bijection of 1 … 2^32 − 1 (distinct and
+ * never 0 over the first 2^20 and the last 2^12 numbers, and through the walk past 0), whose
+ * consecutive values are not neighbours; the tree hands them out in that order.
+ */
+static void ids(void)
+{
+	enum { N = 1 << 20, TAIL = 1 << 12 };
+	const uint64_t key = 0x243f6a8885a308d3ull;
+	uint32_t *v = malloc((N + TAIL) * sizeof *v);
+	assert(v);
+	size_t near = 0;
+	for (uint32_t n = 1; n <= N; n++) {
+		assert(vis_wtree_id_permute(0, n) == n);
+		v[n - 1] = vis_wtree_id_permute(key, n);
+		near += n > 1 && (v[n - 1] - v[n - 2] < 64 || v[n - 2] - v[n - 1] < 64);
+	}
+	for (uint32_t k = 0; k < TAIL; k++)
+		v[N + k] = vis_wtree_id_permute(key, UINT32_MAX - k);
+	qsort(v, N + TAIL, sizeof *v, cmp_id);
+	assert(v[0] != 0);
+	for (size_t i = 1; i < N + TAIL; i++)
+		assert(v[i] != v[i - 1]);
+	assert(near < 64);
+	free(v);
+	vis_wtree_init(&tree, 100, 100);
+	vis_wtree_set_id_key(&tree, key);
+	for (uint32_t n = 1; n <= 100; n++) {
+		struct vis_window *w = vis_wtree_create(&tree, &tree.root, 0, 0, 5, 5, 1);
+		assert(w && w->id == vis_wtree_id_permute(key, n) && vis_wtree_find(&tree, w->id) == w);
+	}
+	vis_wtree_finish(&tree);
+}
+
 int main(int argc, char **argv)
 {
 	uint64_t scale = 1, first = 1;
@@ -1043,6 +1085,7 @@ int main(int argc, char **argv)
 		scripted_looks();
 	}
 	externals();
+	ids();
 	int scenes = random_trees(first, 10000 * scale, 10);
 	family = EXTREME;
 	int extremes = random_trees(first, 20000 * scale, 10);

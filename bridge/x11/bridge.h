@@ -102,11 +102,12 @@ struct bridge {
 	uint32_t client_bits;
 	struct vis_idmap by_xid, by_vid;
 	/* visd's states of windows whose creation visd has not answered yet (its notice can come
-	 * first), by visd ID: state + 1, until created_cb() hands them to notify_created(). visd
-	 * never reuses an ID, so a notice of an ID above max_vid is about such a window, and one
-	 * of another unknown ID about a window already removed. */
+	 * first), by visd ID: state + 1, until created_cb() hands them to notify_created(). A
+	 * notice of an unknown ID is about such a window or one already removed: visd's IDs come in
+	 * no order, so both are kept while creates_pending, and forgotten once none is (visd never
+	 * reuses an ID: a removed window's state is never asked for). */
 	struct vis_idmap early_states;
-	uint32_t max_vid;
+	uint32_t creates_pending; /* creates sent whose answer has not come */
 	uint32_t n_windows;
 	uint32_t read_number; /* tree reads so far (xwin.seen) */
 	uint32_t screen_snap; /* events older than the last whole-screen read are stale */

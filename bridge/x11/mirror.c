@@ -244,18 +244,22 @@ struct xwin *mirror_add(struct bridge *b, struct xwin *parent, xcb_window_t id)
 static void created_cb(void *data, const struct vis_error *err, uint32_t window)
 {
 	struct xwin *w = data;
+	struct bridge *b = the_bridge;
 	w->pending = false;
+	b->creates_pending--;
 	if (err) {
-		bridge_refused(the_bridge, err, w->id);
-		return;
+		bridge_refused(b, err, w->id);
+	} else {
+		w->vid = window;
+		if (vis_idmap_put(&b->by_vid, window, w) < 0)
+			b->visd_failed = true;
+		else
+			notify_created(b, w);
 	}
-	w->vid = window;
-	if (window > the_bridge->max_vid)
-		the_bridge->max_vid = window;
-	if (vis_idmap_put(&the_bridge->by_vid, window, w) < 0)
-		the_bridge->visd_failed = true;
-	else
-		notify_created(the_bridge, w);
+	if (!b->creates_pending) { /* what is left is about removed windows */
+		vis_idmap_finish(&b->early_states);
+		vis_idmap_init(&b->early_states);
+	}
 }
 
 void mirror_create_in_visd(struct bridge *b, struct xwin *w)
@@ -269,6 +273,7 @@ void mirror_create_in_visd(struct bridge *b, struct xwin *w)
 					      VIS_EXTERNAL_X11, w->id, created_cb, w))
 		return;
 	w->pending = true;
+	b->creates_pending++;
 	/* Its look names it: sent after the round trip that gives its ID. */
 	w->opaque_mode = VIS_OPAQUE_MODE_ALL;
 	if (w->shaped || opaque_mode_of(b, w) != VIS_OPAQUE_MODE_ALL)

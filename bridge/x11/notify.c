@@ -43,9 +43,9 @@ void notify_on_visd(void *data, const struct vis_notice *n)
 		return;
 	struct xwin *w = vis_idmap_get(&b->by_vid, n->window);
 	uint8_t state = (uint8_t)n->visibility.state;
-	if (!w && n->window > b->max_vid) {
-		/* A window created in this batch: the notice can come before visd's answer to the
-		 * create, which names it. Kept until then (a failed put only loses a state). */
+	if (!w && b->creates_pending) {
+		/* Maybe a window created in this batch: the notice can come before visd's answer
+		 * to the create, which names it. Kept until then (a failed put only loses a state). */
 		if (vis_idmap_put(&b->early_states, n->window, (void *)(uintptr_t)(state + 1u)) < 0)
 			bridge_log(b, 0, "out of memory: the state of visd's window %u is lost",
 				   n->window);

@@ -39,7 +39,7 @@ static void on_region(void *data, const struct vis_error *err, const struct vis_
 {
 	struct snapshot *s = data;
 	size_t i = s->asked[s->answered++];
-	struct vis_box box = s->pic.windows[i].box;
+	struct vis_box box = s->pic.windows[i].inside; /* window coordinates start at its corner */
 
 	if (err) {
 		/* A window destroyed since get-tree is no failure: it just shows no parts. */

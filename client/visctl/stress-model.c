@@ -337,11 +337,14 @@ uint64_t stress_model_compare_tree(const struct stress_model *m,
 		const struct stress_window *w = &m->w[k];
 		const struct vis_window_info *t = &tree[i];
 		bool mapped = w->unmapped_at == STRESS_NONE;
+		struct vis_look look = w->look;
+		look.shape = (struct vis_rect *)w->shape;
+		look.opaque_rects = (struct vis_rect *)w->opaque;
 		if (t->window == w->id && t->parent == VIS_WINDOW_ROOT && t->x == w->r.x &&
 		    t->y == w->r.y && t->width == (uint32_t)w->r.w && t->height == (uint32_t)w->r.h &&
 		    t->border == (uint32_t)w->look.border &&
 		    !!(t->flags & VIS_WINDOW_SHAPED) == w->look.shaped &&
-		    !!(t->flags & VIS_WINDOW_TRANSLUCENT) == (w->look.opaque != VIS_OPAQUE_ALL) &&
+		    !!(t->flags & VIS_WINDOW_TRANSLUCENT) == (vis_look_translucent(&look, w->r.w, w->r.h) > 0) &&
 		    !!(t->flags & VIS_WINDOW_MAPPED) == mapped)
 			continue;
 		if (bad++ < limit)

@@ -81,9 +81,10 @@ static const struct visctl_command commands[] = {
 	  "  viewable, retained, parent_hidden (true, false), state, border, shaped,\n"
 	  "  translucent, input_only, namespace and external (numbers; 0 and 0: none).\n" },
 	{ "region", NULL, cmd_region, "[--json] ID",
-	  "  Prints the window's visible pixels as 'X Y W H' rectangles in the window's own\n"
-	  "  coordinates (0 0 is its top-left corner, not the screen's), y-x banded: its\n"
-	  "  pixels under no later window and none of its children.\n"
+	  "  Prints the window's visible pixels as 'X Y W H' rectangles in window\n"
+	  "  coordinates (0 0 is its inside's top-left corner, not the screen's; a border\n"
+	  "  lies at negative ones), y-x banded: its pixels under no later window and none\n"
+	  "  of its children.\n"
 	  "  --json: one object a line, {\"x\":X,\"y\":Y,\"width\":W,\"height\":H}.\n" },
 	{ "repaint", NULL, cmd_repaint, "[--json] X Y W H",
 	  "  Prints, bottom to top, the IDs of the windows whose own pixels show inside the\n"

@@ -7,7 +7,9 @@
 #define VIS_PROTOCOL_H
 
 #define VIS_PROTOCOL_MAGIC 0x44534956u /* "VISD" in little-endian bytes */
-#define VIS_PROTOCOL_VERSION 3u /* 3: external IDs (2: borders, shapes, opaque regions, input-only) */
+/* 4: regions and exposures in window coordinates, from the inside's corner (3: external IDs;
+ * 2: borders, shapes, opaque regions, input-only). The history is PROTOCOL.md's. */
+#define VIS_PROTOCOL_VERSION 4u
 
 /* Every message, either way, is at most this many bytes, header included. */
 #define VIS_PROTOCOL_MAX_MESSAGE (16u << 20)
@@ -105,7 +107,9 @@ enum vis_window_flags {
 	 * relative to that parent (a client's window in a manager's frame). */
 	VIS_WINDOW_PARENT_HIDDEN = 1u << 3,
 	VIS_WINDOW_SHAPED = 1u << 4,      /* it has a bounding shape, not its border box */
-	VIS_WINDOW_TRANSLUCENT = 1u << 5, /* some of its pixels hide nothing (opaque mode 1 or 2) */
+	/* Some of its pixels (its shape within its border box) hide nothing: never for a window
+	 * without pixels or an input-only one; opaque rectangles covering every pixel leave it clear. */
+	VIS_WINDOW_TRANSLUCENT = 1u << 5,
 	VIS_WINDOW_INPUT_ONLY = 1u << 6,  /* no pixels, no state */
 };
 

@@ -63,6 +63,12 @@ struct vis_client;
  */
 VIS_EXPORT const char *vis_client_version(void);
 
+/*
+ * A rectangle: x, y inclusive, x + width, y + height exclusive. About a window (shapes, opaque
+ * regions, visible regions, exposures) it is in window coordinates: relative to the window's
+ * inside's top-left corner, its border at negative coordinates (PROTOCOL.md, "Window
+ * coordinates"); get-repaint's damage is in screen coordinates.
+ */
 struct vis_rect32 {
 	int32_t x, y;
 	uint32_t width, height;
