@@ -9,6 +9,14 @@
 #include "server.h"
 #include "vis/protocol.h"
 
+/*
+ * What cutting a look costs, a rectangle at a time, in the units of a turn's and a batch's work
+ * (windows walked): cutting 120,000 rectangles took 30 ms where walking 131,072 windows takes
+ * about 1 ms, so about 32 windows a rectangle. A batch of resizes of a window whose look has
+ * 262,144 rectangles would otherwise cut it again for each, in one turn.
+ */
+#define LOOK_RECT_WORK 32u
+
 uint64_t server_look_charged(const struct vis_window *w)
 {
 	return w->cut ? w->cut->n : 0;
@@ -21,6 +29,17 @@ bool server_look_pieces_ok(struct client *c, uint32_t seq, uint32_t op, const st
 	*cut = (struct vis_look_cut){ 0 };
 	if (!vis_look_cuts_inside(look))
 		return true;
+	struct server *server = c->server;
+	uint64_t work = LOOK_RECT_WORK * ((uint64_t)look->n_shape + look->n_opaque + 1);
+	if (work > server->walk_left) {
+		server_client_error(c, seq, op, VIS_ERROR_LIMIT,
+				    "the batch's changes cut looks of too many rectangles (the work "
+				    "of walking %u windows); send the rest in another batch",
+				    SERVER_BATCH_WORK);
+		return false;
+	}
+	server->walk_left -= work;
+	server->work += work; /* the turn ends sooner */
 	if (vis_look_cut_fill(cut, look, width, height) < 0) {
 		server_client_error(c, seq, op, VIS_ERROR_LIMIT, "cannot cut window %u's look: %s",
 				    w->id, strerror(errno));

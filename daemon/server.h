@@ -55,8 +55,9 @@ struct server_options {
 /* Replies held by a committed batch that go out per turn, after the changes' one recompute. */
 #define SERVER_REPLY_BUDGET 4096
 /*
- * Windows the changes of one batch may walk in all (reparents walk the subtree they move): the
- * changes run in one turn, atomically, so this bounds how long others wait for them.
+ * Windows the changes of one batch may walk in all (reparents walk the subtree they move), or
+ * their worth of cutting looks again (server-look.c): the changes run in one turn, atomically,
+ * so this bounds how long others wait for them.
  */
 #define SERVER_BATCH_WORK (1u << 22)
 
@@ -207,7 +208,7 @@ struct server {
 	bool damage_all;
 	bool deferring; /* replaying a batch: recompute once at its end */
 	uint64_t work;  /* windows walked by requests so far (see SERVER_TURN_WORK) */
-	uint64_t walk_left; /* windows the batch being committed may still walk */
+	uint64_t walk_left; /* windows the batch being committed may still walk, or their worth */
 	/* The end of the turn of the event loop: the recompute after this turn's requests, then one
 	 * write to each connection that has output. */
 	struct event *turn_event;

@@ -13,6 +13,8 @@
  * Windows: an attacker makes W mapped windows over the screen and moves them, in batches.
  * Shaped parent: an attacker makes one window whose shape is R squares and W children under it,
  * which its shape clips, and moves the children, in batches.
+ * Deep: an attacker makes a chain of windows 64 deep and W windows spread over its levels, and
+ * moves them, in batches.
  * With --shaped-backdrop 1, the prober keeps a shaped window of the screen's size under them.
  *
  * With --fail-over MS it is the stall test too: it fails when a round trip took longer.
@@ -21,7 +23,7 @@
  *                         [--moves M] [--batch B] [--attack A[,A…]] [--strips 0|1]
  *                         [--shaped-backdrop 0|1] [--fail-over MS]
  *        (defaults 5,000, 1,000,000, 40, 3,000, 704, 64, queries,looks; the attacks: queries,
- *        looks, windows, shaped-parent)
+ *        looks, windows, shaped-parent, deep)
  */
 #include <errno.h>
 #include <stdio.h>
@@ -180,7 +182,7 @@ static uint32_t count_refused(struct harness_conn *c)
 }
 
 /* The attacks that make the daemon recompute: what the attacker's windows are. */
-enum scene { LOOKS, WINDOWS, SHAPED_PARENT };
+enum scene { LOOKS, WINDOWS, SHAPED_PARENT, DEEP };
 
 /*
  * A recompute attack: the attacker builds its scene (untimed), then moves its windows ids[0 …
@@ -232,6 +234,25 @@ static void run_moves(struct harness_daemon *d, enum scene scene, uint32_t n, ui
 		snprintf(row, sizeof row, "%u windows under one shaped with %u squares%s", n, rects,
 			 refused ? " (refused)" : "");
 		break;
+	case DEEP: {
+		/* A chain as deep as the daemon allows (64), each a pixel inside the last, the n
+		 * windows spread over its levels. */
+		uint32_t chain[63], depth = 63;
+		chain[0] = harness_create(&attacker, 0, 100, 100, 1700, 1100, VIS_CREATE_MAP);
+		for (uint32_t k = 1; k < depth; k++)
+			chain[k] = harness_create(&attacker, chain[k - 1], 1, 1, 1700 - 2 * k,
+						  1100 - 2 * k, VIS_CREATE_MAP);
+		for (uint32_t done = 0, k = 0; k < depth; k++) {
+			uint32_t some = n / depth + (k < n % depth);
+			if (some)
+				create_spread(&attacker, chain[k], some, 20, 20, 1500, 900, ids + done);
+			done += some;
+		}
+		span_x = 1480;
+		span_y = 880;
+		snprintf(row, sizeof row, "%u windows over the levels of a chain 64 deep", n);
+		break;
+	}
 	}
 	size_t len = strlen(row);
 	snprintf(row + len, sizeof row - len, ", %u moves in batches of %u", moves, batch);
@@ -267,7 +288,7 @@ int main(int argc, char **argv)
 				"[--look-windows L] [--look-rects R] [--moves M] [--batch B] "
 				"[--attack A[,A…]] [--strips 0|1] [--shaped-backdrop 0|1]\n"
 				"                   [--fail-over MS]\n"
-				"  attacks: queries looks windows shaped-parent\n");
+				"  attacks: queries looks windows shaped-parent deep\n");
 		return 2;
 	}
 	for (int i = 2; i + 1 < argc; i += 2) {
@@ -297,13 +318,14 @@ int main(int argc, char **argv)
 			return 2;
 		}
 	}
-	static const char *const names[] = { "queries", "looks", "windows", "shaped-parent" };
-	bool wanted[4] = { false };
+	static const char *const names[] = { "queries", "looks", "windows", "shaped-parent",
+					     "deep" };
+	bool wanted[5] = { false };
 	for (const char *a = attack; *a;) {
 		size_t len = strcspn(a, ","), k = 0;
-		while (k < 4 && (strlen(names[k]) != len || strncmp(a, names[k], len)))
+		while (k < 5 && (strlen(names[k]) != len || strncmp(a, names[k], len)))
 			k++;
-		if (k == 4) {
+		if (k == 5) {
 			fprintf(stderr, "bench-stall: unknown attack '%.*s'\n", (int)len, a);
 			return 2;
 		}
@@ -329,6 +351,8 @@ int main(int argc, char **argv)
 		run_moves(&d, WINDOWS, windows, 0, moves, batch);
 	if (wanted[3])
 		run_moves(&d, SHAPED_PARENT, windows, look_rects, moves, batch);
+	if (wanted[4])
+		run_moves(&d, DEEP, windows, 0, moves, batch);
 	harness_stop(&d);
 	return 0;
 }

@@ -218,6 +218,48 @@ static void test_look_pieces(void)
 	harness_req(&c, VIS_OP_SET_OPAQUE, w0, 0, 0); /* w0's strips all opaque: 2 */
 	harness_req(&c, VIS_OP_RESIZE, w2, 10, 10);
 	harness_sync(&c, NULL);
+
+	harness_context("look pieces per connection: a batch's looks cut again");
+	{
+		/* A shape of 4,000 squares, all past the border box: no pieces, but each resize
+		 * cuts it again, 128,032 windows' worth of a batch's 4,194,304. */
+		enum { N = 4000 };
+		uint32_t *words = malloc((3 + 4 * N) * sizeof *words);
+		uint8_t *b = malloc(VIS_MSG_HEADER + 4 * (3 + 4 * N));
+		CHECK(words && b, "out of memory");
+		words[0] = w2, words[1] = 1, words[2] = N;
+		for (uint32_t k = 0; k < N; k++) {
+			uint32_t *r = words + 3 + 4 * k;
+			r[0] = 1000 + 2 * k, r[1] = 0, r[2] = r[3] = 1;
+		}
+		harness_request_raw(&c, b, harness_build(b, VIS_OP_SET_SHAPE, words, 3 + 4 * N));
+		free(words);
+		free(b);
+		harness_sync(&c, NULL);
+		harness_req(&c, VIS_OP_BATCH_BEGIN);
+		for (uint32_t k = 0; k < 40; k++)
+			harness_req(&c, VIS_OP_RESIZE, w2, 11 + k, 10);
+		uint32_t commit = harness_req(&c, VIS_OP_BATCH_COMMIT);
+		uint32_t synced = harness_req(&c, VIS_OP_SYNC);
+		uint32_t refused = 0, first = 0;
+		for (struct vis_msg m;;) {
+			harness_next_reply(&c, &m, NULL);
+			if (m.type->opcode == VIS_OP_ERROR) {
+				CHECK(m.args[2].u == VIS_ERROR_LIMIT && strstr(m.args[3].s.p, "another batch"),
+				      "a resize got error %u: %.*s", m.args[2].u, (int)m.args[3].s.len,
+				      m.args[3].s.p);
+				first = first ? first : m.args[0].u;
+				refused++;
+				continue;
+			}
+			if (m.type->opcode == VIS_OP_SYNCED && m.args[0].u == synced)
+				break;
+			CHECK(false, "unexpected %s", m.type->name);
+		}
+		CHECK(refused == 8 && first == commit - 8, "%u resizes refused, from request %u "
+		      "(commit %u): the batch's 4,194,304 windows' worth are 32 such cuts", refused, first,
+		      commit);
+	}
 	harness_close(&c);
 	harness_stop(&d);
 }
