@@ -15,13 +15,14 @@
  * which its shape clips, and moves the children, in batches.
  * Deep: an attacker makes a chain of windows 64 deep and W windows spread over its levels, and
  * moves them, in batches.
- * With --shaped-backdrop 1, the prober keeps a shaped window of the screen's size under them.
+ * With --shaped-backdrop 1, the prober keeps a shaped window of the screen's size under them;
+ * with --exposures 1, the attacker subscribes to its windows' states and exposures.
  *
  * With --fail-over MS it is the stall test too: it fails when a round trip took longer.
  *
  * usage: bench-stall VISD [--windows W] [--queries N] [--look-windows L] [--look-rects R]
  *                         [--moves M] [--batch B] [--attack A[,A…]] [--strips 0|1]
- *                         [--shaped-backdrop 0|1] [--fail-over MS]
+ *                         [--shaped-backdrop 0|1] [--exposures 0|1] [--fail-over MS]
  *        (defaults 5,000, 1,000,000, 40, 3,000, 704, 64, queries,looks; the attacks: queries,
  *        looks, windows, shaped-parent, deep)
  */
@@ -112,6 +113,9 @@ static void run(struct harness_daemon *d, uint32_t windows, uint32_t queries, bo
 
 /* With --shaped-backdrop 1: the prober keeps a shaped window under the attacker's. */
 static bool shaped_backdrop;
+
+/* With --exposures 1: the attacker subscribes to its windows' states and exposures. */
+static bool exposures;
 
 /* How a look's rectangles lie: squares in a grid, or strips across the window, horizontal for a
  * shape and vertical for an opaque region, so that their n × n crossings are as many pieces. */
@@ -254,6 +258,12 @@ static void run_moves(struct harness_daemon *d, enum scene scene, uint32_t n, ui
 		break;
 	}
 	}
+	if (exposures) {
+		harness_req(&attacker, VIS_OP_SUBSCRIBE, 0,
+			    VIS_NOTICE_VISIBILITY | VIS_NOTICE_EXPOSURE, 0);
+		harness_sync(&attacker, NULL);
+		strcat(row, ", exposures tracked");
+	}
 	size_t len = strlen(row);
 	snprintf(row + len, sizeof row - len, ", %u moves in batches of %u", moves, batch);
 	double start = harness_clock_ms();
@@ -287,7 +297,7 @@ int main(int argc, char **argv)
 		fprintf(stderr, "usage: bench-stall VISD [--windows W] [--queries N] "
 				"[--look-windows L] [--look-rects R] [--moves M] [--batch B] "
 				"[--attack A[,A…]] [--strips 0|1] [--shaped-backdrop 0|1]\n"
-				"                   [--fail-over MS]\n"
+				"                   [--exposures 0|1] [--fail-over MS]\n"
 				"  attacks: queries looks windows shaped-parent deep\n");
 		return 2;
 	}
@@ -307,6 +317,8 @@ int main(int argc, char **argv)
 			batch = (uint32_t)v;
 		else if (!strcmp(argv[i], "--fail-over") && v >= 1 && v <= 3600000)
 			fail_over = (double)v;
+		else if (!strcmp(argv[i], "--exposures") && v <= 1)
+			exposures = v;
 		else if (!strcmp(argv[i], "--shaped-backdrop") && v <= 1)
 			shaped_backdrop = v;
 		else if (!strcmp(argv[i], "--strips") && v <= 1)
