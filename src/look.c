@@ -419,7 +419,6 @@ int vis_look_cut_fill(struct vis_look_cut *cut, const struct vis_look *look, int
 	cut->border = look->border;
 	cut->width = width;
 	cut->height = height;
-	cut->valid = true;
 	return 0;
 }
 

@@ -113,11 +113,9 @@ int vis_pieces_add_within(struct vis_pieces *pieces, const struct vis_look *look
  * window's pixels; each of the two runs is y-x banded as pixman's regions are (sorted by top, then
  * left; the rectangles of a band share their top and bottom, and bands do not overlap), so that
  * those meeting a box are found by a binary search. Valid for a window whose border and inside
- * are border and width × height.
- * The zero cut is empty and not valid.
+ * are border and width × height; the zero cut (width 0) is valid for none.
  */
 struct vis_look_cut {
-	bool valid;
 	int32_t border, width, height;
 	uint32_t n, n_opaque;
 	struct vis_rect *rects;
@@ -126,7 +124,7 @@ struct vis_look_cut {
 /*
  * Cuts a look (not input-only) for an inside of width × height into cut, replacing what it held.
  * Returns 0, or -1 with errno ENOMEM, or EOVERFLOW when a side of the border box passes INT32_MAX
- * (cut is then left not valid). O(k log k + b) for the look's k rectangles and its b pieces.
+ * (cut is then left zero). O(k log k + b) for the look's k rectangles and its b pieces.
  */
 int vis_look_cut_fill(struct vis_look_cut *cut, const struct vis_look *look, int32_t width,
 		      int32_t height);

@@ -157,56 +157,36 @@ static int cut_by(const struct vis_window *a, const struct vis_look_cut *cut,
  * The part of the clip c that w's shaped ancestors leave: their shapes (inside their insides, as
  * X clips children to a parent's bounding shape and inside) cut c into boxes, in *out (malloc'd,
  * *n of them), from the pieces each ancestor keeps, not cut again for every descendant. 0, or -1
- * with ENOMEM or EOVERFLOW.
+ * with ENOMEM.
  */
 static int shape_clip(const struct vis_window *w, struct vis_box c, struct vis_box **out,
 		      size_t *n)
 {
 	struct vis_box *boxes = malloc(sizeof(*boxes)), *next = NULL;
 	size_t nb = 1, cap_boxes = 1, n_next = 0, cap_next = 0;
-	struct vis_pieces tmp = { 0 };
-	if (!boxes)
-		goto nomem;
+	if (!boxes) {
+		errno = ENOMEM;
+		return -1;
+	}
 	boxes[0] = c;
 	for (const struct vis_window *a = w->parent; a && a->parent && nb; a = a->parent) {
 		if (!a->look.shaped)
 			continue;
 		const struct vis_look_cut *cut = vis_wtree_cut(a);
-		if (cut) {
-			if (cut_by(a, cut, boxes, nb, &next, &n_next, &cap_next) < 0)
-				goto fail;
-			struct vis_box *t = boxes;
-			size_t cap_t = cap_boxes;
-			boxes = next;
-			cap_boxes = cap_next;
-			next = t;
-			cap_next = cap_t;
-			nb = n_next;
-			continue;
+		if (!cut || cut_by(a, cut, boxes, nb, &next, &n_next, &cap_next) < 0) {
+			free(boxes);
+			free(next);
+			return -1;
 		}
-		if (errno != EOVERFLOW)
-			goto fail;
-		/* A border box too wide to cut whole: what each box leaves of its shape. */
-		int64_t b = a->look.border;
-		struct vis_box inside = { a->box.x1 + b, a->box.y1 + b, a->box.x2 - b, a->box.y2 - b };
-		struct vis_look shape = { .border = a->look.border, .shaped = true,
-					  .shape = a->look.shape, .n_shape = a->look.n_shape };
-		vis_pieces_reset(&tmp);
-		for (size_t k = 0; k < nb; k++) {
-			struct vis_box in = vis_box_intersect(boxes[k], inside);
-			if (!vis_box_empty(in) && vis_pieces_add(&tmp, &shape, a->box, in, 0) < 0)
-				goto fail;
-		}
-		struct vis_box *more = realloc(boxes, (tmp.stack.n + 1) * sizeof(*boxes));
-		if (!more)
-			goto nomem;
-		boxes = more;
-		cap_boxes = tmp.stack.n + 1;
-		nb = tmp.stack.n;
-		for (size_t k = 0; k < nb; k++)
-			boxes[k] = vis_rect_box(tmp.rects[k]);
+		/* The boxes left become the ones to cut by the next shaped ancestor. */
+		struct vis_box *t = boxes;
+		size_t cap_t = cap_boxes;
+		boxes = next;
+		cap_boxes = cap_next;
+		next = t;
+		cap_next = cap_t;
+		nb = n_next;
 	}
-	vis_pieces_finish(&tmp);
 	if (!boxes) {
 		/* No box left, and none ever made: the caller needs an array, empty, not NULL. */
 		boxes = next;
@@ -216,13 +196,6 @@ static int shape_clip(const struct vis_window *w, struct vis_box c, struct vis_b
 	*out = boxes;
 	*n = nb;
 	return 0;
-nomem:
-	errno = ENOMEM;
-fail:
-	vis_pieces_finish(&tmp);
-	free(boxes);
-	free(next);
-	return -1;
 }
 
 /* Adds a window's pieces, or says whether it is cut (pieces NULL: to a scratch). */
@@ -235,11 +208,7 @@ static int add_window(const struct vis_window *w, size_t i, struct vis_box c,
 		 * once, for its size. */
 		if (w->cut) {
 			const struct vis_look_cut *cut = vis_wtree_cut(w);
-			if (cut)
-				return vis_pieces_add_cut(pieces, cut, w->box, c, (uint32_t)i);
-			/* A border box too wide to cut whole: only what the clip leaves of it. */
-			if (errno != EOVERFLOW)
-				return -1;
+			return cut ? vis_pieces_add_cut(pieces, cut, w->box, c, (uint32_t)i) : -1;
 		}
 		return look ? vis_pieces_add(pieces, look, w->box, c, (uint32_t)i)
 			    : vis_pieces_add(pieces, NULL, c, c, (uint32_t)i);

@@ -334,13 +334,14 @@ int vis_wtree_set_size(struct vis_window *window, int32_t width, int32_t height,
 
 /*
  * Gives window room for the pieces of a look that will (cuts) or will not cut inside its box,
- * emptied: the look is about to change. 0, or -1 with ENOMEM (nothing changed then).
+ * emptied (a zero cut fits no window): the look is about to change. 0, or -1 with ENOMEM
+ * (nothing changed then).
  */
 static int prepare_cut(struct vis_window *window, bool cuts)
 {
+	if (window->cut)
+		vis_look_cut_finish(window->cut);
 	if (!cuts) {
-		if (window->cut)
-			vis_look_cut_finish(window->cut);
 		free(window->cut);
 		window->cut = NULL;
 		return 0;
@@ -349,7 +350,6 @@ static int prepare_cut(struct vis_window *window, bool cuts)
 		errno = ENOMEM;
 		return -1;
 	}
-	window->cut->valid = false;
 	return 0;
 }
 
@@ -360,7 +360,7 @@ const struct vis_look_cut *vis_wtree_cut(const struct vis_window *window)
 		errno = EINVAL;
 		return NULL;
 	}
-	if (cut->valid && cut->border == window->look.border && cut->width == window->width &&
+	if (cut->border == window->look.border && cut->width == window->width &&
 	    cut->height == window->height)
 		return cut;
 	return vis_look_cut_fill(cut, &window->look, window->width, window->height) < 0 ? NULL

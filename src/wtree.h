@@ -146,7 +146,8 @@ void vis_wtree_destroy(struct vis_wtree *tree, struct vis_window *window,
 /*
  * Sets a window's inside, width × height (≥ 1), and its border width (≥ 0). Returns 0, or -1
  * with EINVAL when the border box's sides would pass INT32_MAX or an input-only window would
- * get a border (nothing changes then). O(log k) for the k rectangles of its look.
+ * get a border (nothing changes then). O(1): a look with a shape or opaque rectangles is cut again
+ * for the new size when next asked (vis_wtree_cut()).
  */
 int vis_wtree_set_size(struct vis_window *window, int32_t width, int32_t height, int32_t border);
 
@@ -156,8 +157,8 @@ int vis_wtree_set_border(struct vis_window *window, int32_t border);
 /*
  * Sets a window's bounding shape to a copy of rects[0 … n) (window coordinates, each w, h ≥ 1,
  * overlaps allowed; n = 0: no pixels), or with shaped false back to its border box. Returns 0, or
- * -1 with ENOMEM, or EINVAL for an input-only window (nothing changes then). O(k log k + p) for
- * the k rectangles of its new look and the p boxes of its see-through pixels (look.h).
+ * -1 with ENOMEM, or EINVAL for an input-only window (nothing changes then). O(n); the look is
+ * cut when next asked (vis_wtree_cut()).
  */
 int vis_wtree_set_shape(struct vis_window *window, bool shaped, const struct vis_rect *rects,
 			uint32_t n);
@@ -165,8 +166,8 @@ int vis_wtree_set_shape(struct vis_window *window, bool shaped, const struct vis
 /*
  * Sets which of a window's pixels hide what lies below: mode VIS_OPAQUE_ALL or _NONE (rects
  * ignored), or VIS_OPAQUE_RECTS with a copy of rects[0 … n). Returns 0, or -1 with ENOMEM, or
- * EINVAL for an input-only window or an unknown mode (nothing changes then). As
- * vis_wtree_set_shape(), O(k log k + p).
+ * EINVAL for an input-only window or an unknown mode (nothing changes then). O(n), as
+ * vis_wtree_set_shape().
  */
 int vis_wtree_set_opaque(struct vis_window *window, enum vis_opaque mode,
 			 const struct vis_rect *rects, uint32_t n);
@@ -188,8 +189,8 @@ struct vis_window *vis_wtree_find_external(const struct vis_wtree *tree, uint32_
  * The window's look cut into its pieces for its size now (look.h), kept until the look or the size
  * changes, so that recomputes place the pieces instead of cutting the look again; only for a
  * window whose look has a shape or opaque rectangles (window->cut is not NULL). NULL with errno
- * EINVAL for another window, ENOMEM or EOVERFLOW. O(1) when kept, else O(k log k + b) for the
- * look's k rectangles and its b pieces.
+ * EINVAL for another window, or ENOMEM. O(1) when kept, else O(k log k + b) for the look's k
+ * rectangles and its b pieces.
  */
 const struct vis_look_cut *vis_wtree_cut(const struct vis_window *window);
 

@@ -534,8 +534,10 @@ static const char *change(enum op op, int i, int other, int32_t x, int32_t y)
 			a->x = b->x = x;
 			a->y = b->y = y;
 		} else {
-			a->width = b->width = x;
-			a->height = b->height = y;
+			/* Through the setter, which keeps the border box's sides within INT32_MAX. */
+			int ra = vis_wtree_set_size(a, x, y, a->look.border);
+			int rb = vis_wtree_set_size(b, x, y, b->look.border);
+			assert(ra == rb);
 		}
 		damage_of(b);
 		break;
