@@ -45,16 +45,16 @@ bool server_look_pieces_ok(struct client *c, uint32_t seq, uint32_t op, const st
 				    w->id, strerror(errno));
 		return false;
 	}
-	struct client *owner = vis_idmap_get(&c->server->clients_by_id, w->owner);
+	struct client *owner = vis_idmap_get(&server->clients_by_id, w->owner);
 	uint64_t old = server_look_charged(w);
 	if (owner && cut->n > old &&
-	    owner->n_look_pieces - old + cut->n > c->server->opt.max_look_pieces) {
+	    owner->n_look_pieces - old + cut->n > server->opt.max_look_pieces) {
 		server_client_error(c, seq, op, VIS_ERROR_LIMIT,
 				    "the looks of client %u's windows would cut into %llu pieces, "
 				    "past the limit of %u (visd --max-look-pieces)",
 				    owner->id,
 				    (unsigned long long)(owner->n_look_pieces - old + cut->n),
-				    c->server->opt.max_look_pieces);
+				    server->opt.max_look_pieces);
 		vis_look_cut_finish(cut);
 		return false;
 	}
@@ -69,4 +69,3 @@ void server_look_keep(struct server *server, struct vis_window *w, uint64_t old,
 		owner->n_look_pieces = owner->n_look_pieces - old + cut->n;
 	vis_wtree_keep_cut(w, cut);
 }
-

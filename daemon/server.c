@@ -649,7 +649,7 @@ static void window_gone(void *data, struct vis_window *w)
 	if (owner) {
 		owner->n_windows--;
 		owner->n_look_rects -= (uint64_t)w->look.n_shape + w->look.n_opaque;
-		owner->n_look_pieces -= w->cut ? w->cut->n : 0;
+		owner->n_look_pieces -= server_look_charged(w);
 	}
 	if (w->retained)
 		server_quota_release(server, w);
