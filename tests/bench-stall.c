@@ -126,14 +126,10 @@ static bool strips;
 static void send_look(struct harness_conn *c, uint32_t opcode, uint32_t window, uint32_t n,
 		      int32_t side, int32_t offset)
 {
-	uint32_t *words = malloc((3 + 4 * (size_t)n) * sizeof *words);
-	uint8_t *b = malloc(VIS_MSG_HEADER + 4 * (3 + 4 * (size_t)n));
-	CHECK(words && b, "out of memory");
-	words[0] = window;
-	words[1] = opcode == VIS_OP_SET_SHAPE ? 1 : 2; /* shaped; opaque mode "the rects" */
-	words[2] = n;
+	uint32_t *rects = malloc(4 * (size_t)n * sizeof *rects);
+	CHECK(rects, "out of memory");
 	for (uint32_t k = 0; k < n; k++) {
-		uint32_t *r = words + 3 + 4 * k;
+		uint32_t *r = rects + 4 * k;
 		r[0] = (uint32_t)(offset + (int32_t)(k % 50) * (2 * side + 1));
 		r[1] = (uint32_t)(offset + (int32_t)(k / 50) * (2 * side + 1));
 		r[2] = r[3] = (uint32_t)side;
@@ -145,9 +141,9 @@ static void send_look(struct harness_conn *c, uint32_t opcode, uint32_t window, 
 			r[3] = across ? 1 : 4096;
 		}
 	}
-	harness_request_raw(c, b, harness_build(b, opcode, words, 3 + 4 * (size_t)n));
-	free(words);
-	free(b);
+	/* shaped; opaque mode "the rects" */
+	harness_look(c, opcode, window, opcode == VIS_OP_SET_SHAPE ? 1 : 2, rects, n);
+	free(rects);
 }
 
 /* Creates n mapped windows of w × h under parent, spread over a width × height area, pipelined;

@@ -556,6 +556,24 @@ void harness_hello(struct harness_conn *c, uint32_t role)
 	c->max_request = m.args[6].u;
 }
 
+uint32_t harness_look(struct harness_conn *c, uint32_t op, uint32_t window, uint32_t mode,
+		      const uint32_t *rects, uint32_t n)
+{
+	size_t words_n = 3 + 4 * (size_t)n;
+	uint32_t *words = malloc(words_n * sizeof *words);
+	uint8_t *b = malloc(VIS_MSG_HEADER + 4 * words_n);
+	CHECK(words && b, "out of memory");
+	words[0] = window;
+	words[1] = mode;
+	words[2] = n;
+	if (n)
+		memcpy(words + 3, rects, 16 * (size_t)n);
+	uint32_t seq = harness_request_raw(c, b, harness_build(b, op, words, words_n));
+	free(words);
+	free(b);
+	return seq;
+}
+
 uint32_t harness_create(struct harness_conn *c, uint32_t parent, int32_t x, int32_t y, uint32_t w,
 			uint32_t h, uint32_t flags)
 {

@@ -142,6 +142,12 @@ void harness_send_copies(struct harness_conn *c, const void *req, size_t size, u
 void harness_create_many(struct harness_conn *c, uint32_t n, int32_t x, int32_t y);
 /* Milliseconds on the monotonic clock. */
 double harness_clock_ms(void);
+/*
+ * Sends set-shape or set-opaque (op) for window with mode (shaped, or the opaque mode) and n
+ * rectangles, rects[4k … 4k + 4) their x, y, width and height; returns its sequence number.
+ */
+uint32_t harness_look(struct harness_conn *c, uint32_t op, uint32_t window, uint32_t mode,
+		      const uint32_t *rects, uint32_t n);
 /* Creates a window; returns its ID. */
 uint32_t harness_create(struct harness_conn *c, uint32_t parent, int32_t x, int32_t y, uint32_t w,
 			uint32_t h, uint32_t flags);

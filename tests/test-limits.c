@@ -165,17 +165,6 @@ static void test_configured_limits(void)
 	harness_stop(&d);
 }
 
-/* A daemon with few descriptors: a flood is refused cleanly, and it serves again afterwards. */
-/* Sends a look request (op set-shape or set-opaque) of n rectangles r[0 … 4n) for window w. */
-static uint32_t send_look(struct harness_conn *c, uint32_t op, uint32_t w, uint32_t mode,
-			  const uint32_t *r, uint32_t n)
-{
-	uint32_t words[3 + 4 * 8] = { w, mode, n };
-	uint8_t b[VIS_MSG_HEADER + sizeof words];
-	memcpy(words + 3, r, 16 * (size_t)n);
-	return harness_request_raw(c, b, harness_build(b, op, words, 3 + 4 * (size_t)n));
-}
-
 /* --max-look-pieces counts what looks cut into, at the windows' sizes: few rectangles that cross
  * are many pieces, and a resize can make more. */
 static void test_look_pieces(void)
@@ -191,18 +180,18 @@ static void test_look_pieces(void)
 	static const uint32_t down[] = { 0, 0, 1, 100, 2, 0, 1, 100 };
 	static const uint32_t squares[] = { 0, 0, 1, 1, 2, 0, 1, 1, 4, 0, 1, 1, 6, 0, 1, 1,
 					    8, 0, 1, 1, 10, 0, 1, 1, 12, 0, 1, 1, 14, 0, 1, 1 };
-	send_look(&c, VIS_OP_SET_SHAPE, w0, 1, across, 2);   /* 2 pieces */
-	send_look(&c, VIS_OP_SET_SHAPE, w1, 1, squares, 8);  /* 8: 10 in all, the limit */
+	harness_look(&c, VIS_OP_SET_SHAPE, w0, 1, across, 2);   /* 2 pieces */
+	harness_look(&c, VIS_OP_SET_SHAPE, w1, 1, squares, 8);  /* 8: 10 in all, the limit */
 	/* Two strips down cut the two across into 4 opaque crossings and 4 see-through pieces. */
-	uint32_t seq = send_look(&c, VIS_OP_SET_OPAQUE, w0, 2, down, 2);
+	uint32_t seq = harness_look(&c, VIS_OP_SET_OPAQUE, w0, 2, down, 2);
 	limits_expect_limit(&c, seq, VIS_OP_SET_OPAQUE, "--max-look-pieces");
 	harness_req(&c, VIS_OP_DESTROY, w1); /* frees its 8 */
-	send_look(&c, VIS_OP_SET_OPAQUE, w0, 2, down, 2); /* 8 */
+	harness_look(&c, VIS_OP_SET_OPAQUE, w0, 2, down, 2); /* 8 */
 	harness_sync(&c, NULL);
 
 	harness_context("look pieces per connection: a resize cuts again");
 	uint32_t w2 = harness_create(&c, 0, 200, 0, 10, 1, VIS_CREATE_MAP);
-	send_look(&c, VIS_OP_SET_OPAQUE, w2, 2, squares, 1); /* 1 opaque, 1 see-through: 10 */
+	harness_look(&c, VIS_OP_SET_OPAQUE, w2, 2, squares, 1); /* 1 opaque, 1 see-through: 10 */
 	seq = harness_req(&c, VIS_OP_RESIZE, w2, 10, 10);      /* 1 + 2: 11 */
 	limits_expect_limit(&c, seq, VIS_OP_RESIZE, "--max-look-pieces");
 	seq = harness_req(&c, VIS_OP_CONFIGURE, w2, 200, 0, 10, 1, 1); /* a border: 1 + 4 */
@@ -224,17 +213,12 @@ static void test_look_pieces(void)
 		/* A shape of 4,000 squares, all past the border box: no pieces, but each resize
 		 * cuts it again, 128,032 windows' worth of a batch's 4,194,304. */
 		enum { N = 4000 };
-		uint32_t *words = malloc((3 + 4 * N) * sizeof *words);
-		uint8_t *b = malloc(VIS_MSG_HEADER + 4 * (3 + 4 * N));
-		CHECK(words && b, "out of memory");
-		words[0] = w2, words[1] = 1, words[2] = N;
+		static uint32_t far[4 * N];
 		for (uint32_t k = 0; k < N; k++) {
-			uint32_t *r = words + 3 + 4 * k;
+			uint32_t *r = far + 4 * k;
 			r[0] = 1000 + 2 * k, r[1] = 0, r[2] = r[3] = 1;
 		}
-		harness_request_raw(&c, b, harness_build(b, VIS_OP_SET_SHAPE, words, 3 + 4 * N));
-		free(words);
-		free(b);
+		harness_look(&c, VIS_OP_SET_SHAPE, w2, 1, far, N);
 		harness_sync(&c, NULL);
 		harness_req(&c, VIS_OP_BATCH_BEGIN);
 		for (uint32_t k = 0; k < 40; k++)
@@ -264,6 +248,7 @@ static void test_look_pieces(void)
 	harness_stop(&d);
 }
 
+/* A daemon with few descriptors: a flood is refused cleanly, and it serves again afterwards. */
 static void test_descriptor_shortage(void)
 {
 	harness_context("descriptor shortage");

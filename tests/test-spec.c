@@ -114,13 +114,7 @@ static void test_viewable(const struct harness_daemon *d)
 static void set_look(struct harness_conn *c, uint32_t op, uint32_t id, uint32_t mode,
 		     const int32_t (*r)[4], uint32_t n)
 {
-	uint32_t words[3 + 4 * 8] = { id, mode, n };
-	uint8_t b[VIS_MSG_HEADER + sizeof words];
-	CHECK(n <= 8, "%u rectangles", n);
-	for (uint32_t i = 0; i < n; i++)
-		for (int k = 0; k < 4; k++)
-			words[3 + 4 * i + k] = (uint32_t)r[i][k];
-	harness_request_raw(c, b, harness_build(b, op, words, 3 + 4 * n));
+	harness_look(c, op, id, mode, (const uint32_t *)r, n);
 }
 
 /* Whether get-tree and the last stack notice about id both have the translucent flag as want. */
