@@ -258,21 +258,32 @@ region:;
 	return cut(l->u, clip, ok);
 }
 
+static bool append_boxes(pixman_box32_t **all, size_t *n, size_t *cap, const pixman_box32_t *b,
+			 size_t m);
+static int hide_cells(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t *u,
+		      bool *hit, size_t *steps, size_t budget);
+
 /*
  * Takes off u every pixel of a viewable window whose key is above end (after w's subtree in
  * pre-order: the windows that can hide w), walking the grid from both ends of that range at
  * once, so that what hides u is found early whether it lies just above w (a cascade) or at the
  * top (a maximized window). Stops once u is empty. Sets *hit when some pixel was taken off.
- * 0, or -1 (ENOMEM).
+ * Once the pixels fragment past a walk's boxes, a walk over more than one cell goes on a cell at
+ * a time (split), as walk_left() does: a large window punched by many small ones cost a region
+ * rebuilt at each cut, O(holes²) (1,000 holes in a chain's levels: 30 ms a query).
+ * 0, or -1 (ENOMEM), or OVER_BUDGET.
  */
-static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t *u, bool *hit,
-		size_t *steps, size_t budget)
+/* The boxes, in walk's boxes, past which hide() goes on a cell at a time. */
+#define SPLIT_BOXES 4
+
+static int hide_split(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t *u,
+		      bool *hit, size_t *steps, size_t budget, bool split)
 {
 	struct vis_zgrid_walk up, down;
 	struct left l;
 	left_init(&l, u, lv->left_boxes);
 	struct vis_box ext = left_extents(&l);
-	bool ok = true;
+	bool ok = true, fragmented = false;
 	*hit = false;
 	if (vis_zgrid_walk_init(&up, &lv->grid, ext, end, true) < 0)
 		return -1;
@@ -283,7 +294,7 @@ static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t
 	uint64_t lo = end, hi = UINT64_MAX;
 	bool go_up = true, go_down = true;
 	struct misses misses[2] = { { 0, 0 }, { 0, 0 } };
-	while ((go_up || go_down) && !left_empty(&l) && ok) {
+	while ((go_up || go_down) && !left_empty(&l) && ok && !fragmented) {
 		for (int side = 0; side < 2; side++) {
 			bool *go = side ? &go_down : &go_up;
 			uint64_t key;
@@ -307,6 +318,11 @@ static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t
 				*hit = true;
 				if (!ok || left_empty(&l))
 					break;
+				if (split && l.n == LEFT_REGION && up.n > 1 &&
+				    (size_t)pixman_region32_n_rects(l.u) > SPLIT_BOXES * l.cap) {
+					fragmented = true;
+					break;
+				}
 				ext = left_extents(&l);
 				vis_zgrid_walk_narrow(&up, ext);
 				vis_zgrid_walk_narrow(&down, ext);
@@ -319,9 +335,60 @@ static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t
 	if (*steps > budget)
 		return OVER_BUDGET;
 	ok = ok && kept;
-	if (!ok)
+	if (!ok) {
 		errno = ENOMEM;
-	return ok ? 0 : -1;
+		return -1;
+	}
+	/* The cells walk again what this walk cut: it took off those pixels already. */
+	return fragmented ? hide_cells(lv, end, u, hit, steps, budget) : 0;
+}
+
+static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t *u, bool *hit,
+		size_t *steps, size_t budget)
+{
+	return hide_split(lv, end, u, hit, steps, budget, true);
+}
+
+/* hide() over u (a region) in each grid cell apart; what the cells leave, disjoint, is joined
+ * once at the end. */
+static int hide_cells(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t *u,
+		      bool *hit, size_t *steps, size_t budget)
+{
+	uint32_t r[4];
+	if (!pixman_region32_not_empty(u) ||
+	    !vis_zgrid_cells(&lv->grid, vbox(pixman_region32_extents(u)), r))
+		return 0;
+	pixman_box32_t *rest = NULL;
+	size_t n_rest = 0, cap = 0;
+	bool ok = true;
+	int rc = 0;
+	for (uint32_t y = r[1]; ok && rc == 0 && y <= r[3]; y++)
+		for (uint32_t x = r[0]; ok && rc == 0 && x <= r[2]; x++) {
+			pixman_box32_t c = pbox(vis_zgrid_cell_box(&lv->grid, x, y));
+			pixman_region32_t piece;
+			pixman_region32_init_rect(&piece, c.x1, c.y1, (unsigned)(c.x2 - c.x1),
+						  (unsigned)(c.y2 - c.y1));
+			ok = pixman_region32_intersect(&piece, &piece, u);
+			bool cell_hit = false;
+			if (ok && pixman_region32_not_empty(&piece)) {
+				rc = hide_split(lv, end, &piece, &cell_hit, steps, budget, false);
+				*hit |= cell_hit;
+			}
+			int m = 0;
+			const pixman_box32_t *b = pixman_region32_rectangles(&piece, &m);
+			ok = ok && (rc != 0 || append_boxes(&rest, &n_rest, &cap, b, (size_t)m));
+			pixman_region32_fini(&piece);
+		}
+	if (rc == 0 && ok) {
+		pixman_region32_fini(u);
+		ok = pixman_region32_init_rects(u, rest, (int)n_rest);
+	}
+	free(rest);
+	if (rc == 0 && !ok) {
+		errno = ENOMEM;
+		rc = -1;
+	}
+	return rc;
 }
 
 /* Keeps a region as a seen: its boxes when few, else its extents. */

@@ -775,6 +775,32 @@ static void scripted(void)
 	assert(state(parent) == U && state(child) == U);
 	scene_end();
 
+	/*
+	 * A large window punched by many small ones over several grid cells (a chain's levels),
+	 * moved and so walked: what it sees fragments past the walk's boxes and the walk goes on a
+	 * cell at a time; its parent too, which its children do not hide.
+	 */
+	vis_wtree_init(&tree, 192, 128);
+	vis_wtree_init(&twin, 192, 128);
+	assert(vis_wtree_live_from(&twin, 0) == 0);
+	wtree_live_tune(&twin, 0, 1, 2, 0);
+	nwins = 0;
+	n_damage = 0;
+	damage_all = false;
+	int frame = put(-1, 0, 0, 192, 128), punched = put(frame, 1, 1, 190, 126);
+	struct vis_rng holes = { 7 };
+	for (int i = 0; i < 40; i++)
+		put(i % 3 ? -1 : frame, (int32_t)vis_rng_below(&holes, 188),
+		    (int32_t)vis_rng_below(&holes, 124), 1 + (int32_t)vis_rng_below(&holes, 3),
+		    1 + (int32_t)vis_rng_below(&holes, 3));
+	check_both(0, "a window punched by many");
+	check_both(0, change(MOVE, punched, 0, 2, 1));
+	check_both(0, change(MOVE, frame, 0, 1, 0));
+	check_both(0, change(RAISE, punched, 0, 0, 0));
+	check_both(0, change(LOWER, punched, 0, 0, 0));
+	assert(state(frame) == P && state(punched) == P);
+	scene_end();
+
 	/* A window lowered past one that misses what it sees, onto one that holds all of it: the
 	 * windows now above it are those between its places, not those below. */
 	scene_begin();
