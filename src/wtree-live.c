@@ -637,6 +637,11 @@ bool wtree_live_order_stale(const struct vis_wtree *tree)
 	return tree->live && tree->live->valid && tree->n_order == 0 && tree->count > 0;
 }
 
+bool wtree_live_indexed(const struct vis_wtree *tree)
+{
+	return tree->live && tree->live->valid;
+}
+
 /* Whether some ancestor of w was noted too: its change takes w's in. */
 static bool under_dirty(const struct vis_window *w)
 {

@@ -308,6 +308,10 @@ void wtree_live_repair(struct vis_wtree *tree, const struct vis_wtree_work *wk);
 /* Whether the order (tree->order, positions) is stale: the last recompute was a live one. */
 bool wtree_live_order_stale(const struct vis_wtree *tree);
 
+/* Whether the live structures hold every viewable window's clip under its key (then none has a
+ * look), so that a visible region can be walked from the grid whatever the last recompute. */
+bool wtree_live_indexed(const struct vis_wtree *tree);
+
 
 /* For self-checks: NULL when the live structures, if valid, meet their invariants, else what
  * is wrong. O(n · cells). */

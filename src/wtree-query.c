@@ -39,7 +39,9 @@ static int border_box_region(const struct vis_wtree *tree, const struct vis_wind
 	if (window->state == VIS_WTREE_STATE_NONE || window->state == VIS_FULLY_OBSCURED ||
 	    vis_box_empty(clip))
 		return 0;
-	if (wtree_live_order_stale(tree))
+	/* The grid's walk costs the windows above it there, not every window above it: a batch
+	 * of 4,096 moves among 20,000 tracked windows spent 380 ms in the loop below. */
+	if (wtree_live_indexed(tree))
 		return wtree_live_walk_region(tree, window, region);
 	/* Its own pixels, numbered 0, and the later windows' inside its clip, numbered 1. The boxes
 	 * lie in the clip, so relative to the box in [0, INT32_MAX) (the box's sides' range). */

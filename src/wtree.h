@@ -444,7 +444,8 @@ bool vis_wtree_changes(const struct vis_wtree *tree, struct vis_window *const **
  * −border … 0 and width … width + border), y-x banded, into a pixman region
  * (pixman_region32_t *, initialized by the caller); empty for input-only windows. Needs a
  * computed tree. 0 or -1 (ENOMEM).
- * O(n + r log r) for r pieces of the window and of the later windows that overlap it.
+ * O(n + r log r) for r pieces of the window and of the later windows that overlap it; while the
+ * live structures are built (no window has a look), a walk over the later windows there.
  */
 int vis_wtree_visible_region(const struct vis_wtree *tree, const struct vis_window *window,
 			     void *region);
