@@ -393,6 +393,18 @@ done
 if [ "$(head -n 1 "$T/out")" = "screen 1000 800" ]; then pass; else fail "gen with screen size"; fi
 expect_out "gen 0 windows" 'screen 3840 2160\n' gen random 0 1
 
+# --- visctl bench --family: scenes drawn from the family, every engine agreeing ----------------
+run bench --family 6 --min-n 50 --max-n 400 --quick --seed 3 --csv "$T/family.csv"
+if [ "$rc" -eq 0 ] && grep -q '^| auto | ' "$T/out" && grep -q '^| region | ' "$T/out" &&
+	grep -q '^  gmv-heap: scene [0-9]*, .*n=[0-9]* ' "$T/out" &&
+	[ "$(grep -c '^[0-9]*,"n=' "$T/family.csv")" -eq 6 ]; then pass
+else fail "bench --family: status $rc, table or CSV wrong"; fi
+expect_fail "bench --family 0" 2 "bad number '0'" bench --family 0
+expect_fail "bench --min-n over --max-n" 2 "--min-n 500 is over --max-n 400" \
+	bench --family 2 --min-n 500 --max-n 400
+expect_fail "bench --family with --svg" 2 "--svg plots the kinds" \
+	bench --family 2 --svg "$T/x.svg"
+
 # --- visctl plot-service: the service benchmark's plot from a fixed CSV -----------------------
 f=$(scene service.csv 'run,windows,clients,p50_us,p99_us,p999_us,ok\nlatency,1000,1,60.1,110.5,150.2,1\nthroughput,1000,1,900,1500,1600,1\nlatency,100,1,33.0,78.8,104.3,1\nlatency,100,10,36.4,191.5,216.8,1\nlatency,1000,10,60.4,217.1,244.2,1\n')
 run plot-service --note "a <note> & more" "$f" "$T/service.svg"

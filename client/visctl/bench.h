@@ -51,6 +51,13 @@ static inline struct cell *cell_at(const struct bench *b, size_t k, size_t s, si
 	return &b->cells[(k * b->nsizes + s) * (b->nengines + 1) + c];
 }
 
+/*
+ * Times b's engines on count scenes drawn from the scene family (family.h) with b's seed, n
+ * log-uniform in [min_n, max_n], and prints each engine's time / the fastest's: median, p95,
+ * worst and the worst scene. csv, unless NULL, gets a row a scene. 0, or -1 after a message.
+ */
+int bench_family(const struct bench *b, uint64_t count, size_t min_n, size_t max_n, FILE *csv);
+
 /* Writes the log-log plot of time against n, one panel per kind. Returns 0, or -1 on error. */
 int bench_svg_write(const struct bench *b, FILE *f);
 

@@ -136,11 +136,19 @@ static void usage(FILE *f)
 		"usage: visctl bench [--kinds K,...] [--engines E,...] [--sizes N,...]\n"
 		"                    [--max-n N] [--reps R] [--seed S] [--limit SECONDS]\n"
 		"                    [--svg FILE] [--csv FILE] [--quick]\n"
+		"       visctl bench --family COUNT [--min-n N] [--max-n N] [--engines E,...]\n"
+		"                    [--seed S] [--csv FILE] [--quick]\n"
 		"Times vis_compute per engine on generated scenes (minimum over repetitions;\n"
 		"by default at least 3, until 0.2 s is spent on a cell) against qsort of the 4n\n"
 		"coordinates. Defaults: all kinds; engines auto,gmv,gmv-heap,region;\n"
 		"sizes 1000,2000,10000,100000,200000,400000,1000000; seed 1; limit 60 s.\n"
-		"--quick: sizes up to 10000 and 0.02 s per cell, a smoke run.\n");
+		"--quick: sizes up to 10000 and 0.02 s per cell, a smoke run.\n"
+		"--family: COUNT scenes drawn at random from a family with continuous parameters\n"
+		"(window sizes, aspect, placement, steps, alignment, bars, screen or none; n from\n"
+		"--min-n, default 100, to --max-n, default 100000), each engine's time against the\n"
+		"fastest's on the same scene: median, p95, worst, and the worst scene's parameters;\n"
+		"at least 3 runs and 0.01 s an engine (--quick: 3 runs); an engine past 32 times the\n"
+		"fastest (and 2 s) is stopped and counted as slower than that.\n");
 }
 
 /*
@@ -436,7 +444,7 @@ static int close_output(FILE *f, const char *path, bool wrote)
 
 /* Parses the options into b; returns 0, 1 after --help, or 2 after printing what is wrong. */
 static int parse_options(struct bench *b, int argc, char **argv, const char **svg,
-			 const char **csv)
+			 const char **csv, uint64_t *family, uint64_t *min_n, uint64_t *family_max_n)
 {
 	static const struct option longopts[] = {
 		{ "kinds", required_argument, NULL, 'k' },
@@ -449,6 +457,8 @@ static int parse_options(struct bench *b, int argc, char **argv, const char **sv
 		{ "svg", required_argument, NULL, 'g' },
 		{ "csv", required_argument, NULL, 'c' },
 		{ "quick", no_argument, NULL, 'q' },
+		{ "family", required_argument, NULL, 'F' },
+		{ "min-n", required_argument, NULL, 'M' },
 		{ "help", no_argument, NULL, 'h' },
 		{ NULL, 0, NULL, 0 },
 	};
@@ -472,12 +482,19 @@ static int parse_options(struct bench *b, int argc, char **argv, const char **sv
 		case 'm':
 		case 'r':
 		case 'S':
-			if (parse_u64(optarg, &v) < 0 || (opt == 'r' && (v < 1 || v > 1000000))) {
+		case 'F':
+		case 'M':
+			if (parse_u64(optarg, &v) < 0 || (opt == 'r' && (v < 1 || v > 1000000)) ||
+			    ((opt == 'F' || opt == 'M') && (v < 1 || v > 10000000))) {
 				fprintf(stderr, "visctl bench: bad number '%s'\n", optarg);
 				return 2;
 			}
-			if (opt == 'm')
-				max_n = v;
+			if (opt == 'F')
+				*family = v;
+			else if (opt == 'M')
+				*min_n = v;
+			else if (opt == 'm')
+				max_n = *family_max_n = v;
 			else if (opt == 'r')
 				b->reps = (unsigned)v;
 			else
@@ -513,6 +530,15 @@ static int parse_options(struct bench *b, int argc, char **argv, const char **sv
 		fprintf(stderr, "visctl bench: unexpected argument '%s'\n", argv[optind]);
 		return 2;
 	}
+	if (*family) {
+		b->target_s = quick ? 0 : 0.01;
+		if (*min_n > *family_max_n) {
+			fprintf(stderr, "visctl bench: --min-n %llu is over --max-n %llu\n",
+				(unsigned long long)*min_n, (unsigned long long)*family_max_n);
+			return 2;
+		}
+		return 0;
+	}
 	if (quick) {
 		b->target_s = 0.02;
 		if (!sizes_given && max_n > 10000)
@@ -547,9 +573,14 @@ int cmd_bench(int argc, char **argv)
 		b.engines[b.nengines++] = default_engines[i];
 	for (size_t i = 0; i < sizeof(default_sizes) / sizeof(default_sizes[0]); i++)
 		b.sizes[b.nsizes++] = default_sizes[i];
-	int r = parse_options(&b, argc, argv, &svg_path, &csv_path);
+	uint64_t family = 0, min_n = 100, family_max_n = 100000;
+	int r = parse_options(&b, argc, argv, &svg_path, &csv_path, &family, &min_n, &family_max_n);
 	if (r != 0)
 		return r == 1 ? VISCTL_EXIT_OK : VISCTL_EXIT_USAGE;
+	if (family && svg_path) {
+		fprintf(stderr, "visctl bench: --svg plots the kinds, not --family\n");
+		return VISCTL_EXIT_USAGE;
+	}
 
 	/* Open the outputs now: a bad path should fail before an hour of measuring, not after. */
 	if ((svg_path != NULL && (svg = fopen(svg_path, "w")) == NULL) ||
@@ -571,16 +602,29 @@ int cmd_bench(int argc, char **argv)
 #else
 	printf("build: assertions on (figures include self-checks; use a release build); ");
 #endif
-	if (b.reps != 0)
+	if (family)
+		printf("%s\n", b.target_s > 0 ? "fastest of at least 3 runs and 0.01 s an engine"
+					      : "fastest of 3 runs an engine");
+	else if (b.reps != 0)
 		printf("seed %llu; minimum of %u reps per cell; skip limit %g s\n",
 		       (unsigned long long)b.seed, b.reps, b.limit_s);
 	else
 		printf("seed %llu; minimum of at least 3 reps, until %g s per cell; skip limit %g s\n",
 		       (unsigned long long)b.seed, b.target_s, b.limit_s);
-	printf("ms: fastest run of vis_compute\n"
-	       "/qsort: engine time / qsort time (lower is better)\n"
-	       "speed-up: region time / engine time (higher is better; > 1 beats region)\n");
+	if (!family)
+		printf("ms: fastest run of vis_compute\n"
+		       "/qsort: engine time / qsort time (lower is better)\n"
+		       "speed-up: region time / engine time (higher is better; > 1 beats region)\n");
 	fflush(stdout);
+	if (family) {
+		if (bench_family(&b, family, (size_t)min_n, (size_t)family_max_n, csv) == 0)
+			ret = VISCTL_EXIT_OK;
+		if (csv && ferror(csv)) {
+			fprintf(stderr, "visctl bench: writing %s failed\n", csv_path);
+			ret = VISCTL_EXIT_FAILURE;
+		}
+		goto out;
+	}
 
 	for (size_t k = 0; k < b.nkinds; k++) {
 		for (size_t s = 0; s < b.nsizes; s++)

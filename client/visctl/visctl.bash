@@ -15,7 +15,7 @@ _visctl_options() {
 	case $1 in
 	"") echo "-s --socket --role -h --help --version" ;;
 	compute) echo "--engine --visible --json --time --svg --help" ;;
-	bench) echo "--kinds --engines --sizes --max-n --reps --seed --limit --svg --csv --quick --help" ;;
+	bench) echo "--kinds --engines --sizes --max-n --reps --seed --limit --svg --csv --quick --family --min-n --help" ;;
 	plot-service) echo "--note --help" ;;
 	create) echo "--parent --map --retain --border --input-only --x11 --external --help" ;;
 	shape) echo "--box --help" ;;
@@ -39,7 +39,7 @@ _visctl_takes_value() {
 	create:--border | create:--x11 | create:--external | lookup:--x11) return 0 ;;
 	snapshot:--svg | watch:--count) return 0 ;;
 	bench:--kinds | bench:--engines | bench:--sizes | bench:--max-n | bench:--reps) return 0 ;;
-	bench:--seed | bench:--limit | bench:--svg | bench:--csv) return 0 ;;
+	bench:--seed | bench:--limit | bench:--svg | bench:--csv | bench:--family | bench:--min-n) return 0 ;;
 	stress:-c | stress:-n | stress:--count | stress:--duration | stress:-R) return 0 ;;
 	stress:--pipeline | stress:--mix | stress:--batch-size | stress:--seed) return 0 ;;
 	stress:--record | stress:--pid) return 0 ;;
