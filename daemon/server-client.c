@@ -146,6 +146,7 @@ static void drop_windows(struct client *c)
 		if (!v)
 			continue; /* went with an ancestor */
 		if (v->retained) {
+			server_quota_orphan(server, v, c);
 			v->owner = 0;
 			c->n_windows--;
 		} else

@@ -1,7 +1,7 @@
 /*
  * What the looks of a connection's windows cost: the pieces they cut into (vis_wtree_cut()),
- * counted against the window's owner while it is connected and bounded by --max-look-pieces, as
- * every recompute that meets a window places its pieces.
+ * counted against the window's owner and its uid (server_quota_look()) and bounded by
+ * --max-look-pieces, as every recompute that meets a window places its pieces.
  */
 #include <errno.h>
 #include <string.h>
@@ -45,16 +45,8 @@ bool server_look_pieces_ok(struct client *c, uint32_t seq, uint32_t op, const st
 				    w->id, strerror(errno));
 		return false;
 	}
-	struct client *owner = vis_idmap_get(&server->clients_by_id, w->owner);
 	uint64_t old = server_look_charged(w);
-	if (owner && cut->n > old &&
-	    owner->n_look_pieces - old + cut->n > server->opt.max_look_pieces) {
-		server_client_error(c, seq, op, VIS_ERROR_LIMIT,
-				    "the looks of client %u's windows would cut into %llu pieces, "
-				    "past the limit of %u (visd --max-look-pieces)",
-				    owner->id,
-				    (unsigned long long)(owner->n_look_pieces - old + cut->n),
-				    server->opt.max_look_pieces);
+	if (cut->n > old && !server_quota_look_room(c, seq, op, w, 0, cut->n - old)) {
 		vis_look_cut_finish(cut);
 		return false;
 	}
@@ -64,8 +56,6 @@ bool server_look_pieces_ok(struct client *c, uint32_t seq, uint32_t op, const st
 void server_look_keep(struct server *server, struct vis_window *w, uint64_t old,
 		      struct vis_look_cut *cut)
 {
-	struct client *owner = vis_idmap_get(&server->clients_by_id, w->owner);
-	if (owner)
-		owner->n_look_pieces = owner->n_look_pieces - old + cut->n;
+	server_quota_look(server, w, 0, (int64_t)cut->n - (int64_t)old);
 	vis_wtree_keep_cut(w, cut);
 }

@@ -5,6 +5,7 @@
  * retained windows, which outlive the connection that made them and so are counted against its
  * uid for as long as they exist.
  */
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "log.h"
@@ -13,11 +14,15 @@
 
 /*
  * One uid's holdings. Invariant: a uid is in server->quotas exactly while it has a connection or
- * a retained window, and clients and retained count exactly those.
+ * a retained window, and clients and retained count exactly those; rects and pieces count the
+ * looks (shape and opaque rectangles, the pieces they cut into) of the windows its connections
+ * own and of the retained windows they left behind, left_rects and left_pieces those of the
+ * latter alone.
  */
 struct quota {
 	uint32_t clients;  /* connections, on either socket */
 	uint32_t retained; /* retained windows its connections created that still exist */
+	uint64_t rects, pieces, left_rects, left_pieces;
 };
 
 /* The map's key of a uid: uid + 1, as key 0 marks an empty slot and uid 0 is root. */
@@ -145,6 +150,90 @@ void server_quota_release(struct server *server, struct vis_window *w)
 	q->retained--;
 	server->n_retained--;
 	forget_if_empty(server, d->retained_by, q);
+}
+
+/* Adds a signed change to a count that the invariants keep from going below zero. */
+static void add(uint64_t *count, int64_t d)
+{
+	*count = (uint64_t)((int64_t)*count + d);
+}
+
+void server_quota_look(struct server *server, const struct vis_window *w, int64_t rects,
+		       int64_t pieces)
+{
+	struct client *owner = vis_idmap_get(&server->clients_by_id, w->owner);
+	const struct window_data *d = w->data;
+	struct quota *q = owner ? quota_of(server, owner->uid)
+			  : w->retained && d ? quota_of(server, d->retained_by) : NULL;
+	if (owner) {
+		add(&owner->n_look_rects, rects);
+		add(&owner->n_look_pieces, pieces);
+	} else if (q) {
+		add(&q->left_rects, rects);
+		add(&q->left_pieces, pieces);
+	}
+	if (q) {
+		add(&q->rects, rects);
+		add(&q->pieces, pieces);
+	}
+}
+
+void server_quota_orphan(struct server *server, struct vis_window *w, struct client *owner)
+{
+	const struct window_data *d = w->data;
+	struct quota *q = d ? quota_of(server, d->retained_by) : NULL;
+	uint64_t rects = (uint64_t)w->look.n_shape + w->look.n_opaque;
+	uint64_t pieces = server_look_charged(w);
+	add(&owner->n_look_rects, -(int64_t)rects);
+	add(&owner->n_look_pieces, -(int64_t)pieces);
+	if (q) {
+		/* Its creator's uid held it through the connection: the totals stay. */
+		q->left_rects += rects;
+		q->left_pieces += pieces;
+	}
+}
+
+/* Whether count + more passes limit; a limit error naming option and whose they are if so. */
+static bool passes(struct client *c, uint32_t seq, uint32_t op, uint64_t count, uint64_t more,
+		   uint32_t limit, const char *what, const char *whose, const char *option)
+{
+	if (count + more <= limit)
+		return false;
+	server_client_error(c, seq, op, VIS_ERROR_LIMIT,
+			    "%s would have %llu %s, past the limit of %u (visd %s)", whose,
+			    (unsigned long long)(count + more), what, limit, option);
+	return true;
+}
+
+bool server_quota_look_room(struct client *c, uint32_t seq, uint32_t op,
+			    const struct vis_window *w, uint64_t rects, uint64_t pieces)
+{
+	struct server *server = c->server;
+	const struct server_options *opt = &server->opt;
+	struct client *owner = vis_idmap_get(&server->clients_by_id, w->owner);
+	/* The manager's windows, and those left behind that only it may change, are the desktop's
+	 * own (visd-x11 mirrors every X window's shape): X bounds no window's looks. */
+	if (!owner || owner->role == VIS_ROLE_MANAGER || (!rects && !pieces))
+		return true;
+	const struct quota *q = quota_of(server, owner->uid);
+	uint64_t left_rects = q ? q->left_rects : 0, left_pieces = q ? q->left_pieces : 0;
+	char whose[96];
+	if (owner->uid != opt->allowed_uid && q) {
+		/* Its uid's connections are many: they hold one allowance. */
+		snprintf(whose, sizeof whose, "the windows of uid %u", (unsigned)owner->uid);
+		return !passes(c, seq, op, q->rects, rects, opt->max_look_rects,
+			       "shape and opaque rectangles", whose, "--max-look-rects") &&
+		       !passes(c, seq, op, q->pieces, pieces, opt->max_look_pieces,
+			       "look pieces", whose, "--max-look-pieces");
+	}
+	/* Retained windows left behind count against the connections of their uid that follow:
+	 * else a client could leave looks behind, connect again and leave more. */
+	snprintf(whose, sizeof whose, "the windows of client %u%s", owner->id,
+		 left_rects || left_pieces ? " (with those its uid left retained)" : "");
+	return !passes(c, seq, op, owner->n_look_rects + left_rects, rects, opt->max_look_rects,
+		       "shape and opaque rectangles", whose, "--max-look-rects") &&
+	       !passes(c, seq, op, owner->n_look_pieces + left_pieces, pieces,
+		       opt->max_look_pieces, "look pieces", whose, "--max-look-pieces");
 }
 
 void server_quota_finish(struct server *server)

@@ -370,20 +370,11 @@ static void do_look(struct client *c, uint32_t seq, uint32_t op, const union vis
 				    VIS_LOOK_MAX_RECTS);
 		return;
 	}
-	/* The rectangles count against the window's owner while it is connected, as its windows do:
-	 * a connection cannot hold the daemon's memory and recomputes without bound. */
-	struct client *owner = vis_idmap_get(&c->server->clients_by_id, w->owner);
+	/* The rectangles count against the window's owner and its uid, as its windows do: a
+	 * connection cannot hold the daemon's memory and recomputes without bound. */
 	uint32_t replaced = op == VIS_OP_SET_SHAPE ? w->look.n_shape : w->look.n_opaque;
-	if (owner && n > replaced &&
-	    owner->n_look_rects + (n - replaced) > c->server->opt.max_look_rects) {
-		server_client_error(c, seq, op, VIS_ERROR_LIMIT,
-				    "the windows of client %u would have %llu shape and opaque "
-				    "rectangles, past the limit of %u (visd --max-look-rects)",
-				    owner->id,
-				    (unsigned long long)(owner->n_look_rects + (n - replaced)),
-				    c->server->opt.max_look_rects);
+	if (n > replaced && !server_quota_look_room(c, seq, op, w, n - replaced, 0))
 		return;
-	}
 	bool failed;
 	struct vis_rect *r = rects_arg(c, seq, op, &a[2], &failed);
 	if (failed)
@@ -413,9 +404,10 @@ static void do_look(struct client *c, uint32_t seq, uint32_t op, const union vis
 		return;
 	}
 	server_look_keep(c->server, w, old, &cut);
-	if (owner)
-		owner->n_look_rects = owner->n_look_rects - replaced +
-				      (op == VIS_OP_SET_SHAPE ? w->look.n_shape : w->look.n_opaque);
+	server_quota_look(c->server, w,
+			  (int64_t)(op == VIS_OP_SET_SHAPE ? w->look.n_shape : w->look.n_opaque) -
+				  (int64_t)replaced,
+			  0);
 	/* The pixels changed inside the border box: it is the damage, as it was and is. */
 	changed(c, w, VIS_STACK_LOOK);
 }

@@ -646,11 +646,10 @@ static void window_gone(void *data, struct vis_window *w)
 	struct server *server = data;
 	server_notify_stack(server, w, VIS_STACK_DESTROY);
 	struct client *owner = vis_idmap_get(&server->clients_by_id, w->owner);
-	if (owner) {
+	if (owner)
 		owner->n_windows--;
-		owner->n_look_rects -= (uint64_t)w->look.n_shape + w->look.n_opaque;
-		owner->n_look_pieces -= server_look_charged(w);
-	}
+	server_quota_look(server, w, -(int64_t)((uint64_t)w->look.n_shape + w->look.n_opaque),
+			  -(int64_t)server_look_charged(w));
 	if (w->retained)
 		server_quota_release(server, w);
 	struct window_data *d = w->data;

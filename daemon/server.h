@@ -371,6 +371,24 @@ int server_quota_retain(struct client *c, struct vis_window *w);
 /* Counts off a retained window as it is destroyed, alone or with a subtree (before its data
  * goes). */
 void server_quota_release(struct server *server, struct vis_window *w);
+/*
+ * Counts a change of w's look, rects shape and opaque rectangles and pieces (either may be
+ * negative), against who holds it: its owner and the owner's uid while it is connected, else,
+ * for a retained window, its creator's uid, as a window left behind.
+ */
+void server_quota_look(struct server *server, const struct vis_window *w, int64_t rects,
+		       int64_t pieces);
+/* As w's owner leaves and w stays (retained): its look is now one its creator's uid left. */
+void server_quota_orphan(struct server *server, struct vis_window *w, struct client *owner);
+/*
+ * Whether w's look may grow by rects and pieces, request seq of opcode op asking: within
+ * --max-look-rects and --max-look-pieces for its owner with the retained windows its uid left
+ * behind, and for a uid other than the daemon's, for all the uid's windows (its connections are
+ * many). If not, sends the limit error naming the option. The manager's windows, and those
+ * without an owner (left behind, changed by the manager), always may: they are the desktop's.
+ */
+bool server_quota_look_room(struct client *c, uint32_t seq, uint32_t op,
+			    const struct vis_window *w, uint64_t rects, uint64_t pieces);
 /* Frees what is kept per uid. */
 void server_quota_finish(struct server *server);
 

@@ -347,3 +347,88 @@ void limits_quota_retained(void)
 	harness_close(&m);
 	harness_stop(&d);
 }
+
+/* As uid 65534, on other_sock: two connections of 8 look pieces each, where the uid has 10. */
+static void look_pieces_as_other(void)
+{
+	static const uint32_t squares[] = { 0, 0, 1, 1, 2, 0, 1, 1, 4, 0, 1, 1, 6, 0, 1, 1,
+					    8, 0, 1, 1, 10, 0, 1, 1, 12, 0, 1, 1, 14, 0, 1, 1 };
+	struct harness_conn a, b;
+	harness_open_as(&a, other_sock, VIS_ROLE_CLIENT);
+	harness_open_as(&b, other_sock, VIS_ROLE_CLIENT);
+	uint32_t wa = harness_create(&a, 0, 0, 0, 20, 20, VIS_CREATE_MAP);
+	uint32_t wb = harness_create(&b, 0, 0, 0, 20, 20, VIS_CREATE_MAP);
+	harness_look(&a, VIS_OP_SET_SHAPE, wa, 1, squares, 8);
+	harness_sync(&a, NULL);
+	uint32_t seq = harness_look(&b, VIS_OP_SET_SHAPE, wb, 1, squares, 8);
+	limits_expect_limit(&b, seq, VIS_OP_SET_SHAPE,
+			    "the windows of uid 65534 would have 16 look pieces, past the limit of "
+			    "10 (visd --max-look-pieces)");
+	harness_look(&b, VIS_OP_SET_SHAPE, wb, 1, squares, 2);
+	harness_sync(&b, NULL);
+	harness_close(&a);
+	harness_close(&b);
+}
+
+/*
+ * Look pieces are the cost of every recompute, so what one party holds is bounded however it
+ * spreads them: retained windows left behind count against the connections of their uid that
+ * follow (else a client could leave looks behind and connect again, without end), until they are
+ * destroyed; and, as root, another uid's connections share one allowance.
+ */
+void limits_quota_look_pieces(void)
+{
+	static const uint32_t squares[] = { 0, 0, 1, 1, 2, 0, 1, 1, 4, 0, 1, 1, 6, 0, 1, 1,
+					    8, 0, 1, 1, 10, 0, 1, 1, 12, 0, 1, 1, 14, 0, 1, 1 };
+	harness_context("look pieces of retained windows left behind");
+	struct harness_daemon d = { 0 };
+	harness_start(&d, limits_visd, (const char *[]){ "--max-look-pieces", "10", NULL });
+	struct harness_conn m, a, b;
+	harness_open_as(&m, d.sock, VIS_ROLE_MANAGER);
+	harness_open_as(&a, d.sock, VIS_ROLE_CLIENT);
+	uint32_t left = harness_create(&a, 0, 0, 0, 20, 20, VIS_CREATE_RETAIN | VIS_CREATE_MAP);
+	harness_look(&a, VIS_OP_SET_SHAPE, left, 1, squares, 8);
+	harness_close(&a);
+	wait_windows(&m, 1);
+	harness_open_as(&b, d.sock, VIS_ROLE_CLIENT);
+	uint32_t w = harness_create(&b, 0, 30, 0, 20, 20, VIS_CREATE_MAP);
+	uint32_t seq = harness_look(&b, VIS_OP_SET_SHAPE, w, 1, squares, 4);
+	limits_expect_limit(&b, seq, VIS_OP_SET_SHAPE,
+			    "(with those its uid left retained) would have 12 look pieces, past the "
+			    "limit of 10 (visd --max-look-pieces)");
+	harness_look(&b, VIS_OP_SET_SHAPE, w, 1, squares, 2);
+	harness_sync(&b, NULL);
+	harness_req(&m, VIS_OP_DESTROY, left);
+	harness_sync(&m, NULL);
+	harness_look(&b, VIS_OP_SET_SHAPE, w, 1, squares, 8);
+	harness_sync(&b, NULL);
+	harness_close(&b);
+
+	harness_context("look pieces of the manager's windows: the desktop's own");
+	uint32_t desk = harness_create(&m, 0, 0, 40, 20, 20, VIS_CREATE_MAP);
+	harness_look(&m, VIS_OP_SET_SHAPE, desk, 1, squares, 8);
+	desk = harness_create(&m, 0, 0, 40, 20, 20, VIS_CREATE_MAP);
+	harness_look(&m, VIS_OP_SET_SHAPE, desk, 1, squares, 8);
+	harness_sync(&m, NULL);
+
+	harness_context("look pieces of another uid's connections");
+	open_sockets(&d);
+	other_sock = d.rsock;
+	fflush(NULL);
+	pid_t pid = fork();
+	CHECK(pid >= 0, "fork: %s", strerror(errno));
+	if (pid == 0) {
+		if (setgroups(0, NULL) < 0 || setgid(65534) < 0 || setuid(65534) < 0)
+			_exit(77);
+		look_pieces_as_other();
+		_exit(0);
+	}
+	int status;
+	CHECK(waitpid(pid, &status, 0) == pid, "waitpid: %s", strerror(errno));
+	CHECK(WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 77),
+	      "the case as uid 65534 failed (status %#x)", status);
+	if (WEXITSTATUS(status) == 77)
+		printf("limits: not root: look pieces of another uid are skipped\n");
+	harness_close(&m);
+	harness_stop(&d);
+}

@@ -27,5 +27,6 @@ void limits_quota_lockout(void);
 void limits_quota_connections(void);
 void limits_quota_hello_timeout(void);
 void limits_quota_retained(void);
+void limits_quota_look_pieces(void);
 
 #endif

@@ -643,6 +643,7 @@ int main(int argc, char **argv)
 	limits_quota_connections();
 	limits_quota_hello_timeout();
 	limits_quota_retained();
+	limits_quota_look_pieces();
 	test_descriptor_shortage();
 	test_slow_readers();
 	test_held_stack();

@@ -364,7 +364,7 @@ static void report_times(const struct bridge *b, const char *what, const struct 
 static int refused(const struct bridge *b)
 {
 	bridge_log(b, 0, "visd refused %u request%s: its tree can no longer mirror X's; stopping "
-			 "(see visd's --max-windows, --max-depth and --max-look-rects)",
+			 "(see visd's --max-windows and --max-depth)",
 		   b->refusals, b->refusals == 1 ? "" : "s");
 	return 1;
 }
