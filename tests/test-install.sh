@@ -2,7 +2,8 @@
 # What `meson install` puts in place works on its own: the build is staged with DESTDIR in a
 # scratch directory; the README's example client (the text between its example markers) is
 # built against the staged visclient.pc alone, no source tree on the include path; it runs
-# against the staged visd and must print the visibility notice of its window.
+# against the staged visd and must print the visibility notice of its window. The README's libvis
+# example is built against the staged vis.pc alone and must print what it says it does.
 #
 # usage: test-install.sh BUILD_DIR SANITIZE   (SANITIZE: meson's b_sanitize, e.g. none)
 set -u
@@ -63,6 +64,40 @@ san=()
 # shellcheck disable=SC2086
 cc -std=c11 -Wall -Wextra -Werror "${san[@]}" -o "$tmp/example" "$tmp/example.c" $flags \
 	2>"$tmp/cc.log" || fail "the README's example does not build: $(cat "$tmp/cc.log")"
+pass
+
+# libvis: the library, its header and vis.pc, and the README's compositor example built against
+# the staged vis.pc alone, which must print what the README's text says it does.
+staged include/vis/vis.h >/dev/null && pass
+staged include/vis/common.h >/dev/null && pass
+staged libvis.a >/dev/null && pass
+libvis=$(staged libvis.so.0)
+soname=$(readelf -d "$libvis" 2>/dev/null | sed -n 's/.*(SONAME).*\[\(.*\)\]/\1/p')
+[ "$soname" = libvis.so.0 ] || fail "libvis's soname is '$soname'"
+pass
+vis_pc=$(staged pkgconfig/vis.pc)
+sed -n '/<!-- libvis example: begin -->/,/<!-- libvis example: end -->/p' "$src/README.md" |
+	sed '1,2d;$d' | sed '$d' >"$tmp/libvis-example.c"
+grep -q 'vis_tree_create' "$tmp/libvis-example.c" || fail "no libvis example in README.md"
+flags=$(PKG_CONFIG_PATH=$(dirname "$vis_pc") PKG_CONFIG_SYSROOT_DIR=$stage \
+	pkg-config --cflags --libs vis) || fail "pkg-config cannot read the staged vis.pc"
+case "$flags" in
+*"$src"*) fail "vis.pc points into the source tree: $flags" ;;
+esac
+# shellcheck disable=SC2086
+cc -std=c11 -Wall -Wextra -Werror "${san[@]}" -o "$tmp/libvis-example" "$tmp/libvis-example.c" \
+	$flags 2>"$tmp/cc.log" || fail "the README's libvis example does not build: $(cat "$tmp/cc.log")"
+pass
+out=$(LD_LIBRARY_PATH=$(dirname "$libvis") "$tmp/libvis-example" 2>&1) ||
+	fail "the libvis example failed: $out"
+want='terminal is unobscured
+draw desktop: 6 rectangles
+draw terminal: 1 rectangles
+draw editor: 1 rectangles'
+[ "$out" = "$want" ] || fail "the libvis example printed '$out'"
+pass
+LD_LIBRARY_PATH=$(dirname "$libvis") ldd "$tmp/libvis-example" |
+	grep -qF "$(dirname "$libvis")/libvis.so.0" || fail "the example did not load the staged libvis"
 pass
 
 "$visd" --socket "$tmp/sock" 2>"$tmp/visd.log" &
