@@ -174,7 +174,8 @@ void tl_update_and_check(struct tl *c)
 		if (m->tracked) {
 			/* Newly visible: what it shows less what it showed, in window coordinates. */
 			exposed[i] = malloc((nv ? nv : 1) * sizeof *v);
-			memcpy(exposed[i], v, nv * sizeof *v);
+			if (nv)
+				memcpy(exposed[i], v, nv * sizeof *v);
 			n_exposed[i] = less(exposed[i], nv, m->base, m->n_base);
 			free(m->base);
 			m->base = v;
