@@ -17,25 +17,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <vis/vis.h>
 
+#include "bench-time.h"
 #include "gen.h"
 #include "rng.h"
-
-static double now_us(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec * 1e6 + (double)ts.tv_nsec / 1e3;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-	return x < y ? -1 : x > y;
-}
 
 static void die(const char *what)
 {
@@ -211,27 +198,27 @@ static void run(enum vis_gen_kind kind, size_t n, size_t moves, uint64_t seed)
 		size_t nc, nr;
 		for (int turn = 0; turn < 2; turn++) {
 			bool lib_first = k % 2 == 0;
-			double t0 = now_us();
+			double t0 = bench_now_us();
 			if (lib_first == (turn == 0)) {
 				if (vis_win_move(wins[i], r->x, r->y) < 0 ||
 				    vis_tree_update(t, &c, &nc) < 0)
 					die("libvis failed");
-				double t1 = now_us();
+				double t1 = bench_now_us();
 				if (vis_tree_repaint(t, &d, &out, &nr) < 0)
 					die("libvis failed");
-				lib[k] = now_us() - t0;
-				rep[k] = now_us() - t1;
+				lib[k] = bench_now_us() - t0;
+				rep[k] = bench_now_us() - t1;
 			} else {
 				pixman_region32_translate(&m.own[i], dx, dy);
 				pixman_region32_translate(&m.opaque[i], dx, dy);
 				method_repaint(&m, &db);
-				reg[k] = now_us() - t0;
+				reg[k] = bench_now_us() - t0;
 			}
 		}
 	}
-	qsort(lib, moves, sizeof *lib, cmp_double);
-	qsort(reg, moves, sizeof *reg, cmp_double);
-	qsort(rep, moves, sizeof *rep, cmp_double);
+	qsort(lib, moves, sizeof *lib, bench_cmp_double);
+	qsort(reg, moves, sizeof *reg, bench_cmp_double);
+	qsort(rep, moves, sizeof *rep, bench_cmp_double);
 	double ml = lib[moves / 2], mr = reg[moves / 2];
 	printf("| %s | %zu | %.2f | %.2f | %.2f | %.2f |\n", vis_gen_kind_name(kind), n, ml,
 	       rep[moves / 2], mr, mr > 0 ? ml / mr : 0);
