@@ -79,7 +79,10 @@ void libvis_untrack(struct vis_win *win);
 int libvis_append_rects(pixman_region32_t *region, int64_t dx, int64_t dy,
 			struct vis_rect32 **arr, size_t *n, size_t *cap);
 
-/* Makes room for count elements of size size in *arr of *cap. 0, or -1 with ENOMEM or EOVERFLOW. */
-int libvis_reserve(void **arr, size_t *cap, size_t count, size_t size);
+/*
+ * Makes room for count elements of size size in the array whose pointer is at arr (a T **, any
+ * T), *cap of them now, doubling it at least. 0, or -1 with ENOMEM or EOVERFLOW (it stays then).
+ */
+int libvis_reserve(void *arr, size_t *cap, size_t count, size_t size);
 
 #endif

@@ -99,7 +99,7 @@ static int draw(struct vis_tree *tree, const struct vis_window *w, struct vis_bo
 	pixman_region32_t own, opaque;
 	pixman_region32_init(&own);
 	pixman_region32_init(&opaque);
-	bool ok = libvis_reserve((void **)&tree->boxes, &tree->cap_boxes, n + 1,
+	bool ok = libvis_reserve(&tree->boxes, &tree->cap_boxes, n + 1,
 				 sizeof *tree->boxes) == 0;
 	for (size_t k = 0; ok && k < n; k++) {
 		struct vis_box r = vis_rect_box(p->rects[k]);
@@ -158,7 +158,7 @@ VIS_EXPORT int vis_tree_repaint(struct vis_tree *tree, const struct vis_rect32 *
 		struct vis_win *win = w->data;
 		int64_t x = w->box.x1 + w->look.border, y = w->box.y1 + w->look.border;
 		size_t at = tree->n_qrects;
-		if (libvis_reserve((void **)&tree->repaint, &tree->cap_repaint, k + 1,
+		if (libvis_reserve(&tree->repaint, &tree->cap_repaint, k + 1,
 				   sizeof *tree->repaint) < 0 ||
 		    libvis_append_rects(&tree->part, x, y, &tree->qrects, &tree->n_qrects,
 					&tree->cap_qrects) < 0)

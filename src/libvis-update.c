@@ -9,7 +9,7 @@
 
 #include "libvis-private.h"
 
-int libvis_reserve(void **arr, size_t *cap, size_t count, size_t size)
+int libvis_reserve(void *arr, size_t *cap, size_t count, size_t size)
 {
 	if (count <= *cap)
 		return 0;
@@ -20,12 +20,14 @@ int libvis_reserve(void **arr, size_t *cap, size_t count, size_t size)
 		errno = EOVERFLOW;
 		return -1;
 	}
-	void *more = realloc(*arr, want * size);
-	if (!more) {
+	/* The array pointer is read and written as bytes: it may point to any type. */
+	void *old, *more;
+	memcpy(&old, arr, sizeof old);
+	if (!(more = realloc(old, want * size))) {
 		errno = ENOMEM;
 		return -1;
 	}
-	*arr = more;
+	memcpy(arr, &more, sizeof more);
 	*cap = want;
 	return 0;
 }
@@ -35,7 +37,7 @@ int libvis_append_rects(pixman_region32_t *region, int64_t dx, int64_t dy,
 {
 	int k;
 	const pixman_box32_t *b = pixman_region32_rectangles(region, &k);
-	if (libvis_reserve((void **)arr, cap, *n + (size_t)k, sizeof **arr) < 0)
+	if (libvis_reserve(arr, cap, *n + (size_t)k, sizeof **arr) < 0)
 		return -1;
 	struct vis_rect32 *out = *arr + *n;
 	/* The callers' regions lie in the window's border box, whose sides fit in 31 bits: its
@@ -99,7 +101,7 @@ VIS_EXPORT int vis_win_track_exposure(struct vis_win *win, int on)
 	if (win->tracked)
 		return 0;
 	struct vis_tree *tree = win->tree;
-	if (libvis_reserve((void **)&tree->tracked, &tree->cap_tracked, tree->n_tracked + 1,
+	if (libvis_reserve(&tree->tracked, &tree->cap_tracked, tree->n_tracked + 1,
 			   sizeof *tree->tracked) < 0)
 		return -1;
 	/* What it shows now is known only while the tree is as the last update left it. */
@@ -219,8 +221,8 @@ VIS_EXPORT int vis_tree_update(struct vis_tree *tree, const struct vis_change **
 	/* Room for every window, in the list and the changes, before the states move: past the
 	 * recompute nothing may fail but an exposure, which only forgets its baseline. */
 	size_t most = tree->core.count + tree->n_tracked + 1;
-	if (libvis_reserve((void **)&tree->list, &tree->cap_list, most, sizeof *tree->list) < 0 ||
-	    libvis_reserve((void **)&tree->changes, &tree->cap_changes, most,
+	if (libvis_reserve(&tree->list, &tree->cap_list, most, sizeof *tree->list) < 0 ||
+	    libvis_reserve(&tree->changes, &tree->cap_changes, most,
 			   sizeof *tree->changes) < 0 ||
 	    vis_wtree_update(&tree->core) < 0)
 		return -1;
@@ -230,7 +232,7 @@ VIS_EXPORT int vis_tree_update(struct vis_tree *tree, const struct vis_change **
 	struct vis_window *const *changed;
 	size_t k, m = 0;
 	if (vis_wtree_changes(&tree->core, &changed, &k) &&
-	    libvis_reserve((void **)&tree->list, &tree->cap_list, k + tree->n_tracked,
+	    libvis_reserve(&tree->list, &tree->cap_list, k + tree->n_tracked,
 			   sizeof *tree->list) == 0) {
 		/*
 		 * A live recompute lists the windows it may have changed (no more than there are);
