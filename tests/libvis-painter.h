@@ -13,7 +13,7 @@
 
 #include <vis/vis.h>
 
-#define PM_MAX 24  /* windows at most */
+#define PM_MAX 64  /* windows at most */
 #define PM_RECTS 5 /* rectangles of a shape or opaque region at most */
 
 /* A window as the test made it: slot 0 is the screen. Children bottom to top. */
@@ -36,6 +36,7 @@ struct pm_win {
 
 struct pm_tree {
 	int32_t sw, sh;
+	int max; /* the windows this tree may have, at most PM_MAX */
 	struct pm_win w[PM_MAX + 1];
 	bool dirty; /* changed since the last update */
 };
