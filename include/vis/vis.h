@@ -32,7 +32,7 @@
  *
  * Changes accumulate: creating, destroying, mapping, moving, restacking, reparenting a window or
  * changing its look only records where the tree changed. vis_tree_update() recomputes, at a cost
- * that follows the change rather than the tree (the live engine of src/wtree.h), and lists what
+ * that follows the change rather than the tree (visd's live engine), and lists what
  * the change did. Queries answer for the last update: a window's state, its visible region and
  * the repaint set of a damaged box.
  */
@@ -196,9 +196,12 @@ struct vis_change {
  * vis_tree_destroy(), and reused from one update to the next (no allocation per change once they
  * have grown); an entry's window must not be used once destroyed. With no change since the last
  * update, *n is 0 and nothing is recomputed. 0, or -1 with EINVAL or ENOMEM (the states stay as
- * they were; the next update recomputes all). Cost: that of the live recompute (src/wtree.h,
- * vis_wtree_update(): about the windows the change can affect, not the tree), plus O(r log r)
- * for each tracked window whose region the change may have touched.
+ * they were, the changes pending: the next update tries again). Cost: from 2,048 windows, while no
+ * viewable window has a shape or an opaque region other than all, the live recompute, whose cost
+ * follows the windows the change can affect, not the tree; else a recompute limited to the
+ * damage, O(n log n) at worst for n windows (pieces, for windows with looks). Plus, for each
+ * tracked window the change may have touched, its visible region (vis_win_visible_region()'s
+ * cost and scratch memory, which the list itself does not need).
  */
 VIS_EXPORT int vis_tree_update(struct vis_tree *tree, const struct vis_change **changes, size_t *n);
 
