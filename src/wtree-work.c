@@ -230,6 +230,12 @@ int wtree_work_add_pieces(struct vis_wtree_work *wk, const struct vis_window *w,
 	return add_window(w, i, c, &wk->pieces) < 0 ? -1 : 0;
 }
 
+int vis_wtree_add_pieces(struct vis_pieces *pieces, const struct vis_window *window,
+			 struct vis_box c, uint32_t num)
+{
+	return add_window(window, num, c, pieces) < 0 ? -1 : 0;
+}
+
 int wtree_work_cut(const struct vis_window *w, struct vis_box c)
 {
 	struct vis_pieces scratch = { 0 };

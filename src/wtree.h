@@ -451,6 +451,16 @@ int vis_wtree_visible_region(const struct vis_wtree *tree, const struct vis_wind
 			     void *region);
 
 /*
+ * Appends a viewable window's pixels inside the screen box c to pieces, numbered num, as the
+ * recomputes cut them (look.h): its look's pieces, opaque then see-through (none for an
+ * input-only window), within its shaped ancestors' shapes, each clipped to c; a plain window's
+ * is c itself, opaque. For queries over a computed tree (libvis's repaint). 0, or -1 with ENOMEM
+ * or EOVERFLOW. O(k log k + b) for the look's k rectangles and its b pieces out, O(b) when kept.
+ */
+int vis_wtree_add_pieces(struct vis_pieces *pieces, const struct vis_window *window,
+			 struct vis_box c, uint32_t num);
+
+/*
  * The windows that show pixels of their own inside the screen box damage, bottom to top: the
  * sweep over the flattened tree, every window clipped to damage; a window shows where no opaque
  * pixel of a later window covers it, so translucent ones and those seen through them are listed,

@@ -22,25 +22,13 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench-time.h"
 #include "bench-wtree.h"
 #include "rng.h"
 #include "wtree.h"
 
 static const char *const op_names[] = { "move", "raise", "lower", "unmap", "map" };
 static const char *const engine_names[] = { "full", "damaged", "live" };
-
-static double now_us(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec * 1e6 + (double)ts.tv_nsec / 1e3;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-	return x < y ? -1 : x > y;
-}
 
 /* Recomputes the tree with the engine, from the damage (n boxes) or the notes. */
 static int recompute(struct vis_wtree *tree, enum engine engine, const struct vis_box *damage,
@@ -127,9 +115,9 @@ static int run(const struct vis_scene *scene, enum who who, enum op op, enum eng
 				return -1;
 		}
 		change(&tree, w, op, &rng, damage, &n);
-		double t0 = now_us();
+		double t0 = bench_now_us();
 		int rc = recompute(&tree, engine, damage, n);
-		us[k] = now_us() - t0;
+		us[k] = bench_now_us() - t0;
 		if (rc < 0)
 			return -1;
 		if (op == UNMAP) {
@@ -140,7 +128,7 @@ static int run(const struct vis_scene *scene, enum who who, enum op op, enum eng
 	}
 	vis_wtree_finish(&tree);
 	free(wins);
-	qsort(us, moves, sizeof *us, cmp_double);
+	qsort(us, moves, sizeof *us, bench_cmp_double);
 	return 0;
 }
 

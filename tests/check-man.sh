@@ -9,7 +9,8 @@
 # options, which every command's help may also name) and those of each command's "## COMMAND"
 # subsection. -h and --help are checked by running them: both must print the same usage and exit
 # 0. Every command `visctl --help` lists needs its subsection, and every subsection its command.
-# libvisclient.3.scd must document each function visclient.h exports (*name*( terms), and no other.
+# libvisclient.3.scd must document each function visclient.h exports (*name*( terms), and no other;
+# libvis.3.scd each function of vis.h, beside it.
 # Usage: check-man.sh VISD VISCTL MAN-DIR VISCLIENT-H
 set -u
 visd=${1:?usage: check-man.sh VISD VISCTL MAN-DIR VISCLIENT-H}
@@ -116,23 +117,28 @@ for s in $(sed -n 's/^## \([a-z][a-z-]*\)$/\1/p' "$page"); do
 		fail "$page: '## $s' names no command that \`visctl --help\` lists"
 done
 
-# libvisclient(3): the exported functions, as check-exports.sh reads them from the header.
-page=$man/libvisclient.3.scd
-grep -v '^#' "$header" | tr '\n' ' ' | grep -oE 'VIS_EXPORT [^(;]*\(' |
-	sed -E 's/.*[ *]([A-Za-z_][A-Za-z_0-9]*)\($/\1/' | sort -u >"$T/api"
-grep '^\*vis_' "$page" | grep -oE '\*vis_[a-z0-9_]+\*\(' | sed -E 's/^\*(.*)\*\($/\1/' |
-	sort -u >"$T/api.doc"
-[ -s "$T/api" ] || fail "$header: no VIS_EXPORT declarations found"
-for f in $(comm -23 "$T/api" "$T/api.doc"); do
-	fail "$page: $f is exported by $header but not documented (no *$f*( term)"
-done
-for f in $(comm -13 "$T/api" "$T/api.doc"); do
-	fail "$page: $f is documented but $header does not export it"
-done
-checked=$((checked + 1))
+# libvisclient(3) and libvis(3): the exported functions, as check-exports.sh reads them from the
+# headers.
+check_api() {
+	page=$1 header=$2
+	grep -v '^#' "$header" | tr '\n' ' ' | grep -oE 'VIS_EXPORT [^(;]*\(' |
+		sed -E 's/.*[ *]([A-Za-z_][A-Za-z_0-9]*)\($/\1/' | sort -u >"$T/api"
+	grep '^\*vis_' "$page" | grep -oE '\*vis_[a-z0-9_]+\*\(' | sed -E 's/^\*(.*)\*\($/\1/' |
+		sort -u >"$T/api.doc"
+	[ -s "$T/api" ] || fail "$header: no VIS_EXPORT declarations found"
+	for f in $(comm -23 "$T/api" "$T/api.doc"); do
+		fail "$page: $f is exported by $header but not documented (no *$f*( term)"
+	done
+	for f in $(comm -13 "$T/api" "$T/api.doc"); do
+		fail "$page: $f is documented but $header does not export it"
+	done
+	checked=$((checked + 1))
+}
+check_api "$man/libvisclient.3.scd" "$header"
+check_api "$man/libvis.3.scd" "$(dirname "$header")/vis.h"
 
 if [ "$failed" -gt 0 ]; then
 	echo "$failed differences between the man pages and the programs"
 	exit 1
 fi
-echo "the man pages match visd's, visctl's and libvisclient's $checked help texts and API lists"
+echo "the man pages match visd's, visctl's, libvisclient's and libvis's $checked help texts and API lists"

@@ -32,6 +32,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "vis/common.h" /* VIS_EXPORT, struct vis_rect32 */
 #include "vis/protocol.h"
 #include "vis/version.h"
 
@@ -43,12 +44,6 @@
 #define VIS_CLIENT_VERSION_MINOR VIS_VERSION_MINOR
 #define VIS_CLIENT_VERSION_MICRO VIS_VERSION_MICRO
 #define VIS_CLIENT_VERSION VIS_VERSION
-
-#if defined(__GNUC__)
-#define VIS_EXPORT __attribute__((visibility("default")))
-#else
-#define VIS_EXPORT
-#endif
 
 #ifdef __cplusplus
 extern "C" {
@@ -62,17 +57,6 @@ struct vis_client;
  * A static string: valid for the life of the process, nobody frees it. Never fails.
  */
 VIS_EXPORT const char *vis_client_version(void);
-
-/*
- * A rectangle: x, y inclusive, x + width, y + height exclusive. About a window (shapes, opaque
- * regions, visible regions, exposures) it is in window coordinates: relative to the window's
- * inside's top-left corner, its border at negative coordinates (PROTOCOL.md, "Window
- * coordinates"); get-repaint's damage is in screen coordinates.
- */
-struct vis_rect32 {
-	int32_t x, y;
-	uint32_t width, height;
-};
 
 /* One window of the tree, as get-tree returns it (pre-order: bottom to top). */
 struct vis_window_info {

@@ -1,0 +1,88 @@
+/*
+ * libvis's handles over the core (wtree.h), private to src/libvis*.c: the public tree and window
+ * wrap the core's, and keep what a compositor needs beyond the states (wtree.h's recomputes give
+ * those): where the tree changed since the last update, which windows' exposures are tracked and
+ * what they showed, and the arrays the calls return, reused from call to call.
+ */
+#ifndef VIS_LIBVIS_PRIVATE_H
+#define VIS_LIBVIS_PRIVATE_H
+
+#include <pixman.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "look.h"
+#include "vis/vis.h"
+#include "wtree.h"
+
+/* Damage boxes kept per update; past that many changes, the damage is everywhere. */
+#define LIBVIS_DAMAGE_BOXES 1024
+
+/*
+ * A window: the core's (whose data points back here) and the caller's pointer. While tracked,
+ * it is in its tree's tracked list at tracked_slot − 1, and region holds what it showed at the
+ * last update when known (else it showed nothing as far as exposures go).
+ */
+struct vis_win {
+	struct vis_window *core;
+	struct vis_tree *tree;
+	void *data;
+	bool tracked, known;
+	uint32_t tracked_slot;
+	uint64_t listed; /* the update (tree->serial) whose changes listed it last */
+	pixman_region32_t region;
+};
+
+/*
+ * A tree. dirty: changed since the last update; damage[0 … n_damage) holds the border boxes of
+ * the changes' windows before and after each change (damage_all: too many to keep), for the
+ * exposures' test of which tracked windows may have changed (maybe_exposed in libvis-update.c).
+ */
+struct vis_tree {
+	struct vis_wtree core;
+	bool dirty, damage_all;
+	size_t n_damage;
+	pixman_box32_t *damage; /* LIBVIS_DAMAGE_BOXES */
+	uint64_t serial;        /* updates done */
+	struct vis_win **tracked;
+	size_t n_tracked, cap_tracked;
+	/* The update's arrays: the windows to look at, the changes and their exposures. */
+	struct vis_win **list;
+	size_t cap_list;
+	struct vis_change *changes;
+	size_t n_changes, cap_changes;
+	struct vis_rect32 *rects;
+	size_t n_rects, cap_rects;
+	/* The queries' arrays and scratch. */
+	struct vis_rect32 *qrects;
+	size_t n_qrects, cap_qrects;
+	struct vis_repaint *repaint;
+	size_t cap_repaint;
+	struct vis_pieces pieces;
+	pixman_box32_t *boxes; /* a window's pieces as pixman's boxes */
+	size_t cap_boxes;
+	pixman_region32_t now, exposed, left, part;
+};
+
+/* Records that win is about to change or has changed (libvis-update.c): the tree is dirty, the
+ * live recompute notes it, and its border box joins the damage. */
+void libvis_damage(struct vis_tree *tree, struct vis_win *win);
+
+/* Stops tracking win's exposures, forgetting what it showed. O(1). */
+void libvis_untrack(struct vis_win *win);
+
+/*
+ * Appends region's rectangles, moved by -dx, -dy, to *arr (*n used of *cap), growing it.
+ * 0, or -1 with ENOMEM (nothing appended then).
+ */
+int libvis_append_rects(pixman_region32_t *region, int64_t dx, int64_t dy,
+			struct vis_rect32 **arr, size_t *n, size_t *cap);
+
+/*
+ * Makes room for count elements of size size in the array whose pointer is at arr (a T **, any
+ * T), *cap of them now, doubling it at least. 0, or -1 with ENOMEM or EOVERFLOW (it stays then).
+ */
+int libvis_reserve(void *arr, size_t *cap, size_t count, size_t size);
+
+#endif

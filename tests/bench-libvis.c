@@ -1,0 +1,268 @@
+/*
+ * What a compositor pays a frame: one change (a window moved by up to 64 pixels each way) and the
+ * repaint set of the damage it made (the hull of the window's box before and after, on the
+ * screen), in process. libvis (vis_win_move, vis_tree_update, vis_tree_repaint) side by side
+ * with the region method compositors use today (wlroots' scene, weston): from the top window
+ * down, each window's part is its pixels in the damage less the opaque pixels of those above,
+ * pixman regions throughout (given an early stop once opaque windows cover the damage, which
+ * the compositors do not take). Both take the same changes, alternating op by op; generated
+ * scenes (src/gen.h) as top-level windows on the 3840×2160 screen, looks kept (the translucent
+ * kind's client-side shadows are opaque regions). Prints a markdown table of the medians per
+ * op (libvis's whole op, and its repaint query alone). Not a test: run it from a release build,
+ *   build-release/tests/bench-libvis [--kinds K,…] [--sizes N,…] [--moves M] [--seed S]
+ * or `meson test -C build-release --benchmark bench-libvis`.
+ */
+#include <pixman.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <vis/vis.h>
+
+#include "bench-time.h"
+#include "gen.h"
+#include "rng.h"
+
+static void die(const char *what)
+{
+	fprintf(stderr, "bench-libvis: %s\n", what);
+	exit(1);
+}
+
+/* A rectangle list of the scene's as pixman boxes, moved by x, y. */
+static void region_of(pixman_region32_t *r, const struct vis_rect *rects, uint32_t n, int64_t x,
+		      int64_t y)
+{
+	pixman_region32_init(r);
+	for (uint32_t k = 0; k < n; k++)
+		pixman_region32_union_rect(r, r, (int32_t)(x + rects[k].x), (int32_t)(y + rects[k].y),
+					   (unsigned)rects[k].w, (unsigned)rects[k].h);
+}
+
+/* The region method's windows: their pixels and opaque pixels, in screen coordinates. */
+struct method {
+	size_t n;
+	pixman_region32_t *own, *opaque;
+	pixman_region32_t above, part;
+};
+
+static void method_init(struct method *m, const struct vis_scene *s)
+{
+	m->n = s->n;
+	m->own = calloc(s->n, sizeof *m->own);
+	m->opaque = calloc(s->n, sizeof *m->opaque);
+	if (!m->own || !m->opaque)
+		die("out of memory");
+	for (size_t i = 0; i < s->n; i++) {
+		const struct vis_look *l = s->looks ? &s->looks[i] : NULL;
+		struct vis_rect r = s->rects[i];
+		int64_t b = l ? l->border : 0, ix = (int64_t)r.x + b, iy = (int64_t)r.y + b;
+		struct vis_rect box = { r.x, r.y, (int32_t)(r.w + 2 * b), (int32_t)(r.h + 2 * b) };
+		region_of(&m->own[i], &box, l && l->input_only ? 0 : 1, 0, 0);
+		if (l && l->shaped) {
+			pixman_region32_t shape;
+			region_of(&shape, l->shape, l->n_shape, ix, iy);
+			pixman_region32_intersect(&m->own[i], &m->own[i], &shape);
+			pixman_region32_fini(&shape);
+		}
+		if (l && l->opaque == VIS_OPAQUE_RECTS) {
+			region_of(&m->opaque[i], l->opaque_rects, l->n_opaque, ix, iy);
+			pixman_region32_intersect(&m->opaque[i], &m->opaque[i], &m->own[i]);
+		} else {
+			pixman_region32_init(&m->opaque[i]);
+			if (!l || l->opaque == VIS_OPAQUE_ALL)
+				pixman_region32_copy(&m->opaque[i], &m->own[i]);
+		}
+	}
+	pixman_region32_init(&m->above);
+	pixman_region32_init(&m->part);
+}
+
+/* One frame of the region method: the parts of the windows in damage; returns how many. */
+static size_t method_repaint(struct method *m, const pixman_box32_t *damage)
+{
+	size_t k = 0;
+	pixman_region32_clear(&m->above);
+	for (size_t i = m->n; i-- > 0;) {
+		pixman_region32_intersect_rect(&m->part, &m->own[i], damage->x1, damage->y1,
+					       (unsigned)(damage->x2 - damage->x1),
+					       (unsigned)(damage->y2 - damage->y1));
+		pixman_region32_subtract(&m->part, &m->part, &m->above);
+		k += pixman_region32_not_empty(&m->part);
+		pixman_region32_union(&m->above, &m->above, &m->opaque[i]);
+		if (pixman_region32_contains_rectangle(&m->above, (pixman_box32_t *)damage) ==
+		    PIXMAN_REGION_IN)
+			break;
+	}
+	return k;
+}
+
+static void method_finish(struct method *m)
+{
+	for (size_t i = 0; i < m->n; i++) {
+		pixman_region32_fini(&m->own[i]);
+		pixman_region32_fini(&m->opaque[i]);
+	}
+	free(m->own);
+	free(m->opaque);
+	pixman_region32_fini(&m->above);
+	pixman_region32_fini(&m->part);
+}
+
+/* A look's rectangles as libvis takes them: a new array. */
+static struct vis_rect32 *rects32(const struct vis_rect *r, uint32_t n)
+{
+	struct vis_rect32 *out = malloc((n ? n : 1) * sizeof *out);
+	if (!out)
+		die("out of memory");
+	for (uint32_t k = 0; k < n; k++)
+		out[k] = (struct vis_rect32){ r[k].x, r[k].y, (uint32_t)r[k].w, (uint32_t)r[k].h };
+	return out;
+}
+
+/* The scene as a libvis tree of mapped top-level windows. */
+static struct vis_tree *tree_of(const struct vis_scene *s, struct vis_win **wins)
+{
+	struct vis_tree *t = vis_tree_create(s->screen_w, s->screen_h);
+	if (!t)
+		die("vis_tree_create");
+	for (size_t i = 0; i < s->n; i++) {
+		const struct vis_look *l = s->looks ? &s->looks[i] : NULL;
+		struct vis_rect r = s->rects[i];
+		wins[i] = vis_win_create(t, NULL, r.x, r.y, r.w, r.h, l ? l->border : 0,
+					 l && l->input_only ? VIS_WIN_INPUT_ONLY : 0);
+		if (!wins[i] || vis_win_map(wins[i]) < 0)
+			die("vis_win_create");
+		if (l && l->shaped) {
+			struct vis_rect32 *rs = rects32(l->shape, l->n_shape);
+			if (vis_win_set_shape(wins[i], 1, rs, l->n_shape) < 0)
+				die("vis_win_set_shape");
+			free(rs);
+		}
+		if (l && l->opaque != VIS_OPAQUE_ALL) {
+			uint32_t k = l->opaque == VIS_OPAQUE_RECTS ? l->n_opaque : 0;
+			struct vis_rect32 *rs = rects32(l->opaque_rects, k);
+			if (vis_win_set_opaque(wins[i], l->opaque, rs, k) < 0)
+				die("vis_win_set_opaque");
+			free(rs);
+		}
+	}
+	const struct vis_change *c;
+	size_t n;
+	if (vis_tree_update(t, &c, &n) < 0)
+		die("vis_tree_update");
+	return t;
+}
+
+/* Runs one scene: moves alternately timed on libvis and the region method. */
+static void run(enum vis_gen_kind kind, size_t n, size_t moves, uint64_t seed)
+{
+	struct vis_scene s;
+	vis_scene_init(&s);
+	if (vis_gen(&s, kind, n, seed, 0, 0) < 0)
+		die("vis_gen");
+	struct vis_win **wins = malloc(n * sizeof *wins);
+	double *lib = malloc(moves * sizeof *lib), *reg = malloc(moves * sizeof *reg);
+	double *rep = malloc(moves * sizeof *rep); /* libvis's repaint query alone */
+	if (!wins || !lib || !reg || !rep)
+		die("out of memory");
+	struct vis_tree *t = tree_of(&s, wins);
+	struct method m;
+	method_init(&m, &s);
+	struct vis_rng rng = { seed ^ 0x5bd1e995u };
+	for (size_t k = 0; k < moves; k++) {
+		size_t i = vis_rng_below(&rng, n);
+		int32_t dx = (int32_t)vis_rng_range(&rng, -64, 64), dy = (int32_t)vis_rng_range(&rng, -64, 64);
+		struct vis_rect *r = &s.rects[i];
+		int64_t b = s.looks ? s.looks[i].border : 0, w = r->w + 2 * b, h = r->h + 2 * b;
+		if ((int64_t)r->x + dx < INT32_MIN / 2 || (int64_t)r->x + dx > INT32_MAX / 2)
+			dx = 0;
+		if ((int64_t)r->y + dy < INT32_MIN / 2 || (int64_t)r->y + dy > INT32_MAX / 2)
+			dy = 0;
+		/* The damage: the hull of where it was and is, on the screen. */
+		int64_t x1 = r->x + (dx < 0 ? dx : 0), y1 = r->y + (dy < 0 ? dy : 0);
+		int64_t x2 = r->x + w + (dx > 0 ? dx : 0), y2 = r->y + h + (dy > 0 ? dy : 0);
+		x1 = x1 < 0 ? 0 : x1;
+		y1 = y1 < 0 ? 0 : y1;
+		x2 = x2 > s.screen_w ? s.screen_w : x2;
+		y2 = y2 > s.screen_h ? s.screen_h : y2;
+		if (x1 >= x2 || y1 >= y2)
+			x1 = y1 = 0, x2 = y2 = 1;
+		r->x += dx;
+		r->y += dy;
+		struct vis_rect32 d = { (int32_t)x1, (int32_t)y1, (uint32_t)(x2 - x1), (uint32_t)(y2 - y1) };
+		pixman_box32_t db = { (int32_t)x1, (int32_t)y1, (int32_t)x2, (int32_t)y2 };
+		const struct vis_change *c;
+		const struct vis_repaint *out;
+		size_t nc, nr;
+		for (int turn = 0; turn < 2; turn++) {
+			bool lib_first = k % 2 == 0;
+			double t0 = bench_now_us();
+			if (lib_first == (turn == 0)) {
+				if (vis_win_move(wins[i], r->x, r->y) < 0 ||
+				    vis_tree_update(t, &c, &nc) < 0)
+					die("libvis failed");
+				double t1 = bench_now_us();
+				if (vis_tree_repaint(t, &d, &out, &nr) < 0)
+					die("libvis failed");
+				lib[k] = bench_now_us() - t0;
+				rep[k] = bench_now_us() - t1;
+			} else {
+				pixman_region32_translate(&m.own[i], dx, dy);
+				pixman_region32_translate(&m.opaque[i], dx, dy);
+				method_repaint(&m, &db);
+				reg[k] = bench_now_us() - t0;
+			}
+		}
+	}
+	qsort(lib, moves, sizeof *lib, bench_cmp_double);
+	qsort(reg, moves, sizeof *reg, bench_cmp_double);
+	qsort(rep, moves, sizeof *rep, bench_cmp_double);
+	double ml = lib[moves / 2], mr = reg[moves / 2];
+	printf("| %s | %zu | %.2f | %.2f | %.2f | %.2f |\n", vis_gen_kind_name(kind), n, ml,
+	       rep[moves / 2], mr, mr > 0 ? ml / mr : 0);
+	fflush(stdout);
+	method_finish(&m);
+	vis_tree_destroy(t);
+	vis_scene_finish(&s);
+	free(wins);
+	free(lib);
+	free(reg);
+	free(rep);
+}
+
+int main(int argc, char **argv)
+{
+	const char *kinds = "random,tiles,cascade,translucent", *sizes = "10,100,1000,10000";
+	size_t moves = 2000;
+	uint64_t seed = 1;
+	for (int i = 1; i < argc; i++) {
+		if (!strcmp(argv[i], "--kinds") && i + 1 < argc)
+			kinds = argv[++i];
+		else if (!strcmp(argv[i], "--sizes") && i + 1 < argc)
+			sizes = argv[++i];
+		else if (!strcmp(argv[i], "--moves") && i + 1 < argc)
+			moves = strtoul(argv[++i], NULL, 10);
+		else if (!strcmp(argv[i], "--seed") && i + 1 < argc)
+			seed = strtoull(argv[++i], NULL, 10);
+		else
+			die("usage: bench-libvis [--kinds K,...] [--sizes N,...] [--moves M] [--seed S]");
+	}
+	if (moves < 1)
+		die("--moves must be at least 1");
+	printf("| kind | windows | libvis µs | of which repaint µs | region method µs | ratio |\n"
+	       "|---|---|---|---|---|---|\n");
+	char kbuf[256];
+	snprintf(kbuf, sizeof kbuf, "%s", kinds);
+	for (char *ks = NULL, *k = strtok_r(kbuf, ",", &ks); k; k = strtok_r(NULL, ",", &ks)) {
+		enum vis_gen_kind kind;
+		if (vis_gen_kind_from_name(k, &kind) < 0)
+			die("unknown kind");
+		char sbuf[256];
+		snprintf(sbuf, sizeof sbuf, "%s", sizes);
+		for (char *ss = NULL, *n = strtok_r(sbuf, ",", &ss); n; n = strtok_r(NULL, ",", &ss))
+			run(kind, strtoul(n, NULL, 10), moves, seed);
+	}
+	return 0;
+}

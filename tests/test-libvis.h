@@ -1,0 +1,41 @@
+/* test-libvis's pieces (test-libvis.c says what it tests): the random source, the model beside
+ * the tree, the checks after an update and the bad inputs. */
+#ifndef VIS_TESTS_TEST_LIBVIS_H
+#define VIS_TESTS_TEST_LIBVIS_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "libvis-painter.h"
+
+/* A tree under test: libvis's and the model of it. */
+struct tl {
+	struct vis_tree *vt;
+	struct pm_tree t;
+	bool looks; /* whether its windows get shapes and opaque regions */
+};
+
+/* The seeded random source; a number in lo … hi. */
+uint64_t tl_rand(void);
+int64_t tl_range(int64_t lo, int64_t hi);
+
+/* Fails the test, printing the seed, what went wrong and two numbers about it. */
+void tl_fail(const char *what, long a, long b);
+/* Counts a check; fails unless ok. */
+void tl_check(bool ok, const char *what);
+
+/* Takes what window i shows as its known exposure baseline (the tree as the last update left it). */
+void tl_baseline(struct tl *c, int i);
+
+/* vis_tree_update(), then every state, visible region, change, exposure and a few repaint sets
+ * against the painter (test-libvis-check.c). */
+void tl_update_and_check(struct tl *c);
+
+/* Every bad input fails with its errno and changes nothing (test-libvis-bad.c); on a tree just
+ * updated. */
+void tl_bad_inputs(struct tl *c);
+
+/* The live engine from the first window on (libvis-live.c, the one hook past the public API). */
+void tl_go_live(struct vis_tree *tree);
+
+#endif
