@@ -258,8 +258,8 @@ region:;
 	return cut(l->u, clip, ok);
 }
 
-static bool append_boxes(pixman_box32_t **all, size_t *n, size_t *cap, const pixman_box32_t *b,
-			 size_t m);
+static int per_cell(const struct vis_zgrid *grid, pixman_region32_t *u,
+		    int (*each)(pixman_region32_t *piece, void *arg), void *arg);
 static int hide_cells(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t *u,
 		      bool *hit, size_t *steps, size_t budget);
 
@@ -349,46 +349,29 @@ static int hide(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t
 	return hide_split(lv, end, u, hit, steps, budget, true);
 }
 
-/* hide() over u (a region) in each grid cell apart; what the cells leave, disjoint, is joined
- * once at the end. */
+/* What hide_cells() hands each cell. */
+struct hide_arg {
+	const struct vis_wtree_live *lv;
+	uint64_t end;
+	bool *hit;
+	size_t *steps, budget;
+};
+
+static int hide_cell(pixman_region32_t *piece, void *arg)
+{
+	struct hide_arg *h = arg;
+	bool hit = false;
+	int rc = hide_split(h->lv, h->end, piece, &hit, h->steps, h->budget, false);
+	*h->hit |= hit;
+	return rc;
+}
+
+/* hide() over u (a region) in each grid cell apart (per_cell()). */
 static int hide_cells(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t *u,
 		      bool *hit, size_t *steps, size_t budget)
 {
-	uint32_t r[4];
-	if (!pixman_region32_not_empty(u) ||
-	    !vis_zgrid_cells(&lv->grid, vbox(pixman_region32_extents(u)), r))
-		return 0;
-	pixman_box32_t *rest = NULL;
-	size_t n_rest = 0, cap = 0;
-	bool ok = true;
-	int rc = 0;
-	for (uint32_t y = r[1]; ok && rc == 0 && y <= r[3]; y++)
-		for (uint32_t x = r[0]; ok && rc == 0 && x <= r[2]; x++) {
-			pixman_box32_t c = pbox(vis_zgrid_cell_box(&lv->grid, x, y));
-			pixman_region32_t piece;
-			pixman_region32_init_rect(&piece, c.x1, c.y1, (unsigned)(c.x2 - c.x1),
-						  (unsigned)(c.y2 - c.y1));
-			ok = pixman_region32_intersect(&piece, &piece, u);
-			bool cell_hit = false;
-			if (ok && pixman_region32_not_empty(&piece)) {
-				rc = hide_split(lv, end, &piece, &cell_hit, steps, budget, false);
-				*hit |= cell_hit;
-			}
-			int m = 0;
-			const pixman_box32_t *b = pixman_region32_rectangles(&piece, &m);
-			ok = ok && (rc != 0 || append_boxes(&rest, &n_rest, &cap, b, (size_t)m));
-			pixman_region32_fini(&piece);
-		}
-	if (rc == 0 && ok) {
-		pixman_region32_fini(u);
-		ok = pixman_region32_init_rects(u, rest, (int)n_rest);
-	}
-	free(rest);
-	if (rc == 0 && !ok) {
-		errno = ENOMEM;
-		rc = -1;
-	}
-	return rc;
+	struct hide_arg h = { lv, end, hit, steps, budget };
+	return per_cell(&lv->grid, u, hide_cell, &h);
 }
 
 /* Keeps a region as a seen: its boxes when few, else its extents. */
@@ -666,14 +649,16 @@ static bool append_boxes(pixman_box32_t **all, size_t *n, size_t *cap, const pix
 }
 
 /*
- * walk_left() over what is left (a region) in each grid cell apart, from key; what the cells
- * leave, disjoint, is joined once at the end.
+ * Runs each over u's pixels in each grid cell apart (piece: those in the cell, which each may
+ * take off), and makes u what the cells leave, disjoint boxes joined once at the end. Stops at
+ * the first result other than 0 and returns it; else 0, or -1 (ENOMEM).
  */
-static int walk_cells(struct vis_wtree_live *lv, struct left *l, uint64_t key, bool losing,
-		      bool exact, uint64_t stop)
+static int per_cell(const struct vis_zgrid *grid, pixman_region32_t *u,
+		    int (*each)(pixman_region32_t *piece, void *arg), void *arg)
 {
 	uint32_t r[4];
-	if (!vis_zgrid_cells(&lv->grid, left_extents(l), r))
+	if (!pixman_region32_not_empty(u) ||
+	    !vis_zgrid_cells(grid, vbox(pixman_region32_extents(u)), r))
 		return 0;
 	pixman_box32_t *rest = NULL;
 	size_t n_rest = 0, cap = 0;
@@ -681,23 +666,21 @@ static int walk_cells(struct vis_wtree_live *lv, struct left *l, uint64_t key, b
 	int rc = 0;
 	for (uint32_t y = r[1]; ok && rc == 0 && y <= r[3]; y++)
 		for (uint32_t x = r[0]; ok && rc == 0 && x <= r[2]; x++) {
-			pixman_box32_t c = pbox(vis_zgrid_cell_box(&lv->grid, x, y));
+			pixman_box32_t c = pbox(vis_zgrid_cell_box(grid, x, y));
 			pixman_region32_t piece;
 			pixman_region32_init_rect(&piece, c.x1, c.y1, (unsigned)(c.x2 - c.x1),
 						  (unsigned)(c.y2 - c.y1));
-			ok = pixman_region32_intersect(&piece, &piece, l->u);
-			struct left pl;
-			left_init(&pl, &piece, lv->left_boxes);
-			rc = ok ? walk_left(lv, &pl, key, losing, exact, stop, false) : 0;
-			ok = left_finish(&pl) && ok;
+			ok = pixman_region32_intersect(&piece, &piece, u);
+			if (ok && pixman_region32_not_empty(&piece))
+				rc = each(&piece, arg);
 			int m = 0;
 			const pixman_box32_t *b = pixman_region32_rectangles(&piece, &m);
 			ok = ok && (rc != 0 || append_boxes(&rest, &n_rest, &cap, b, (size_t)m));
 			pixman_region32_fini(&piece);
 		}
 	if (rc == 0 && ok) {
-		pixman_region32_fini(l->u);
-		ok = pixman_region32_init_rects(l->u, rest, (int)n_rest);
+		pixman_region32_fini(u);
+		ok = pixman_region32_init_rects(u, rest, (int)n_rest);
 	}
 	free(rest);
 	if (rc == 0 && !ok) {
@@ -705,6 +688,34 @@ static int walk_cells(struct vis_wtree_live *lv, struct left *l, uint64_t key, b
 		rc = -1;
 	}
 	return rc;
+}
+
+/* What walk_cells() hands each cell. */
+struct walk_arg {
+	struct vis_wtree_live *lv;
+	uint64_t key, stop;
+	bool losing, exact;
+};
+
+static int walk_cell(pixman_region32_t *piece, void *arg)
+{
+	struct walk_arg *w = arg;
+	struct left pl;
+	left_init(&pl, piece, w->lv->left_boxes);
+	int rc = walk_left(w->lv, &pl, w->key, w->losing, w->exact, w->stop, false);
+	if (!left_finish(&pl) && rc == 0) {
+		errno = ENOMEM;
+		rc = -1;
+	}
+	return rc;
+}
+
+/* walk_left() over what is left (a region) in each grid cell apart, from key (per_cell()). */
+static int walk_cells(struct vis_wtree_live *lv, struct left *l, uint64_t key, bool losing,
+		      bool exact, uint64_t stop)
+{
+	struct walk_arg w = { lv, key, stop, losing, exact };
+	return per_cell(&lv->grid, l->u, walk_cell, &w);
 }
 
 /*

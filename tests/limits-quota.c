@@ -241,8 +241,34 @@ static void refused_retain(struct harness_conn *c, const char *reason)
 	limits_expect_limit(c, seq, VIS_OP_CREATE, reason);
 }
 
-/* The socket another uid's retained windows are made on. */
+/* The socket another uid's case connects to. */
 static const char *other_sock;
+
+/*
+ * Runs a case as uid 65534 in a child, on d's restricted socket (opened to others): false when
+ * it was skipped (not root), with a note naming what.
+ */
+static bool as_other_uid(const struct harness_daemon *d, void (*run)(void), const char *what)
+{
+	open_sockets(d);
+	other_sock = d->rsock;
+	fflush(NULL);
+	pid_t pid = fork();
+	CHECK(pid >= 0, "fork: %s", strerror(errno));
+	if (pid == 0) {
+		if (setgroups(0, NULL) < 0 || setgid(65534) < 0 || setuid(65534) < 0)
+			_exit(77);
+		run();
+		_exit(0);
+	}
+	int status;
+	CHECK(waitpid(pid, &status, 0) == pid, "waitpid: %s", strerror(errno));
+	CHECK(WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 77),
+	      "the case as uid 65534 failed (status %#x)", status);
+	if (WEXITSTATUS(status) == 77)
+		printf("limits: not root: %s of another uid are skipped\n", what);
+	return WEXITSTATUS(status) == 0;
+}
 
 /* As uid 65534: two retained windows fill the total of 8, a third is refused for it. */
 static void retain_as_other(void)
@@ -300,24 +326,7 @@ void limits_quota_retained(void)
 	refused_retain(&b, per_uid);
 
 	harness_context("retained windows in all, across uids");
-	open_sockets(&d);
-	other_sock = d.rsock;
-	fflush(NULL);
-	pid_t pid = fork();
-	CHECK(pid >= 0, "fork: %s", strerror(errno));
-	if (pid == 0) {
-		if (setgroups(0, NULL) < 0 || setgid(65534) < 0 || setuid(65534) < 0)
-			_exit(77);
-		retain_as_other();
-		_exit(0);
-	}
-	int status;
-	CHECK(waitpid(pid, &status, 0) == pid, "waitpid: %s", strerror(errno));
-	CHECK(WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 77),
-	      "the case as uid 65534 failed (status %#x)", status);
-	if (WEXITSTATUS(status) == 77) {
-		printf("limits: not root: retained windows of another uid are skipped\n");
-	} else {
+	if (!as_other_uid(&d, retain_as_other, "retained windows")) {
 		wait_windows(&m, 8); /* its retained windows stay */
 		harness_req(&m, VIS_OP_DESTROY, r3);
 		harness_create(&b, 0, 160, 0, 5, 5, VIS_CREATE_RETAIN);
@@ -348,11 +357,23 @@ void limits_quota_retained(void)
 	harness_stop(&d);
 }
 
+/* Eight squares apart, a piece each: a shape of the first n has n pieces. */
+static const uint32_t squares[] = { 0, 0, 1, 1, 2, 0, 1, 1, 4, 0, 1, 1, 6, 0, 1, 1,
+				    8, 0, 1, 1, 10, 0, 1, 1, 12, 0, 1, 1, 14, 0, 1, 1 };
+
+/* Expects a shape of n squares on c's window w to be refused for reason, one of fits to pass. */
+static void shape_refused(struct harness_conn *c, uint32_t w, uint32_t n, const char *reason,
+			  uint32_t fits)
+{
+	uint32_t seq = harness_look(c, VIS_OP_SET_SHAPE, w, 1, squares, n);
+	limits_expect_limit(c, seq, VIS_OP_SET_SHAPE, reason);
+	harness_look(c, VIS_OP_SET_SHAPE, w, 1, squares, fits);
+	harness_sync(c, NULL);
+}
+
 /* As uid 65534, on other_sock: two connections of 8 look pieces each, where the uid has 10. */
 static void look_pieces_as_other(void)
 {
-	static const uint32_t squares[] = { 0, 0, 1, 1, 2, 0, 1, 1, 4, 0, 1, 1, 6, 0, 1, 1,
-					    8, 0, 1, 1, 10, 0, 1, 1, 12, 0, 1, 1, 14, 0, 1, 1 };
 	struct harness_conn a, b;
 	harness_open_as(&a, other_sock, VIS_ROLE_CLIENT);
 	harness_open_as(&b, other_sock, VIS_ROLE_CLIENT);
@@ -360,12 +381,10 @@ static void look_pieces_as_other(void)
 	uint32_t wb = harness_create(&b, 0, 0, 0, 20, 20, VIS_CREATE_MAP);
 	harness_look(&a, VIS_OP_SET_SHAPE, wa, 1, squares, 8);
 	harness_sync(&a, NULL);
-	uint32_t seq = harness_look(&b, VIS_OP_SET_SHAPE, wb, 1, squares, 8);
-	limits_expect_limit(&b, seq, VIS_OP_SET_SHAPE,
-			    "the windows of uid 65534 would have 16 look pieces, past the limit of "
-			    "10 (visd --max-look-pieces)");
-	harness_look(&b, VIS_OP_SET_SHAPE, wb, 1, squares, 2);
-	harness_sync(&b, NULL);
+	shape_refused(&b, wb, 8,
+		      "the windows of uid 65534 would have 16 look pieces, past the limit of 10 "
+		      "(visd --max-look-pieces)",
+		      2);
 	harness_close(&a);
 	harness_close(&b);
 }
@@ -378,8 +397,6 @@ static void look_pieces_as_other(void)
  */
 void limits_quota_look_pieces(void)
 {
-	static const uint32_t squares[] = { 0, 0, 1, 1, 2, 0, 1, 1, 4, 0, 1, 1, 6, 0, 1, 1,
-					    8, 0, 1, 1, 10, 0, 1, 1, 12, 0, 1, 1, 14, 0, 1, 1 };
 	harness_context("look pieces of retained windows left behind");
 	struct harness_daemon d = { 0 };
 	harness_start(&d, limits_visd, (const char *[]){ "--max-look-pieces", "10", NULL });
@@ -392,12 +409,10 @@ void limits_quota_look_pieces(void)
 	wait_windows(&m, 1);
 	harness_open_as(&b, d.sock, VIS_ROLE_CLIENT);
 	uint32_t w = harness_create(&b, 0, 30, 0, 20, 20, VIS_CREATE_MAP);
-	uint32_t seq = harness_look(&b, VIS_OP_SET_SHAPE, w, 1, squares, 4);
-	limits_expect_limit(&b, seq, VIS_OP_SET_SHAPE,
-			    "(with those its uid left retained) would have 12 look pieces, past the "
-			    "limit of 10 (visd --max-look-pieces)");
-	harness_look(&b, VIS_OP_SET_SHAPE, w, 1, squares, 2);
-	harness_sync(&b, NULL);
+	shape_refused(&b, w, 4,
+		      "(with those its uid left retained) would have 12 look pieces, past the limit "
+		      "of 10 (visd --max-look-pieces)",
+		      2);
 	harness_req(&m, VIS_OP_DESTROY, left);
 	harness_sync(&m, NULL);
 	harness_look(&b, VIS_OP_SET_SHAPE, w, 1, squares, 8);
@@ -412,23 +427,7 @@ void limits_quota_look_pieces(void)
 	harness_sync(&m, NULL);
 
 	harness_context("look pieces of another uid's connections");
-	open_sockets(&d);
-	other_sock = d.rsock;
-	fflush(NULL);
-	pid_t pid = fork();
-	CHECK(pid >= 0, "fork: %s", strerror(errno));
-	if (pid == 0) {
-		if (setgroups(0, NULL) < 0 || setgid(65534) < 0 || setuid(65534) < 0)
-			_exit(77);
-		look_pieces_as_other();
-		_exit(0);
-	}
-	int status;
-	CHECK(waitpid(pid, &status, 0) == pid, "waitpid: %s", strerror(errno));
-	CHECK(WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 77),
-	      "the case as uid 65534 failed (status %#x)", status);
-	if (WEXITSTATUS(status) == 77)
-		printf("limits: not root: look pieces of another uid are skipped\n");
+	as_other_uid(&d, look_pieces_as_other, "look pieces");
 	harness_close(&m);
 	harness_stop(&d);
 }
