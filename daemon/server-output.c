@@ -383,14 +383,14 @@ static void release_held(struct client *c)
 		return;
 	}
 	for (size_t i = 0; i < o->n_held; i++) {
-		struct vis_window *w = vis_wtree_find(&server->tree, o->held[i].window);
+		struct vis_window *w = vis_wtree_find(&server->vis->core, o->held[i].window);
 		order[i].key = w && w->state != VIS_WTREE_STATE_NONE ? w->key : UINT64_MAX;
 		order[i].h = &o->held[i];
 	}
 	qsort(order, o->n_held, sizeof *order, by_position);
 	for (size_t i = 0; i < o->n_held && !c->closing; i++) {
 		struct held *h = order[i].h;
-		struct vis_window *w = vis_wtree_find(&server->tree, h->window);
+		struct vis_window *w = vis_wtree_find(&server->vis->core, h->window);
 		if (!w)
 			continue; /* destroyed: the stack notice says so */
 		if (h->visibility && h->state != h->previous &&
@@ -414,7 +414,7 @@ static uint32_t resync(struct client *c, bool write)
 {
 	struct server *server = c->server;
 	uint32_t n = 0;
-	for (struct vis_window *w = server->tree.root.bottom; w && !c->closing;
+	for (struct vis_window *w = server->vis->core.root.bottom; w && !c->closing;
 	     w = vis_wtree_next(w)) {
 		if (!server_may_see(c, w))
 			continue;
@@ -435,11 +435,12 @@ static uint32_t resync(struct client *c, bool write)
 				write_visibility(c, w->id, w->state, VIS_VISIBILITY_NONE, 0);
 		}
 		const struct sub *s = server_client_sub_for(c, w, VIS_NOTICE_EXPOSURE);
-		struct window_data *d = w->data;
-		if (s && d && d->tracked && pixman_region32_not_empty(&d->region)) {
+		/* What it showed at the last recompute, while libvis tracks its exposures. */
+		struct vis_win *win = w->data;
+		if (s && win->tracked && pixman_region32_not_empty(&win->region)) {
 			n++;
 			if (write)
-				write_region(c, w->id, s->rect_limit, &d->region, 0);
+				write_region(c, w->id, s->rect_limit, &win->region, 0);
 		}
 	}
 	return n;
