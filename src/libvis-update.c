@@ -237,21 +237,25 @@ VIS_EXPORT int vis_tree_update(struct vis_tree *tree, const struct vis_change **
 		/*
 		 * A live recompute lists the windows it may have changed (no more than there are);
 		 * the others keep their states and regions, but for tracked windows, whose regions
-		 * count their own descendants as hiding them (X's clip list): maybe_exposed() tells.
+		 * count their own descendants as hiding them (X's clip list): maybe_exposed() tells,
+		 * before the sort, so that a desktop of tracked windows is not sorted at each update
+		 * for the few a change touched.
 		 */
 		for (size_t i = 0; i < k; i++) {
 			struct vis_win *win = changed[i]->data;
 			win->listed = tree->serial;
 			tree->list[m++] = win;
 		}
-		for (size_t i = 0; i < tree->n_tracked; i++)
-			tree->list[m++] = tree->tracked[i];
+		for (size_t i = 0; i < tree->n_tracked; i++) {
+			struct vis_win *win = tree->tracked[i];
+			if (win->listed != tree->serial &&
+			    (!win->known || maybe_exposed(damage_region(tree, &d), win->core, false)))
+				tree->list[m++] = win;
+		}
 		/* In stacking order, those no longer viewable first, each once. */
 		qsort(tree->list, m, sizeof *tree->list, by_stacking);
 		for (size_t i = 0; i < m; i++)
-			if (i == 0 || tree->list[i] != tree->list[i - 1])
-				look_at(tree, tree->list[i], tree->list[i]->listed == tree->serial,
-					&d);
+			look_at(tree, tree->list[i], tree->list[i]->listed == tree->serial, &d);
 	} else {
 		/*
 		 * Any window may have changed: the recompute went through the tree, which moved
