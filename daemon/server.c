@@ -1,4 +1,4 @@
-/* The daemon's shared state: listeners, the window tree, recomputes and the notice fan-out. */
+/* The daemon's shared state: listeners, the libvis tree, recomputes and the notice fan-out. */
 #include <errno.h>
 #include <fcntl.h>
 #include <stdbool.h>
