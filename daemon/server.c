@@ -386,32 +386,24 @@ uint32_t *server_region_words(pixman_region32_t *region, uint32_t *count)
 
 /*
  * Sends the exposure notice of w to its subscribers: rects[0 … n), n > 0, window coordinates, as
- * libvis lists them (a pixman region's rectangles: the region made of them has the same ones).
+ * libvis lists them (a pixman region's rectangles: the region made of them has the same ones,
+ * for the connections that hold it).
  */
 static void notify_exposure(struct server *server, struct vis_window *w,
 			    const struct vis_rect32 *rects, uint32_t n)
 {
 	uint32_t *words = malloc((size_t)n * 4 * sizeof *words);
-	pixman_box32_t *boxes = malloc((size_t)n * sizeof *boxes);
-	pixman_region32_t exposed;
-	bool ok = words && boxes;
-	for (uint32_t i = 0; ok && i < n; i++) {
-		const struct vis_rect32 *r = &rects[i];
-		boxes[i] = (pixman_box32_t){ r->x, r->y, (int32_t)((int64_t)r->x + r->width),
-					     (int32_t)((int64_t)r->y + r->height) };
-		words[4 * i] = (uint32_t)r->x;
-		words[4 * i + 1] = (uint32_t)r->y;
-		words[4 * i + 2] = r->width;
-		words[4 * i + 3] = r->height;
-	}
-	ok = ok && pixman_region32_init_rects(&exposed, boxes, (int)n);
-	free(boxes);
-	if (!ok) {
+	if (!words) {
 		log_error("out of memory for an exposure notice");
-		free(words);
 		return;
 	}
-	struct server_exposure once = { .exposed = &exposed, .words = words, .n = n };
+	for (uint32_t i = 0; i < n; i++) {
+		words[4 * i] = (uint32_t)rects[i].x;
+		words[4 * i + 1] = (uint32_t)rects[i].y;
+		words[4 * i + 2] = rects[i].width;
+		words[4 * i + 3] = rects[i].height;
+	}
+	struct server_exposure once = { .rects = rects, .words = words, .n = n };
 	struct client *c;
 	TAILQ_FOREACH(c, &server->clients, link) {
 		const struct sub *s;
@@ -419,7 +411,6 @@ static void notify_exposure(struct server *server, struct vis_window *w,
 			server_notice_exposure(c, s, w, &once);
 	}
 	server_exposure_finish(&once);
-	pixman_region32_fini(&exposed);
 	free(words);
 }
 

@@ -433,13 +433,19 @@ struct server_notice {
 	uint32_t size; /* 0: not encoded yet */
 	uint8_t bytes[VIS_MSG_HEADER + 8 + 4 * SERVER_STACK_WORDS];
 };
-/* A window's exposure, and its notice as the fan-out encodes it, on first use: [0] with the
- * rectangles, [1] collapsed to their bounding box (past a subscription's rect_limit). */
+/*
+ * A window's exposure, and its notice as the fan-out encodes it, on first use: [0] with the
+ * rectangles, [1] collapsed to their bounding box (past a subscription's rect_limit); and the
+ * region they make, built on first use too (only lagging connections, which merge what they
+ * hold, need one).
+ */
 struct server_exposure {
-	pixman_region32_t *exposed; /* window coordinates */
-	const uint32_t *words;      /* its rectangles as x, y, width, height */
+	const struct vis_rect32 *rects; /* window coordinates, a region's rectangles (libvis's) */
+	const uint32_t *words;          /* the same as x, y, width, height */
 	uint32_t n;
 	struct vis_buf encoded[2];
+	bool built; /* region holds them */
+	pixman_region32_t region;
 };
 /* Frees what the fan-out encoded of an exposure. */
 void server_exposure_finish(struct server_exposure *e);
