@@ -261,11 +261,14 @@ VIS_EXPORT int vis_tree_update(struct vis_tree *tree, const struct vis_change **
 		 * Any window may have changed: the recompute went through the tree, which moved
 		 * every state to old_state. Pre-order is stacking order, so two walks list those no
 		 * longer viewable (key 0), then the others, with no sort: sorting every window cost
-		 * a desktop of 1,000 more than the recompute itself.
+		 * a desktop of 1,000 more than the recompute itself. With no window tracked, only
+		 * a change of state lists one: its handle is not read for the others.
 		 */
+		bool any_tracked = tree->n_tracked > 0;
 		for (int pass = 0; pass < 2; pass++)
 			for (struct vis_window *w = tree->core.root.bottom; w; w = vis_wtree_next(w))
-				if ((w->key == 0) == (pass == 0))
+				if ((w->key == 0) == (pass == 0) &&
+				    (any_tracked || w->state != w->old_state))
 					look_at(tree, w->data, true, &d);
 	}
 	/* The rectangles are in place: point each change at its own. */
