@@ -127,7 +127,7 @@ static void drop_windows(struct client *c)
 	uint32_t *ids = NULL;
 	if (!c->n_windows)
 		return; /* no walk of the tree for each connection that made no window */
-	for (struct vis_window *w = server->tree.root.bottom; w; w = vis_wtree_next(w)) {
+	for (struct vis_window *w = server->vis->core.root.bottom; w; w = vis_wtree_next(w)) {
 		if (w->owner == c->id) {
 			if (n == cap) {
 				cap = cap ? 2 * cap : 64;
@@ -142,7 +142,7 @@ static void drop_windows(struct client *c)
 		}
 	}
 	for (size_t i = 0; i < n; i++) {
-		struct vis_window *v = vis_wtree_find(&server->tree, ids[i]);
+		struct vis_window *v = vis_wtree_find(&server->vis->core, ids[i]);
 		if (!v)
 			continue; /* went with an ancestor */
 		if (v->retained) {
@@ -363,7 +363,7 @@ static bool turn_left(struct client *c, struct turn *t)
  */
 static bool wait_for_recompute(struct client *c, const struct vis_msg *m)
 {
-	if (!c->server->dirty || c->in_batch || c->waited)
+	if (!server_dirty(c->server) || c->in_batch || c->waited)
 		return false;
 	switch (m->type->opcode) {
 	case VIS_OP_CREATE:

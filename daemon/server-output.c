@@ -181,12 +181,20 @@ static void write_visibility(struct client *c, uint32_t window, uint32_t state, 
  * collapse. 0, or -1 when memory ran out.
  */
 static int encode_exposure(struct vis_buf *out, uint32_t window, bool collapse,
-			   pixman_region32_t *exposed, const uint32_t *words, uint32_t n,
-			   uint32_t coalesced)
+			   const uint32_t *words, uint32_t n, uint32_t coalesced)
 {
-	const pixman_box32_t *e = pixman_region32_extents(exposed);
-	const uint32_t extents[4] = { (uint32_t)e->x1, (uint32_t)e->y1, (uint32_t)(e->x2 - e->x1),
-				      (uint32_t)(e->y2 - e->y1) };
+	/* Collapsed: the rectangles' bounding box (words of int32 x, y; n > 0). */
+	int64_t x1 = 0, y1 = 0, x2 = 0, y2 = 0;
+	for (uint32_t i = 0; collapse && i < n; i++) {
+		int64_t x = (int32_t)words[4 * i], y = (int32_t)words[4 * i + 1];
+		int64_t xe = x + words[4 * i + 2], ye = y + words[4 * i + 3];
+		x1 = i == 0 || x < x1 ? x : x1;
+		y1 = i == 0 || y < y1 ? y : y1;
+		x2 = i == 0 || xe > x2 ? xe : x2;
+		y2 = i == 0 || ye > y2 ? ye : y2;
+	}
+	const uint32_t extents[4] = { (uint32_t)x1, (uint32_t)y1, (uint32_t)(x2 - x1),
+				      (uint32_t)(y2 - y1) };
 	union vis_arg a[5];
 	a[0].q = 0;
 	a[1].u = window;
@@ -200,14 +208,13 @@ static int encode_exposure(struct vis_buf *out, uint32_t window, bool collapse,
 
 /* Writes one exposure notice now: the rectangles, or their bounding box past the limit. */
 static void write_exposure(struct client *c, uint32_t window, uint32_t rect_limit,
-			   pixman_region32_t *exposed, const uint32_t *words, uint32_t n,
-			   uint32_t coalesced)
+			   const uint32_t *words, uint32_t n, uint32_t coalesced)
 {
 	struct vis_buf *b = &c->server->scratch;
 	b->len = 0;
 	if (c->closing)
 		return;
-	if (encode_exposure(b, window, n > rect_limit, exposed, words, n, coalesced) < 0) {
+	if (encode_exposure(b, window, n > rect_limit, words, n, coalesced) < 0) {
 		log_error("client %u: cannot encode an exposure notice", c->id);
 		server_client_close(c);
 		return;
@@ -226,7 +233,7 @@ static void write_region(struct client *c, uint32_t window, uint32_t rect_limit,
 		server_client_close(c);
 		return;
 	}
-	write_exposure(c, window, rect_limit, exposed, words, n, coalesced);
+	write_exposure(c, window, rect_limit, words, n, coalesced);
 	free(words);
 }
 
@@ -290,22 +297,45 @@ void server_exposure_finish(struct server_exposure *e)
 {
 	vis_buf_finish(&e->encoded[0]);
 	vis_buf_finish(&e->encoded[1]);
+	if (e->built)
+		pixman_region32_fini(&e->region);
+}
+
+/* The exposure's region, made of its rectangles on first use; NULL when memory runs out. */
+static pixman_region32_t *exposure_region(struct server_exposure *e)
+{
+	if (e->built)
+		return &e->region;
+	pixman_box32_t *boxes = malloc((size_t)e->n * sizeof *boxes);
+	if (!boxes)
+		return NULL;
+	for (uint32_t i = 0; i < e->n; i++) {
+		const struct vis_rect32 *r = &e->rects[i];
+		boxes[i] = (pixman_box32_t){ r->x, r->y, (int32_t)((int64_t)r->x + r->width),
+					     (int32_t)((int64_t)r->y + r->height) };
+	}
+	e->built = pixman_region32_init_rects(&e->region, boxes, (int)e->n);
+	free(boxes);
+	return e->built ? &e->region : NULL;
 }
 
 void server_notice_exposure(struct client *c, const struct sub *s, const struct vis_window *w,
 			    struct server_exposure *once)
 {
-	pixman_region32_t *exposed = once->exposed;
 	if (!must_hold(c)) {
 		bool collapse = once->n > s->rect_limit;
 		struct vis_buf *b = &once->encoded[collapse];
-		if (!b->len && encode_exposure(b, w->id, collapse, exposed, once->words, once->n,
-					       0) < 0) {
+		if (!b->len && encode_exposure(b, w->id, collapse, once->words, once->n, 0) < 0) {
 			log_error("client %u: cannot encode an exposure notice", c->id);
 			server_client_close(c);
 			return;
 		}
 		write_copy(c, b->data, b->len);
+		return;
+	}
+	pixman_region32_t *exposed = exposure_region(once);
+	if (!exposed) {
+		hold_failed(c);
 		return;
 	}
 	struct held *h = held_entry(c, w->id);
@@ -383,14 +413,14 @@ static void release_held(struct client *c)
 		return;
 	}
 	for (size_t i = 0; i < o->n_held; i++) {
-		struct vis_window *w = vis_wtree_find(&server->tree, o->held[i].window);
+		struct vis_window *w = vis_wtree_find(&server->vis->core, o->held[i].window);
 		order[i].key = w && w->state != VIS_WTREE_STATE_NONE ? w->key : UINT64_MAX;
 		order[i].h = &o->held[i];
 	}
 	qsort(order, o->n_held, sizeof *order, by_position);
 	for (size_t i = 0; i < o->n_held && !c->closing; i++) {
 		struct held *h = order[i].h;
-		struct vis_window *w = vis_wtree_find(&server->tree, h->window);
+		struct vis_window *w = vis_wtree_find(&server->vis->core, h->window);
 		if (!w)
 			continue; /* destroyed: the stack notice says so */
 		if (h->visibility && h->state != h->previous &&
@@ -414,7 +444,7 @@ static uint32_t resync(struct client *c, bool write)
 {
 	struct server *server = c->server;
 	uint32_t n = 0;
-	for (struct vis_window *w = server->tree.root.bottom; w && !c->closing;
+	for (struct vis_window *w = server->vis->core.root.bottom; w && !c->closing;
 	     w = vis_wtree_next(w)) {
 		if (!server_may_see(c, w))
 			continue;
@@ -435,11 +465,12 @@ static uint32_t resync(struct client *c, bool write)
 				write_visibility(c, w->id, w->state, VIS_VISIBILITY_NONE, 0);
 		}
 		const struct sub *s = server_client_sub_for(c, w, VIS_NOTICE_EXPOSURE);
-		struct window_data *d = w->data;
-		if (s && d && d->tracked && pixman_region32_not_empty(&d->region)) {
+		/* What it showed at the last recompute, while libvis tracks its exposures. */
+		struct vis_win *win = w->data;
+		if (s && win->tracked && pixman_region32_not_empty(&win->region)) {
 			n++;
 			if (write)
-				write_region(c, w->id, s->rect_limit, &d->region, 0);
+				write_region(c, w->id, s->rect_limit, &win->region, 0);
 		}
 	}
 	return n;

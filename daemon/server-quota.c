@@ -141,7 +141,7 @@ int server_quota_retain(struct client *c, struct vis_window *w)
 
 void server_quota_release(struct server *server, struct vis_window *w)
 {
-	const struct window_data *d = w->data;
+	const struct window_data *d = server_data_of(w);
 	struct quota *q = d ? quota_of(server, d->retained_by) : NULL;
 	if (!q || !q->retained) {
 		log_error("window %u: a retained window counted off that was never counted", w->id);
@@ -162,7 +162,7 @@ void server_quota_look(struct server *server, const struct vis_window *w, int64_
 		       int64_t pieces)
 {
 	struct client *owner = vis_idmap_get(&server->clients_by_id, w->owner);
-	const struct window_data *d = w->data;
+	const struct window_data *d = server_data_of(w);
 	struct quota *q = owner ? quota_of(server, owner->uid)
 			  : w->retained && d ? quota_of(server, d->retained_by) : NULL;
 	if (owner) {
@@ -180,7 +180,7 @@ void server_quota_look(struct server *server, const struct vis_window *w, int64_
 
 void server_quota_orphan(struct server *server, struct vis_window *w, struct client *owner)
 {
-	const struct window_data *d = w->data;
+	const struct window_data *d = server_data_of(w);
 	struct quota *q = d ? quota_of(server, d->retained_by) : NULL;
 	uint64_t rects = (uint64_t)w->look.n_shape + w->look.n_opaque;
 	uint64_t pieces = server_look_charged(w);

@@ -13,7 +13,7 @@
 /* Looks up a window argument the connection may see; sends WINDOW and returns NULL otherwise. */
 static struct vis_window *window_arg(struct client *c, uint32_t seq, uint32_t op, uint32_t id)
 {
-	struct vis_window *w = vis_wtree_find(&c->server->tree, id);
+	struct vis_window *w = vis_wtree_find(&c->server->vis->core, id);
 	if (!w || !server_may_see(c, w)) {
 		server_client_error(c, seq, op, VIS_ERROR_WINDOW, "no such window %u", id);
 		return NULL;
@@ -41,7 +41,7 @@ static struct vis_window *parent_arg(struct client *c, uint32_t seq, uint32_t op
 			server_client_error(c, seq, op, VIS_ERROR_ACCESS, "observers change nothing");
 			return NULL;
 		}
-		return &c->server->tree.root;
+		return &c->server->vis->core.root;
 	}
 	return changeable_arg(c, seq, op, id);
 }
@@ -97,7 +97,7 @@ static bool external_ok(struct client *c, uint32_t seq, uint32_t ns, uint64_t ta
 				    "only the manager sets external IDs (namespace %u)", ns);
 		return false;
 	}
-	struct vis_window *other = vis_wtree_find_external(&c->server->tree, ns, tag);
+	struct vis_window *other = vis_wtree_find_external(&c->server->vis->core, ns, tag);
 	if (other) {
 		server_client_error(c, seq, op, VIS_ERROR_MATCH,
 				    "external ID %u:%#llx is window %u's", ns,
@@ -156,8 +156,8 @@ static void do_hello(struct client *c, uint32_t seq, const union vis_arg *a)
 	r[1].u = VIS_PROTOCOL_VERSION;
 	r[2].u = c->id;
 	r[3].u = role;
-	r[4].u = (uint32_t)server->tree.root.width;
-	r[5].u = (uint32_t)server->tree.root.height;
+	r[4].u = (uint32_t)server->vis->core.root.width;
+	r[5].u = (uint32_t)server->vis->core.root.height;
 	r[6].u = server->opt.max_request;
 	server_client_send(c, VIS_OP_HELLO_REPLY, r);
 }
@@ -197,17 +197,18 @@ static void do_create(struct client *c, uint32_t seq, const union vis_arg *a)
 	bool retain = a[5].u & VIS_CREATE_RETAIN;
 	if (retain && !server_quota_may_retain(c, seq))
 		return;
-	struct vis_window *w = vis_wtree_create(&c->server->tree, parent, a[1].i, a[2].i,
+	struct vis_window *w = vis_wtree_create(&c->server->vis->core, parent, a[1].i, a[2].i,
 						(int32_t)a[3].u, (int32_t)a[4].u, c->id);
 	/* The pair was checked to be free: setting it fails only when memory runs out. */
-	if (w && a[7].u && vis_wtree_set_external(&c->server->tree, w, a[7].u, a[8].q) < 0) {
-		vis_wtree_destroy(&c->server->tree, w, NULL, NULL);
+	if (w && ((a[7].u && vis_wtree_set_external(&c->server->vis->core, w, a[7].u, a[8].q) < 0) ||
+		  server_wrap_window(c->server, w) < 0)) {
+		vis_wtree_destroy(&c->server->vis->core, w, NULL, NULL);
 		w = NULL;
 		errno = ENOMEM;
 	}
 	if (!w || (retain && server_quota_retain(c, w) < 0)) {
 		if (w) /* nobody has heard of it yet */
-			vis_wtree_destroy(&c->server->tree, w, NULL, NULL);
+			server_discard_window(c->server, w);
 		server_client_error(c, seq, op, VIS_ERROR_LIMIT, "cannot create a window: %s",
 				    !w && errno == EOVERFLOW ? "window IDs are exhausted"
 							     : "out of memory");
@@ -218,6 +219,7 @@ static void do_create(struct client *c, uint32_t seq, const union vis_arg *a)
 	if (input_only)
 		vis_wtree_set_input_only(w);
 	changed(c, w, VIS_STACK_CREATE);
+	server_track(w, c->server); /* wanted: from nothing, all it will show is exposed */
 	if (a[5].u & VIS_CREATE_MAP) {
 		w->mapped = true;
 		changed(c, w, VIS_STACK_MAP);
@@ -293,9 +295,7 @@ static void do_configure(struct client *c, uint32_t seq, uint32_t op, const unio
 		server_look_keep(c->server, w, old, &cut);
 	if (reshaped) {
 		/* As X with ForgetGravity: a resized window's contents are gone, all of it is exposed. */
-		struct window_data *d = w->data;
-		if (d)
-			pixman_region32_clear(&d->region);
+		libvis_forget_shown(w->data);
 	}
 	changed(c, w, VIS_STACK_CONFIGURE);
 }
@@ -531,7 +531,7 @@ static bool push_words(struct client *c, uint32_t seq, uint32_t op, uint32_t **v
 
 static void do_get_states(struct client *c, uint32_t seq)
 {
-	struct vis_wtree *tree = &c->server->tree;
+	struct vis_wtree *tree = &c->server->vis->core;
 	size_t n = 0;
 	uint64_t *keys = malloc((tree->count ? tree->count : 1) * sizeof *keys);
 	uint32_t *vals = malloc((tree->count ? tree->count : 1) * sizeof *vals);
@@ -567,7 +567,7 @@ static void do_get_tree(struct client *c, uint32_t seq)
 {
 	uint32_t *v = NULL;
 	size_t n = 0, cap = 0;
-	for (struct vis_window *w = c->server->tree.root.bottom; w; w = vis_wtree_next(w)) {
+	for (struct vis_window *w = c->server->vis->core.root.bottom; w; w = vis_wtree_next(w)) {
 		if (server_may_see(c, w)) {
 			/* A parent it may not see is 0, as in stack notices. */
 			uint32_t parent = server_seen_id(c, w->parent);
@@ -603,7 +603,7 @@ static void do_get_region(struct client *c, uint32_t seq, uint32_t id)
 	pixman_region32_init(&reg);
 	uint32_t n = 0;
 	uint32_t *v = NULL;
-	if (vis_wtree_visible_region(&c->server->tree, w, &reg) < 0 ||
+	if (vis_wtree_visible_region(&c->server->vis->core, w, &reg) < 0 ||
 	    !(v = server_region_words(&reg, &n))) {
 		server_client_error(c, seq, VIS_OP_GET_REGION, VIS_ERROR_LIMIT, "out of memory");
 		goto out;
@@ -663,7 +663,7 @@ static void do_lookup(struct client *c, uint32_t seq, const union vis_arg *a)
 				    "namespace 0 names no external ID");
 		return;
 	}
-	struct vis_window *w = vis_wtree_find_external(&c->server->tree, ns, tag);
+	struct vis_window *w = vis_wtree_find_external(&c->server->vis->core, ns, tag);
 	if (!w || !server_may_see(c, w)) {
 		server_client_error(c, seq, op, VIS_ERROR_WINDOW, "no window carries external ID %u:%#llx",
 				    ns, (unsigned long long)tag);
@@ -677,7 +677,7 @@ static void do_get_repaint(struct client *c, uint32_t seq, const union vis_arg *
 {
 	if (!size_ok(c, seq, VIS_OP_GET_REPAINT, a[2].u, a[3].u))
 		return;
-	struct vis_wtree *tree = &c->server->tree;
+	struct vis_wtree *tree = &c->server->vis->core;
 	struct vis_box damage = { a[0].i, a[1].i, (int64_t)a[0].i + a[2].u,
 				  (int64_t)a[1].i + a[3].u };
 	struct vis_window **out = malloc((tree->count ? tree->count : 1) * sizeof *out);
@@ -739,7 +739,7 @@ void server_client_dispatch(struct client *c, uint32_t seq, const struct vis_msg
 	server_flush(c->server);
 	/* What a query walks, for the turn's work: every window, whatever it may see. */
 	if (op != VIS_OP_SYNC && op != VIS_OP_GET_STATE && op != VIS_OP_LOOKUP)
-		c->server->work += c->server->tree.count + 1;
+		c->server->work += c->server->vis->core.count + 1;
 	switch (op) {
 	case VIS_OP_GET_STATE: {
 		struct vis_window *w = window_arg(c, seq, op, a[0].u);

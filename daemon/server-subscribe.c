@@ -10,9 +10,12 @@ static void count(struct client *c, const struct sub *s, int delta)
 {
 	struct server *server = c->server;
 	bool exposure = s->mask & VIS_NOTICE_EXPOSURE;
+	/* Windows may no longer be wanted: the next recompute stops tracking them. */
+	if (exposure && delta < 0)
+		server->untrack_due = true;
 	if (s->window) {
-		struct vis_window *w = vis_wtree_find(&server->tree, s->window);
-		struct window_data *d = w ? w->data : NULL;
+		struct vis_window *w = vis_wtree_find(&server->vis->core, s->window);
+		struct window_data *d = w ? server_data_of(w) : NULL;
 		if (d) {
 			d->subs += (uint32_t)delta;
 			if (exposure)
@@ -26,19 +29,22 @@ static void count(struct client *c, const struct sub *s, int delta)
 	}
 }
 
-/* Starts exposure baselines for the windows a new subscription covers, from what they show now. */
+/*
+ * Starts exposure baselines for the windows a new subscription covers, from what they show now:
+ * those not viewable too, which show nothing yet, so that libvis lists what they show once they
+ * are.
+ */
 static void track_covered(struct client *c, const struct sub *s)
 {
 	struct server *server = c->server;
 	if (!(s->mask & VIS_NOTICE_EXPOSURE))
 		return;
 	if (s->window) {
-		server_track(vis_wtree_find(&server->tree, s->window), server);
+		server_track(vis_wtree_find(&server->vis->core, s->window), server);
 		return;
 	}
-	server->work += server->tree.count;
-	for (struct vis_window *w = vis_wtree_next_viewable(&server->tree, NULL); w;
-	     w = vis_wtree_next_viewable(&server->tree, w))
+	server->work += server->vis->core.count;
+	for (struct vis_window *w = server->vis->core.root.bottom; w; w = vis_wtree_next(w))
 		if (server_may_see(c, w))
 			server_track(w, server);
 }
@@ -53,14 +59,14 @@ static void send_initial(struct client *c, const struct sub *s)
 	if (!(s->mask & VIS_NOTICE_VISIBILITY))
 		return;
 	if (s->window) {
-		struct vis_window *w = vis_wtree_find(&server->tree, s->window);
+		struct vis_window *w = vis_wtree_find(&server->vis->core, s->window);
 		if (w && w->state != VIS_WTREE_STATE_NONE)
 			server_notice_initial(c, w);
 		return;
 	}
-	server->work += server->tree.count;
-	for (struct vis_window *w = vis_wtree_next_viewable(&server->tree, NULL); w && !c->closing;
-	     w = vis_wtree_next_viewable(&server->tree, w))
+	server->work += server->vis->core.count;
+	for (struct vis_window *w = vis_wtree_next_viewable(&server->vis->core, NULL); w && !c->closing;
+	     w = vis_wtree_next_viewable(&server->vis->core, w))
 		if (w->state != VIS_WTREE_STATE_NONE && server_may_see(c, w))
 			server_notice_initial(c, w);
 }
@@ -91,7 +97,7 @@ void server_subscription(struct client *c, uint32_t seq, uint32_t op, const unio
 	}
 	struct vis_window *w = NULL;
 	if (window) {
-		w = vis_wtree_find(&server->tree, window);
+		w = vis_wtree_find(&server->vis->core, window);
 		if (!w || !server_may_see(c, w)) {
 			server_client_error(c, seq, op, VIS_ERROR_WINDOW, "no such window %u", window);
 			return;

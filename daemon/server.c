@@ -1,4 +1,4 @@
-/* The daemon's shared state: listeners, the window tree, recomputes and the notice fan-out. */
+/* The daemon's shared state: listeners, the libvis tree, recomputes and the notice fan-out. */
 #include <errno.h>
 #include <fcntl.h>
 #include <stdbool.h>
@@ -188,65 +188,12 @@ static struct evconnlistener *listen_passed(struct server *server, int fd, const
 
 void server_damage(struct server *server, struct vis_window *w)
 {
-	server->dirty = true;
-	vis_wtree_note(&server->tree, w);
-	if (server->damage_all)
-		return;
-	if (server->n_damage == SERVER_DAMAGE_BOXES) {
-		server->damage_all = true;
-		return;
-	}
-	/* Children are clipped by their parent: its box covers the subtree. */
-	server->damage[server->n_damage++] = vis_wtree_box(w);
+	libvis_damage(server->vis, w->data);
 }
 
-/* A box in pixman's 32-bit coordinates: clamped, as the screen lies well inside them. */
-static pixman_box32_t clamp_box(struct vis_box b)
+bool server_dirty(const struct server *server)
 {
-	const int64_t lo = INT32_MIN, hi = INT32_MAX;
-	return (pixman_box32_t){ (int32_t)(b.x1 < lo ? lo : b.x1 > hi ? hi : b.x1),
-				 (int32_t)(b.y1 < lo ? lo : b.y1 > hi ? hi : b.y1),
-				 (int32_t)(b.x2 < lo ? lo : b.x2 > hi ? hi : b.x2),
-				 (int32_t)(b.y2 < lo ? lo : b.y2 > hi ? hi : b.y2) };
-}
-
-/*
- * Whether w's visible region may have changed since the last recompute: a pixel that it gained or
- * lost lies in its new clip box and in the box of some change (its own, an ancestor's, or that of
- * a window that covered or uncovered it), or else its state changed. damage: the union of the
- * changes' boxes, or NULL for everywhere.
- */
-static bool maybe_exposed(pixman_region32_t *damage, const struct vis_window *w)
-{
-	if (!damage || w->state != w->old_state)
-		return true;
-	if (vis_box_empty(w->clip))
-		return false;
-	pixman_box32_t b = clamp_box(w->clip);
-	return pixman_region32_contains_rectangle(damage, &b) != PIXMAN_REGION_OUT;
-}
-
-/*
- * The union of the damage boxes, built on first use in a recompute (only exposure tracking needs
- * it); NULL for everywhere: too many changes, or no memory for the region.
- */
-struct damage {
-	bool built, ok;
-	pixman_region32_t region;
-};
-
-static pixman_region32_t *damage_region(struct server *server, struct damage *d)
-{
-	if (!d->built) {
-		d->built = true;
-		if (!server->damage_all) {
-			static pixman_box32_t boxes[SERVER_DAMAGE_BOXES];
-			for (size_t i = 0; i < server->n_damage; i++)
-				boxes[i] = clamp_box(server->damage[i]);
-			d->ok = pixman_region32_init_rects(&d->region, boxes, (int)server->n_damage);
-		}
-	}
-	return d->ok ? &d->region : NULL;
+	return server->vis->dirty;
 }
 
 /*
@@ -275,7 +222,7 @@ void server_schedule_turn_end(struct server *server)
 
 void server_schedule_flush(struct server *server)
 {
-	if (server->dirty && !server->deferring)
+	if (server->vis->dirty && !server->deferring)
 		server_schedule_turn_end(server);
 }
 
@@ -293,9 +240,10 @@ int server_init(struct server *server, struct event_base *base, const struct ser
 	vis_idmap_init(&server->clients_by_id);
 	vis_idmap_init(&server->quotas);
 	vis_buf_init(&server->scratch);
-	vis_wtree_init(&server->tree, opt->screen_width, opt->screen_height);
-	vis_wtree_set_id_key(&server->tree, opt->id_key);
-	if (vis_wtree_live_from(&server->tree, opt->live_from) < 0)
+	if (!(server->vis = vis_tree_create(opt->screen_width, opt->screen_height)))
+		return -1;
+	vis_wtree_set_id_key(&server->vis->core, opt->id_key);
+	if (vis_wtree_live_from(&server->vis->core, opt->live_from) < 0)
 		return -1;
 	server->listener_retry = evtimer_new(base, on_listener_retry, server);
 	server->turn_event = event_new(base, -1, 0, on_turn_end, server);
@@ -316,54 +264,22 @@ int server_init(struct server *server, struct event_base *base, const struct ser
 	return 0;
 }
 
-/*
- * Starts or stops tracking a window's visible region, keeping server->tracked. false when there
- * is no memory to track it (it stays untracked).
- */
-static bool set_tracked(struct server *server, struct vis_window *w, struct window_data *d, bool on)
+/* Frees a window's daemon data. */
+static void free_window_data(struct vis_window *w)
 {
-	if (on == d->tracked)
-		return true;
-	if (on) {
-		if (server->n_tracked == server->cap_tracked) {
-			size_t cap = server->cap_tracked ? 2 * server->cap_tracked : 64;
-			struct vis_window **t = realloc(server->tracked, cap * sizeof *t);
-			if (!t)
-				return false;
-			server->tracked = t;
-			server->cap_tracked = cap;
-		}
-		server->tracked[server->n_tracked++] = w;
-		d->tracked_slot = (uint32_t)server->n_tracked;
-	} else {
-		size_t at = d->tracked_slot - 1;
-		server->tracked[at] = server->tracked[--server->n_tracked];
-		if (at < server->n_tracked)
-			((struct window_data *)server->tracked[at]->data)->tracked_slot = (uint32_t)(at + 1);
-		d->tracked_slot = 0;
-	}
-	d->tracked = on;
-	return true;
-}
-
-/* Frees a window's daemon data (at shutdown, server is NULL: the tracked list goes too). */
-static void free_window_data(struct server *server, struct vis_window *w)
-{
-	struct window_data *d = w->data;
-	if (d) {
-		if (server)
-			set_tracked(server, w, d, false);
-		pixman_region32_fini(&d->region);
-		free(d);
-		w->data = NULL;
+	struct vis_win *win = w->data;
+	if (win) {
+		free(vis_win_get_data(win));
+		vis_win_set_data(win, NULL);
 	}
 }
 
-/* The tree's callback at shutdown. */
-static void forget_window_data(void *data, struct vis_window *w)
+/* The tree's callback for a window that goes with no notices (shutdown, a failed create). */
+static void forget_window(void *data, struct vis_window *w)
 {
 	(void)data;
-	free_window_data(NULL, w);
+	free_window_data(w);
+	libvis_forget(w);
 }
 
 void server_finish(struct server *server)
@@ -372,8 +288,10 @@ void server_finish(struct server *server)
 	server->deferring = true; /* no recomputes or notices while everything goes */
 	while ((c = TAILQ_FIRST(&server->clients)))
 		server_client_free(c);
-	while (server->tree.root.top)
-		vis_wtree_destroy(&server->tree, server->tree.root.top, forget_window_data, NULL);
+	if (server->vis)
+		while (server->vis->core.root.top)
+			vis_wtree_destroy(&server->vis->core, server->vis->core.root.top,
+					  forget_window, NULL);
 	if (server->listener)
 		evconnlistener_free(server->listener);
 	if (server->restricted_listener)
@@ -382,8 +300,7 @@ void server_finish(struct server *server)
 		event_free(server->listener_retry);
 	if (server->turn_event)
 		event_free(server->turn_event);
-	vis_wtree_finish(&server->tree);
-	free(server->tracked);
+	vis_tree_destroy(server->vis);
 	vis_idmap_finish(&server->clients_by_id);
 	server_quota_finish(server);
 	if (server->reserve_fd >= 0)
@@ -403,20 +320,16 @@ bool server_may_change(const struct client *c, const struct vis_window *w)
 
 struct window_data *server_window_data(struct vis_window *w)
 {
-	if (!w->data) {
-		struct window_data *d = calloc(1, sizeof *d);
-		if (!d)
-			return NULL;
-		pixman_region32_init(&d->region);
-		w->data = d;
-	}
-	return w->data;
+	struct window_data *d = server_data_of(w);
+	if (!d && (d = calloc(1, sizeof *d)))
+		vis_win_set_data(w->data, d);
+	return d;
 }
 
 /* Whether some subscription asks for w's exposures. */
 static bool wants_exposure(const struct server *server, const struct vis_window *w)
 {
-	const struct window_data *d = w->data;
+	const struct window_data *d = server_data_of(w);
 	if (server->role_all_exposure || (d && d->exposure_subs))
 		return true;
 	/* The owner's subscription to all of its own windows. */
@@ -426,15 +339,22 @@ static bool wants_exposure(const struct server *server, const struct vis_window 
 
 void server_track(struct vis_window *w, struct server *server)
 {
-	struct window_data *d = server_window_data(w);
-	if (!d || d->tracked)
-		return;
-	if (!set_tracked(server, w, d, true)) {
+	if (w && wants_exposure(server, w) && vis_win_track_exposure(w->data, 1) < 0)
 		log_error("out of memory for exposure tracking");
-		return;
-	}
-	if (vis_wtree_visible_region(&server->tree, w, &d->region) < 0)
-		pixman_region32_clear(&d->region);
+}
+
+/*
+ * Stops tracking the exposures of the windows no subscription wants them of any more, once one
+ * ended: libvis then spends nothing on them. From the end, as untracking moves the last one into
+ * the place it leaves.
+ */
+static void untrack_unwanted(struct server *server)
+{
+	struct vis_tree *vis = server->vis;
+	server->untrack_due = false;
+	for (size_t i = vis->n_tracked; i-- > 0;)
+		if (!wants_exposure(server, vis->tracked[i]->core))
+			libvis_untrack(vis->tracked[i]);
 }
 
 /* Sends the visibility notice of w to every connection subscribed to it. */
@@ -464,16 +384,26 @@ uint32_t *server_region_words(pixman_region32_t *region, uint32_t *count)
 	return words;
 }
 
-/* Sends the exposure notice of w (rectangles in window coordinates) to its subscribers. */
-static void notify_exposure(struct server *server, struct vis_window *w, pixman_region32_t *exposed)
+/*
+ * Sends the exposure notice of w to its subscribers: rects[0 … n), n > 0, window coordinates, as
+ * libvis lists them (a pixman region's rectangles: the region made of them has the same ones,
+ * for the connections that hold it).
+ */
+static void notify_exposure(struct server *server, struct vis_window *w,
+			    const struct vis_rect32 *rects, uint32_t n)
 {
-	uint32_t n;
-	uint32_t *words = server_region_words(exposed, &n);
+	uint32_t *words = malloc((size_t)n * 4 * sizeof *words);
 	if (!words) {
 		log_error("out of memory for an exposure notice");
 		return;
 	}
-	struct server_exposure once = { .exposed = exposed, .words = words, .n = n };
+	for (uint32_t i = 0; i < n; i++) {
+		words[4 * i] = (uint32_t)rects[i].x;
+		words[4 * i + 1] = (uint32_t)rects[i].y;
+		words[4 * i + 2] = rects[i].width;
+		words[4 * i + 3] = rects[i].height;
+	}
+	struct server_exposure once = { .rects = rects, .words = words, .n = n };
 	struct client *c;
 	TAILQ_FOREACH(c, &server->clients, link) {
 		const struct sub *s;
@@ -484,99 +414,33 @@ static void notify_exposure(struct server *server, struct vis_window *w, pixman_
 	free(words);
 }
 
-/* Orders windows by stacking (keys grow with it; 0 for those not viewable), then address. */
-static int by_stacking(const void *a, const void *b)
-{
-	const struct vis_window *x = *(struct vis_window *const *)a, *y = *(struct vis_window *const *)b;
-	if (x->key != y->key)
-		return x->key < y->key ? -1 : 1;
-	return x < y ? -1 : x > y;
-}
-
 /*
- * The notices of one window after a recompute: its visibility if its state changed, its exposure
- * if it is tracked and its visible region may have grown.
+ * The recompute and its notices, from what libvis lists (stacking order): a visibility notice
+ * for each window whose state changed, but to not viewable (its stack notice said so); an
+ * exposure notice for each tracked window with newly visible pixels.
  */
-static void flush_window(struct server *server, struct vis_window *w, struct damage *damage,
-			 pixman_region32_t *now, pixman_region32_t *exposed)
-{
-	if (w->state != w->old_state && w->state != VIS_WTREE_STATE_NONE)
-		notify_visibility(server, w);
-	struct window_data *d = w->data;
-	if (!wants_exposure(server, w)) {
-		if (d && d->tracked) {
-			set_tracked(server, w, d, false);
-			pixman_region32_clear(&d->region);
-		}
-		return;
-	}
-	if (d && d->tracked && !maybe_exposed(damage_region(server, damage), w))
-		return;
-	/* A window first tracked now was created since the last recompute: it showed nothing. */
-	if (!(d = server_window_data(w)) || !set_tracked(server, w, d, true)) {
-		log_error("out of memory for exposure tracking");
-		return;
-	}
-	if (vis_wtree_visible_region(&server->tree, w, now) < 0) {
-		log_error("out of memory for a visible region");
-		return;
-	}
-	pixman_region32_subtract(exposed, now, &d->region);
-	pixman_region32_copy(&d->region, now);
-	if (pixman_region32_not_empty(exposed))
-		notify_exposure(server, w, exposed);
-}
-
 void server_flush(struct server *server)
 {
-	if (!server->dirty || server->deferring)
+	if (!server->vis->dirty || server->deferring)
 		return;
-	/* The tree decides how: live from the changes noted, or through the tree. */
-	if (vis_wtree_update(&server->tree) < 0) {
+	if (server->untrack_due)
+		untrack_unwanted(server);
+	const struct vis_change *changes;
+	size_t n;
+	/* libvis decides how: live from the changes noted, or through the tree. */
+	if (vis_tree_update(server->vis, &changes, &n) < 0) {
 		log_error("recompute: out of memory; states stay as they were");
 		return;
 	}
-	server->dirty = false;
 	server->recomputes++;
-	pixman_region32_t now, exposed;
-	pixman_region32_init(&now);
-	pixman_region32_init(&exposed);
-	struct damage damage = { 0 };
-	struct vis_window *const *changed;
-	size_t n;
-	/*
-	 * A live recompute lists the windows it may have changed; a window it did not keeps its
-	 * state and visible region, so that a tracked one has no new exposure. Else every window.
-	 */
-	struct vis_window **list = NULL;
-	if (vis_wtree_changes(&server->tree, &changed, &n) &&
-	    (list = malloc((n + server->n_tracked + 1) * sizeof *list))) {
-		/*
-		 * The windows the recompute may have changed, and the tracked ones: a tracked
-		 * window's region also counts its descendants as hiding it (X's clip list), so it
-		 * may change with no change of state; maybe_exposed() tells. In stacking order, as
-		 * notices go out, each once.
-		 */
-		size_t m = 0;
-		for (size_t i = 0; i < n; i++)
-			list[m++] = changed[i];
-		for (size_t i = 0; i < server->n_tracked; i++)
-			list[m++] = server->tracked[i];
-		qsort(list, m, sizeof *list, by_stacking);
-		for (size_t i = 0; i < m; i++)
-			if (i == 0 || list[i] != list[i - 1])
-				flush_window(server, list[i], &damage, &now, &exposed);
-		free(list);
-	} else {
-		for (struct vis_window *w = server->tree.root.bottom; w; w = vis_wtree_next(w))
-			flush_window(server, w, &damage, &now, &exposed);
+	for (size_t i = 0; i < n; i++) {
+		const struct vis_change *ch = &changes[i];
+		struct vis_window *w = ch->win->core;
+		if (ch->state != ch->previous && ch->state != VIS_VISIBILITY_NONE)
+			notify_visibility(server, w);
+		if (ch->n_exposed)
+			notify_exposure(server, w, ch->exposed, ch->n_exposed);
 	}
-	pixman_region32_fini(&now);
-	pixman_region32_fini(&exposed);
-	if (damage.ok)
-		pixman_region32_fini(&damage.region);
-	server->n_damage = 0;
-	server->damage_all = false;
 }
 
 uint32_t server_seen_id(const struct client *viewer, const struct vis_window *w)
@@ -652,7 +516,7 @@ static void window_gone(void *data, struct vis_window *w)
 			  -(int64_t)server_look_charged(w));
 	if (w->retained)
 		server_quota_release(server, w);
-	struct window_data *d = w->data;
+	struct window_data *d = server_data_of(w);
 	if (d && d->subs) {
 		struct client *c;
 		TAILQ_FOREACH(c, &server->clients, link)
@@ -662,11 +526,22 @@ static void window_gone(void *data, struct vis_window *w)
 				else
 					i++;
 	}
-	free_window_data(server, w);
+	free_window_data(w);
+	libvis_forget(w);
 }
 
 void server_destroy_window(struct server *server, struct vis_window *w)
 {
 	server_damage(server, w);
-	vis_wtree_destroy(&server->tree, w, window_gone, server);
+	vis_wtree_destroy(&server->vis->core, w, window_gone, server);
+}
+
+int server_wrap_window(struct server *server, struct vis_window *w)
+{
+	return libvis_wrap(server->vis, w) ? 0 : -1;
+}
+
+void server_discard_window(struct server *server, struct vis_window *w)
+{
+	vis_wtree_destroy(&server->vis->core, w, forget_window, NULL);
 }

@@ -10,7 +10,7 @@
 #include <sys/types.h>
 
 #include "codec.h"
-#include "wtree.h"
+#include "libvis-private.h" /* libvis, and the core under it (wtree.h) */
 
 struct server_options {
 	const char *socket_path;
@@ -38,9 +38,6 @@ struct server_options {
 	uint32_t max_retained;  /* retained windows that exist */
 	uid_t allowed_uid;      /* peers with this uid may take roles */
 };
-
-/* Changes remembered one by one between recomputes before every window counts as damaged. */
-#define SERVER_DAMAGE_BOXES 1024
 
 /*
  * Requests one connection may run per turn of the event loop before others get theirs; a request
@@ -166,16 +163,15 @@ struct client {
 TAILQ_HEAD(client_list, client);
 
 /*
- * What the daemon keeps for a window (vis_window.data). Every retained window has it from its
- * creation on: its count must be found after the connection that made it is gone.
+ * What the daemon keeps for a window: its libvis handle's user pointer (vis_window.data is the
+ * handle, struct vis_win). Every retained window has it from its creation on: its count must be
+ * found after the connection that made it is gone. What a window showed, for its exposures, is
+ * libvis's (vis_win.region, while tracked).
  */
 struct window_data {
 	uint32_t exposure_subs; /* subscriptions naming this window with exposures */
 	uint32_t subs;          /* subscriptions naming this window */
-	bool tracked;           /* region holds the visible region last reported */
-	uint32_t tracked_slot;  /* its place in server->tracked, 1-based, while tracked */
 	uid_t retained_by;      /* a retained window's creator, whose quota counts it */
-	pixman_region32_t region;
 };
 
 struct server {
@@ -184,10 +180,12 @@ struct server {
 	struct evconnlistener *listener, *restricted_listener;
 	struct event *listener_retry;
 	int reserve_fd; /* spent to refuse connections when descriptors run out */
-	struct vis_wtree tree;
-	/* The windows whose visible region is tracked for exposures (window_data.tracked). */
-	struct vis_window **tracked;
-	size_t n_tracked, cap_tracked;
+	/*
+	 * The model: libvis's tree (vis->core the core's, each window's data its vis_win). Every
+	 * change goes through server_damage(), so that vis_tree_update() recomputes it and lists
+	 * what it did; libvis tracks the exposures of the windows some subscription wants them of.
+	 */
+	struct vis_tree *vis;
 	struct client_list clients;
 	struct client_list to_write; /* connections with output queued in this turn (conn.listed) */
 	uint32_t n_clients;
@@ -199,13 +197,10 @@ struct server {
 	uint32_t next_client;
 	struct client *manager;
 	uint32_t role_all_exposure; /* observers and managers with exposures of every window */
-	bool dirty;     /* the tree changed since the last recompute */
+	/* A subscription with exposures ended: the next recompute first stops tracking the windows
+	 * that no subscription wants exposures of any more. */
+	bool untrack_due;
 	uint64_t recomputes;
-	/* Where the tree changed since the last recompute (absolute boxes), for exposures; past
-	 * SERVER_DAMAGE_BOXES changes, everywhere. */
-	struct vis_box damage[SERVER_DAMAGE_BOXES];
-	size_t n_damage;
-	bool damage_all;
 	bool deferring; /* replaying a batch: recompute once at its end */
 	uint64_t work;  /* windows walked by requests so far (see SERVER_TURN_WORK) */
 	uint64_t walk_left; /* windows the batch being committed may still walk, or their worth */
@@ -228,11 +223,13 @@ bool server_may_change(const struct client *c, const struct vis_window *w);
 /* Recomputes the states if the tree changed, and sends the notices that follow. */
 void server_flush(struct server *server);
 /*
- * Marks the tree changed where w and its subtree lie (absolute coordinates), so that the windows
- * there get their exposures recomputed, and notes w's change for the live recompute. Called
- * before and after a change moves w.
+ * Tells libvis that w changed where it and its subtree lie (libvis_damage()): the tree is dirty,
+ * the windows there get their exposures recomputed, the live recompute notes it. Called before
+ * and after a change moves w.
  */
 void server_damage(struct server *server, struct vis_window *w);
+/* Whether the tree changed since the last recompute. */
+bool server_dirty(const struct server *server);
 /* Recomputes once every request read in this turn of the event loop has run. */
 void server_schedule_flush(struct server *server);
 /* Makes the end of this turn of the event loop (the recompute, the writes) come. */
@@ -265,15 +262,27 @@ void server_notify_stack(struct server *server, struct vis_window *w, uint32_t c
 
 /* The window's daemon data, allocated on first use; NULL when memory runs out. */
 struct window_data *server_window_data(struct vis_window *w);
+/* The window's daemon data, NULL when it has none. */
+static inline struct window_data *server_data_of(const struct vis_window *w)
+{
+	return vis_win_get_data(w->data);
+}
 
 /* A region's rectangles as x, y, w, h words (malloc'd; *count rectangles), or NULL. */
 uint32_t *server_region_words(pixman_region32_t *region, uint32_t *count);
 
-/* Starts exposure tracking of w from its current region (the tree must be computed). */
+/*
+ * Starts libvis's exposure tracking of w when a subscription wants its exposures: from what it
+ * shows now when the tree is computed, else (a window just created) from nothing.
+ */
 void server_track(struct vis_window *w, struct server *server);
 
+/* Gives w, just created in the core, its libvis handle. 0, or -1 when memory runs out. */
+int server_wrap_window(struct server *server, struct vis_window *w);
 /* Destroys w and its subtree, with notices. */
 void server_destroy_window(struct server *server, struct vis_window *w);
+/* Destroys w, created half-way by a request that failed, of which nobody has heard: no notices. */
+void server_discard_window(struct server *server, struct vis_window *w);
 
 /* A connection's socket (server-io.c). */
 /* Sets up c's socket fd, not yet read from; 0, or -1 when memory runs out (fd stays open). */
@@ -424,13 +433,19 @@ struct server_notice {
 	uint32_t size; /* 0: not encoded yet */
 	uint8_t bytes[VIS_MSG_HEADER + 8 + 4 * SERVER_STACK_WORDS];
 };
-/* A window's exposure, and its notice as the fan-out encodes it, on first use: [0] with the
- * rectangles, [1] collapsed to their bounding box (past a subscription's rect_limit). */
+/*
+ * A window's exposure, and its notice as the fan-out encodes it, on first use: [0] with the
+ * rectangles, [1] collapsed to their bounding box (past a subscription's rect_limit); and the
+ * region they make, built on first use too (only lagging connections, which merge what they
+ * hold, need one).
+ */
 struct server_exposure {
-	pixman_region32_t *exposed; /* window coordinates */
-	const uint32_t *words;      /* its rectangles as x, y, width, height */
+	const struct vis_rect32 *rects; /* window coordinates, a region's rectangles (libvis's) */
+	const uint32_t *words;          /* the same as x, y, width, height */
 	uint32_t n;
 	struct vis_buf encoded[2];
+	bool built; /* region holds them */
+	pixman_region32_t region;
 };
 /* Frees what the fan-out encoded of an exposure. */
 void server_exposure_finish(struct server_exposure *e);

@@ -73,6 +73,21 @@ void libvis_damage(struct vis_tree *tree, struct vis_win *win);
 void libvis_untrack(struct vis_win *win);
 
 /*
+ * For in-tree code that changes the core itself (visd, whose requests reach fields vis.h does not
+ * offer: protocol IDs, owners, retained flags) and tells libvis through libvis_damage():
+ *
+ * libvis_wrap() gives w, a window just created in tree->core, its handle (w->data points to it
+ * from then on): NULL with ENOMEM, w untouched then. O(1).
+ * libvis_forget() frees the handle of w as the core destroys it: call it from
+ * vis_wtree_destroy()'s callback, for each window destroyed. O(1).
+ * libvis_forget_shown() forgets what win showed, as a new size or border does (X's
+ * ForgetGravity): if tracked, all it shows at the next update is newly exposed. O(1).
+ */
+struct vis_win *libvis_wrap(struct vis_tree *tree, struct vis_window *w);
+void libvis_forget(struct vis_window *w);
+void libvis_forget_shown(struct vis_win *win);
+
+/*
  * Appends region's rectangles, moved by -dx, -dy, to *arr (*n used of *cap), growing it.
  * 0, or -1 with ENOMEM (nothing appended then).
  */

@@ -237,31 +237,38 @@ VIS_EXPORT int vis_tree_update(struct vis_tree *tree, const struct vis_change **
 		/*
 		 * A live recompute lists the windows it may have changed (no more than there are);
 		 * the others keep their states and regions, but for tracked windows, whose regions
-		 * count their own descendants as hiding them (X's clip list): maybe_exposed() tells.
+		 * count their own descendants as hiding them (X's clip list): maybe_exposed() tells,
+		 * before the sort, so that a desktop of tracked windows is not sorted at each update
+		 * for the few a change touched.
 		 */
 		for (size_t i = 0; i < k; i++) {
 			struct vis_win *win = changed[i]->data;
 			win->listed = tree->serial;
 			tree->list[m++] = win;
 		}
-		for (size_t i = 0; i < tree->n_tracked; i++)
-			tree->list[m++] = tree->tracked[i];
+		for (size_t i = 0; i < tree->n_tracked; i++) {
+			struct vis_win *win = tree->tracked[i];
+			if (win->listed != tree->serial &&
+			    (!win->known || maybe_exposed(damage_region(tree, &d), win->core, false)))
+				tree->list[m++] = win;
+		}
 		/* In stacking order, those no longer viewable first, each once. */
 		qsort(tree->list, m, sizeof *tree->list, by_stacking);
 		for (size_t i = 0; i < m; i++)
-			if (i == 0 || tree->list[i] != tree->list[i - 1])
-				look_at(tree, tree->list[i], tree->list[i]->listed == tree->serial,
-					&d);
+			look_at(tree, tree->list[i], tree->list[i]->listed == tree->serial, &d);
 	} else {
 		/*
 		 * Any window may have changed: the recompute went through the tree, which moved
 		 * every state to old_state. Pre-order is stacking order, so two walks list those no
 		 * longer viewable (key 0), then the others, with no sort: sorting every window cost
-		 * a desktop of 1,000 more than the recompute itself.
+		 * a desktop of 1,000 more than the recompute itself. With no window tracked, only
+		 * a change of state lists one: its handle is not read for the others.
 		 */
+		bool any_tracked = tree->n_tracked > 0;
 		for (int pass = 0; pass < 2; pass++)
 			for (struct vis_window *w = tree->core.root.bottom; w; w = vis_wtree_next(w))
-				if ((w->key == 0) == (pass == 0))
+				if ((w->key == 0) == (pass == 0) &&
+				    (any_tracked || w->state != w->old_state))
 					look_at(tree, w->data, true, &d);
 	}
 	/* The rectangles are in place: point each change at its own. */

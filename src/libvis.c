@@ -38,15 +38,22 @@ VIS_EXPORT struct vis_tree *vis_tree_create(int32_t width, int32_t height)
 	return tree;
 }
 
-/* The core's callback for each window destroyed: its handle goes with it. */
-static void window_gone(void *data, struct vis_window *w)
+void libvis_forget(struct vis_window *w)
 {
-	(void)data;
 	struct vis_win *win = w->data;
+	if (!win)
+		return;
 	libvis_untrack(win);
 	pixman_region32_fini(&win->region);
 	free(win);
 	w->data = NULL;
+}
+
+/* The core's callback for each window destroyed: its handle goes with it. */
+static void window_gone(void *data, struct vis_window *w)
+{
+	(void)data;
+	libvis_forget(w);
 }
 
 VIS_EXPORT void vis_tree_destroy(struct vis_tree *tree)
@@ -95,6 +102,26 @@ static int check_size(int32_t width, int32_t height, int32_t border)
 	return 0;
 }
 
+struct vis_win *libvis_wrap(struct vis_tree *tree, struct vis_window *w)
+{
+	struct vis_win *win = calloc(1, sizeof *win);
+	if (!win) {
+		errno = ENOMEM;
+		return NULL;
+	}
+	win->core = w;
+	win->tree = tree;
+	pixman_region32_init(&win->region);
+	w->data = win;
+	return win;
+}
+
+void libvis_forget_shown(struct vis_win *win)
+{
+	pixman_region32_clear(&win->region);
+	win->known = false;
+}
+
 /* The core window under which a window of tree goes: parent's, or the screen for NULL. */
 static struct vis_window *parent_of(struct vis_tree *tree, struct vis_win *parent)
 {
@@ -112,22 +139,17 @@ VIS_EXPORT struct vis_win *vis_win_create(struct vis_tree *tree, struct vis_win 
 	}
 	if (check_size(width, height, border) < 0)
 		return NULL;
-	struct vis_win *win = calloc(1, sizeof *win);
-	if (!win) {
-		errno = ENOMEM;
-		return NULL;
-	}
 	/* IDs run out (EOVERFLOW) only after 2^32 − 1 windows: the core's errno stands. */
 	struct vis_window *w = vis_wtree_create(&tree->core, parent_of(tree, parent), x, y, width,
 						height, 0);
-	if (!w) {
-		free(win);
+	if (!w)
+		return NULL;
+	struct vis_win *win = libvis_wrap(tree, w);
+	if (!win) {
+		vis_wtree_destroy(&tree->core, w, NULL, NULL);
+		errno = ENOMEM;
 		return NULL;
 	}
-	win->core = w;
-	win->tree = tree;
-	pixman_region32_init(&win->region);
-	w->data = win;
 	vis_wtree_set_border(w, border); /* checked above: cannot fail */
 	if (flags & VIS_WIN_INPUT_ONLY)
 		vis_wtree_set_input_only(w);
@@ -192,12 +214,8 @@ VIS_EXPORT int vis_win_configure(struct vis_win *win, int32_t x, int32_t y, int3
 	vis_wtree_set_size(w, width, height, border); /* checked above: cannot fail */
 	if (w->cut && reshaped)
 		vis_wtree_keep_cut(w, &cut);
-	if (reshaped) {
-		/* As X with ForgetGravity: a resized window's contents are gone, all of it is
-		 * exposed. */
-		pixman_region32_clear(&win->region);
-		win->known = false;
-	}
+	if (reshaped)
+		libvis_forget_shown(win); /* its contents are gone: all of it is exposed */
 	libvis_damage(win->tree, win);
 	return 0;
 }
