@@ -22,6 +22,11 @@ uint64_t server_look_charged(const struct vis_window *w)
 	return w->cut ? w->cut->n : 0;
 }
 
+uint64_t server_look_rects(const struct vis_window *w)
+{
+	return (uint64_t)w->look.n_shape + w->look.n_opaque;
+}
+
 bool server_look_pieces_ok(struct client *c, uint32_t seq, uint32_t op, const struct vis_window *w,
 			   const struct vis_look *look, int32_t width, int32_t height,
 			   struct vis_look_cut *cut)

@@ -182,7 +182,7 @@ void server_quota_orphan(struct server *server, struct vis_window *w, struct cli
 {
 	const struct window_data *d = server_data_of(w);
 	struct quota *q = d ? quota_of(server, d->retained_by) : NULL;
-	uint64_t rects = (uint64_t)w->look.n_shape + w->look.n_opaque;
+	uint64_t rects = server_look_rects(w);
 	uint64_t pieces = server_look_charged(w);
 	add(&owner->n_look_rects, -(int64_t)rects);
 	add(&owner->n_look_pieces, -(int64_t)pieces);

@@ -512,7 +512,7 @@ static void window_gone(void *data, struct vis_window *w)
 	struct client *owner = vis_idmap_get(&server->clients_by_id, w->owner);
 	if (owner)
 		owner->n_windows--;
-	server_quota_look(server, w, -(int64_t)((uint64_t)w->look.n_shape + w->look.n_opaque),
+	server_quota_look(server, w, -(int64_t)server_look_rects(w),
 			  -(int64_t)server_look_charged(w));
 	if (w->retained)
 		server_quota_release(server, w);

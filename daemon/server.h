@@ -346,6 +346,8 @@ void server_client_dispatch(struct client *c, uint32_t seq, const struct vis_msg
 /* What windows' looks cost their owners (server-look.c). */
 /* The pieces of w's look counted against its owner: its cut's, kept up to date by the two below. */
 uint64_t server_look_charged(const struct vis_window *w);
+/* The shape and opaque rectangles of w's look, counted against its owner. */
+uint64_t server_look_rects(const struct vis_window *w);
 /*
  * Whether window w, its look and inside becoming look and width × height, keeps its owner within
  * --max-look-pieces. If so, cut holds the pieces (zero when the look cuts nothing inside the

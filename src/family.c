@@ -63,7 +63,7 @@ void vis_family_draw(struct vis_rng *r, size_t min_n, size_t max_n, struct vis_f
 		   : p < 0.55 ? VIS_FAMILY_CLUSTER
 		   : p < 0.8  ? VIS_FAMILY_CASCADE
 			      : VIS_FAMILY_LATTICE;
-	f->clusters = 1 + (uint32_t)vis_rng_below(r, 12);
+	f->clusters = 1 + (uint32_t)vis_rng_below(r, VIS_FAMILY_CLUSTERS_MAX);
 	f->cluster_sigma = log_between(r, 0.01, 0.3);
 	f->step_x = (int32_t)vis_rng_range(r, 1, 64) * (vis_rng_below(r, 4) ? 1 : -1);
 	f->step_y = (int32_t)vis_rng_range(r, 0, 64);
@@ -100,8 +100,8 @@ int vis_family_gen(struct vis_scene *scene, const struct vis_family *f, uint64_t
 	scene->screen_h = f->h;
 	double mw = f->size * (double)w * sqrt(f->aspect), mh = f->size * (double)h / sqrt(f->aspect);
 	int64_t pitch_x = clamp(mw, 1, w), pitch_y = clamp(mh, 1, h);
-	double cx[12], cy[12];
-	for (int k = 0; k < 12; k++) {
+	double cx[VIS_FAMILY_CLUSTERS_MAX], cy[VIS_FAMILY_CLUSTERS_MAX];
+	for (int k = 0; k < VIS_FAMILY_CLUSTERS_MAX; k++) {
 		cx[k] = uniform(&r);
 		cy[k] = uniform(&r);
 	}

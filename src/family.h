@@ -12,6 +12,9 @@
 #include "rng.h"
 #include "scene.h"
 
+/* The most centres a clustered member has. */
+#define VIS_FAMILY_CLUSTERS_MAX 12
+
 /* Where windows go. */
 enum vis_family_place {
 	VIS_FAMILY_SCATTER, /* anywhere in the area */
