@@ -169,6 +169,21 @@ done
 v map 999999 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "map" "$dir/err" && grep -q "no such window" "$dir/err" ||
 	fail "map of a missing window: $(cat "$dir/err")"
+# A window another connection made is hidden from a plain client: the error says it may be
+# another connection's, and which role sees (observer) and changes (manager) it; with a role,
+# the bare error. In a script, the script's connection is named.
+other=$(v create 0 0 10 10 --map --retain)
+v raise "$other" 2>"$dir/err"
+[ $? -eq 1 ] && grep -qF "raise $other: window: no such window $other (it may be another connection's: each visctl is a new connection, a plain client, which sees only its own windows; --role observer reads every window, --role manager changes them)" "$dir/err" ||
+	fail "raise of another connection's window: $(cat "$dir/err")"
+printf 'raise %s\n' "$other" >"$dir/other-script"
+v script "$dir/other-script" 2>"$dir/err"
+[ $? -eq 1 ] && grep -qF "other-script:1: raise $other: window: no such window $other (it may be another connection's: this script's connection is a plain client" "$dir/err" ||
+	fail "a script's raise of another connection's window: $(cat "$dir/err")"
+v --role manager raise 999999 2>"$dir/err"
+[ $? -eq 1 ] && ! grep -q "another connection" "$dir/err" ||
+	fail "a manager's missing window: $(cat "$dir/err")"
+v --role manager destroy "$other" || fail "the manager did not destroy another connection's window"
 "$visctl" -s "$dir/nothing" states 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "$dir/nothing" "$dir/err" || fail "no daemon: $(cat "$dir/err")"
 
