@@ -333,6 +333,21 @@ out=$("$visctl" --version) || fail "visctl --version exited $?"
 [ $? -eq 1 ] && grep -q "another visd" "$dir/err" || fail "second daemon: $(cat "$dir/err")"
 "$visd" --screen 0x5 --socket "$dir/x" 2>/dev/null
 [ $? -eq 2 ] || fail "visd --screen 0x5 was accepted"
+# An option's error is one line, then the usage line and where the rest is: not the forty lines
+# of --help that once buried it. A size out of range says so, not "want WxH".
+"$visd" --screen 0x0 --socket "$dir/x" 2>"$dir/err"
+[ $? -eq 2 ] && [ "$(head -n 1 "$dir/err")" = "visd: --screen '0x0': width and height must each be 1 to 2147483647 (WxH, e.g. 1920x1080)" ] ||
+	fail "visd --screen 0x0: $(cat "$dir/err")"
+"$visd" --screen 1920 --socket "$dir/x" 2>"$dir/err"
+[ $? -eq 2 ] && grep -qx "visd: --screen '1920': want WxH, e.g. 1920x1080" "$dir/err" ||
+	fail "visd --screen 1920: $(cat "$dir/err")"
+for opt in "--bogus" "--screen 0x0" "--max-clients 0" "--owner-reserve 8 --max-clients 8"; do
+	# shellcheck disable=SC2086
+	"$visd" --socket "$dir/x" $opt 2>"$dir/err"
+	[ "$(wc -l <"$dir/err")" -eq 3 ] && grep -qx "usage: visd .*" "$dir/err" &&
+		grep -qxF "(visd --help lists every option)" "$dir/err" ||
+		fail "visd $opt: not one line and the usage line: $(cat "$dir/err")"
+done
 env -u VISD_SOCKET -u XDG_RUNTIME_DIR "$visd" 2>"$dir/err"
 [ $? -eq 2 ] && grep -q "VISD_SOCKET" "$dir/err" || fail "no socket path: $(cat "$dir/err")"
 for opt in "--max-clients 0" "--max-depth 4097" "--max-pending 100" "--max-windows x" "--max-request" \
