@@ -186,6 +186,33 @@ v --role manager raise 999999 2>"$dir/err"
 v --role manager destroy "$other" || fail "the manager did not destroy another connection's window"
 "$visctl" -s "$dir/nothing" states 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "$dir/nothing" "$dir/err" || fail "no daemon: $(cat "$dir/err")"
+# A refused connection says what is at the path and whether a visd runs for it (holds the
+# path's .lock), not a bare "Connection refused": a regular file; the socket a killed visd left;
+# that socket while something holds the lock, as a visd starting there does.
+: >"$dir/plain"
+"$visctl" -s "$dir/plain" states 2>"$dir/err"
+[ $? -eq 1 ] && grep -qF "cannot connect to $dir/plain: Connection refused: it is a regular file, not a socket; no visd holds its .lock, so none runs for this path (a new one replaces what is there)" "$dir/err" ||
+	fail "a regular file at the socket's path: $(cat "$dir/err")"
+"$visd" --socket "$dir/crashed" 2>/dev/null &
+cpid=$!
+wait_socket "$cpid" "$dir/crashed"
+kill -KILL "$cpid"
+wait "$cpid" 2>/dev/null
+"$visctl" -s "$dir/crashed" states 2>"$dir/err"
+[ $? -eq 1 ] && grep -qF "cannot connect to $dir/crashed: Connection refused: the socket there has no listener: the visd that made it has gone (killed or crashed); no visd holds its .lock, so none runs for this path" "$dir/err" ||
+	fail "a killed visd's socket: $(cat "$dir/err")"
+if command -v flock >/dev/null; then
+	# The lock is held by fd 9 of the subshell, which becomes the sleep: killing it frees it.
+	(flock 9 && exec sleep 600) 9>"$dir/crashed.lock" >/dev/null 2>&1 &
+	fpid=$!
+	held() { grep -q "FLOCK.*:$(stat -c %i "$dir/crashed.lock") " /proc/locks; }
+	wait_progress "$fpid" held
+	"$visctl" -s "$dir/crashed" states 2>"$dir/err"
+	[ $? -eq 1 ] && grep -qF "the visd that made it has gone (killed or crashed); yet a visd holds its .lock: one runs for this path" "$dir/err" ||
+		fail "a stale socket with its lock held: $(cat "$dir/err")"
+	kill "$fpid"
+	wait "$fpid" 2>/dev/null
+fi
 
 # snapshot --svg: every window the observer sees, children at their absolute place, each in the
 # state the daemon gives it; a client draws only its own.
