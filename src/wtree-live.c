@@ -11,12 +11,15 @@
 #include "zgrid.h"
 
 /*
- * The windows below which updates go through the tree: measured with bench-wtree, at 1,000
- * windows the damaged recompute costs 10–20 µs a change and the live one's medians are as low
- * but its 99th percentiles 2–20 times higher (walks over large windows' many cells); at 3,000
- * the damaged recompute costs 30–70 µs and the live one wins on medians and means.
+ * The windows below which updates go through the tree, for libvis (visd sets its own, 2048, for
+ * its tails: at 1,000 windows bench-wtree found the live update's 99th percentiles 2-20 times
+ * the damaged recompute's). Measured on members of the scene family nobody tuned either for
+ * (bench-libvis --family 40 --min-n 16 --max-n 256 --seed 11, two runs of each threshold), a
+ * frame's median over the region method's was 3.1-3.6 going live from 2048, 2.3-2.6 from 32,
+ * 2.2-2.5 from 64, 2.8-2.9 from 128; the 99th percentiles' medians 2.5-3.4 from 2048 and
+ * 2.5-2.8 from 64. Below 64 the tree costs less (n 10-64: 3.5 through it, 4.1 live).
  */
-#define LIVE_MIN_WINDOWS 2048
+#define LIVE_MIN_WINDOWS 64
 
 /*
  * The work, per window, of making the seen regions exact when the structures are built: a unit
