@@ -323,7 +323,8 @@ static int cmp_ratio(const void *a, const void *b)
  * [min_n, max_n], each on its area as the screen, and prints the distribution of libvis's
  * median over the region method's, with the worst member.
  */
-static void run_family(size_t count, size_t min_n, size_t max_n, size_t moves, uint64_t seed)
+static void run_family(size_t count, size_t min_n, size_t max_n, size_t moves, uint64_t seed,
+		       size_t only)
 {
 	double *ratio = malloc((count ? count : 1) * sizeof *ratio);
 	double *tail = malloc((count ? count : 1) * sizeof *tail);
@@ -338,6 +339,10 @@ static void run_family(size_t count, size_t min_n, size_t max_n, size_t moves, u
 		struct vis_scene s;
 		vis_scene_init(&s);
 		uint64_t scene_seed = seed * 1000003u + k;
+		if (only != SIZE_MAX && k != only) {
+			ratio[k] = tail[k] = 0;
+			continue;
+		}
 		if (vis_family_gen(&s, &f, scene_seed) < 0)
 			die("vis_family_gen");
 		s.screen_w = f.w;
@@ -347,10 +352,12 @@ static void run_family(size_t count, size_t min_n, size_t max_n, size_t moves, u
 		tail[k] = m.reg99 > 0 ? m.lib99 / m.reg99 : 0;
 		if (ratio[k] > worst) {
 			worst = ratio[k];
-			int len = vis_family_describe(&f, worst_desc, sizeof worst_desc);
-			snprintf(worst_desc + (len > 0 && (size_t)len < sizeof worst_desc ? len : 0),
-				 sizeof worst_desc - (len > 0 && (size_t)len < sizeof worst_desc
-							      ? (size_t)len : 0),
+			int len = snprintf(worst_desc, sizeof worst_desc, "scene %zu: ", k);
+			len = len < 0 || (size_t)len >= sizeof worst_desc ? 0 : len;
+			int more = vis_family_describe(&f, worst_desc + len, sizeof worst_desc - (size_t)len);
+			len += more < 0 ? 0 : more;
+			len = (size_t)len >= sizeof worst_desc ? (int)sizeof worst_desc - 1 : len;
+			snprintf(worst_desc + len, sizeof worst_desc - (size_t)len,
 				 " (libvis %.2f µs, region %.2f µs)", m.lib, m.reg);
 		}
 		vis_scene_finish(&s);
@@ -376,7 +383,7 @@ static void run_family(size_t count, size_t min_n, size_t max_n, size_t moves, u
 int main(int argc, char **argv)
 {
 	const char *kinds = "random,tiles,cascade,translucent", *sizes = "10,100,1000,10000";
-	size_t moves = 2000, family = 0, min_n = 10, max_n = 10000;
+	size_t moves = 2000, family = 0, min_n = 10, max_n = 10000, only = SIZE_MAX;
 	uint64_t seed = 1;
 	for (int i = 1; i < argc; i++) {
 		if (!strcmp(argv[i], "--kinds") && i + 1 < argc)
@@ -393,19 +400,21 @@ int main(int argc, char **argv)
 			min_n = strtoul(argv[++i], NULL, 10);
 		else if (!strcmp(argv[i], "--max-n") && i + 1 < argc)
 			max_n = strtoul(argv[++i], NULL, 10);
+		else if (!strcmp(argv[i], "--only") && i + 1 < argc)
+			only = strtoul(argv[++i], NULL, 10);
 		else if (!strcmp(argv[i], "--live-from") && i + 1 < argc)
 			live_from = strtoul(argv[++i], NULL, 10);
 		else
 			die("usage: bench-libvis [--kinds K,...] [--sizes N,...] [--moves M] [--seed S]\n"
 			    "       bench-libvis --family COUNT [--min-n N] [--max-n N] [--moves M] "
-			    "[--seed S]\n       (either also [--live-from N])");
+			    "[--seed S] [--only K]\n       (either also [--live-from N])");
 	}
 	if (moves < 1)
 		die("--moves must be at least 1");
 	if (family) {
 		if (min_n < 1 || max_n < min_n)
 			die("--min-n must be at least 1 and at most --max-n");
-		run_family(family, min_n, max_n, moves, seed);
+		run_family(family, min_n, max_n, moves, seed, only);
 		return 0;
 	}
 	printf("| kind | windows | libvis µs | of which repaint µs | region method µs | "
