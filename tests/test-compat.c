@@ -4,6 +4,7 @@
  * byte for byte (PROTOCOL.md, "Versions": a daemon serves every version from 3 on).
  *
  *   test-compat VISD DIR NAME...      replays DIR/NAME.{client,daemon,steps} against VISD
+ *   test-compat VISD --side-by-side   observers of versions 3 and 4 get the same notices
  *   test-compat --record LISTEN DAEMON PREFIX
  *                                     records one connection made to socket LISTEN, passed on
  *                                     to socket DAEMON, into PREFIX.{client,daemon,steps}
@@ -137,6 +138,137 @@ static void replay(struct harness_daemon *d, const char *dir, const char *name)
 	free(steps);
 }
 
+/* What an observer was sent: its notices' bytes, one after another. */
+struct stream {
+	struct harness_conn c;
+	struct vis_buf bytes;
+	size_t notices, coalesced, overflows, exposures;
+};
+
+static void on_notice(void *data, const struct vis_msg *m)
+{
+	struct stream *s = data;
+	CHECK(vis_buf_append(&s->bytes, s->c.in.data, m->size) == 0, "out of memory");
+	s->notices++;
+	if (m->type->opcode == VIS_OP_EXPOSURE) {
+		s->exposures++;
+		s->coalesced += m->args[3].u > 0;
+	}
+	s->overflows += m->type->opcode == VIS_OP_OVERFLOW;
+}
+
+/* Opens an observer speaking version, subscribed to every window for mask. */
+static void open_observer(struct stream *s, const char *sock, uint32_t version, uint32_t mask)
+{
+	memset(s, 0, sizeof *s);
+	harness_open(&s->c, sock);
+	struct vis_msg m;
+	uint32_t seq = harness_req(&s->c, VIS_OP_HELLO, VIS_PROTOCOL_MAGIC, version,
+				   VIS_ROLE_OBSERVER);
+	harness_expect(&s->c, seq, VIS_OP_HELLO_REPLY, &m);
+	CHECK(m.args[1].u == version, "hello %u: hello-reply says version %u", version,
+	      m.args[1].u);
+	s->c.on_notice = on_notice;
+	s->c.notice_data = s;
+	harness_req(&s->c, VIS_OP_SUBSCRIBE, 0, mask, 0);
+	harness_sync(&s->c, NULL);
+}
+
+/*
+ * Two observers, of versions 3 and 4, stop reading while a manager sweeps a bordered cover across
+ * a grid of bordered windows, until they lag (their notices held and merged) or, with stack
+ * notices too, overflow (dropped, then a resync). Read at last, the two streams must be the same
+ * bytes but for the rectangles of exposures, version 3's shifted by the window's border: every
+ * path an exposure takes out of the daemon converts it.
+ */
+static void side_by_side(const char *visd, uint32_t mask, int sweeps)
+{
+	struct harness_daemon d = { 0 };
+	harness_start(&d, visd, (const char *[]){ "--max-pending", "65536", NULL });
+	struct harness_conn m;
+	harness_open(&m, d.sock);
+	harness_hello(&m, VIS_ROLE_MANAGER);
+	struct stream o[2];
+	open_observer(&o[0], d.sock, 3, mask);
+	open_observer(&o[1], d.sock, VIS_PROTOCOL_VERSION, mask);
+	enum { SIDE = 10, N = SIDE * SIDE + 1 };
+	uint32_t ids[N], borders[N];
+	for (uint32_t i = 0; i < N; i++) {
+		uint32_t cover = i == N - 1;
+		borders[i] = cover ? 4 : 1 + i % 3;
+		uint32_t seq = harness_req(&m, VIS_OP_CREATE, 0, cover ? 0 : 24 * (i % SIDE),
+					   cover ? 0 : 24 * (i / SIDE), cover ? 70 : 18,
+					   cover ? 70 : 18, VIS_CREATE_MAP, borders[i], 0, 0, 0);
+		struct vis_msg r;
+		harness_expect(&m, seq, VIS_OP_CREATED, &r);
+		ids[i] = r.args[1].u;
+	}
+	for (int s = 0; s < sweeps; s++)
+		for (int k = 0; k < 40; k++) {
+			harness_req(&m, VIS_OP_MOVE, ids[N - 1], (uint32_t)(6 * k - 20),
+				    (uint32_t)(5 * k + s % 7));
+			harness_sync(&m, NULL); /* one recompute a move */
+		}
+	harness_check_alive(&d);
+	for (int i = 0; i < 2; i++)
+		harness_sync(&o[i].c, NULL);
+	printf("mask %u: %zu notices (%zu exposures, %zu of them coalesced), %zu overflows\n", mask,
+	       o[0].notices, o[0].exposures, o[0].coalesced, o[0].overflows);
+	if (mask & VIS_NOTICE_STACK)
+		CHECK(o[0].overflows > 0, "the observers never overflowed");
+	else
+		CHECK(o[0].coalesced > 0, "the observers never lagged");
+	CHECK(o[0].bytes.len == o[1].bytes.len && o[0].notices == o[1].notices,
+	      "version 3 was sent %zu notices (%zu bytes), version 4 %zu (%zu)", o[0].notices,
+	      o[0].bytes.len, o[1].notices, o[1].bytes.len);
+	size_t shifted = 0;
+	for (size_t at = 0; at < o[0].bytes.len;) {
+		struct vis_msg a, b;
+		char why[128];
+		CHECK(vis_msg_decode(o[0].bytes.data + at, o[0].bytes.len - at,
+				     VIS_PROTOCOL_MAX_MESSAGE, 0, &a, why, sizeof why) ==
+			      VIS_DECODE_OK &&
+			      vis_msg_decode(o[1].bytes.data + at, o[1].bytes.len - at,
+					     VIS_PROTOCOL_MAX_MESSAGE, 0, &b, why, sizeof why) ==
+				      VIS_DECODE_OK,
+		      "byte %zu: %s", at, why);
+		CHECK(a.type == b.type && a.size == b.size, "byte %zu: version 3 got %s, 4 got %s",
+		      at, a.type->name, b.type->name);
+		if (a.type->opcode != VIS_OP_EXPOSURE) {
+			CHECK(memcmp(o[0].bytes.data + at, o[1].bytes.data + at, a.size) == 0,
+			      "byte %zu: the %s notices differ", at, a.type->name);
+			at += a.size;
+			continue;
+		}
+		uint32_t b4 = UINT32_MAX;
+		for (uint32_t i = 0; i < N; i++)
+			if (ids[i] == a.args[1].u)
+				b4 = borders[i];
+		CHECK(b4 != UINT32_MAX && a.args[1].u == b.args[1].u && a.args[2].u == b.args[2].u &&
+			      a.args[3].u == b.args[3].u && a.args[4].a.n == b.args[4].a.n,
+		      "byte %zu: the exposures differ beyond their rectangles", at);
+		for (uint32_t r = 0; r < a.args[4].a.n; r++)
+			for (uint32_t k = 0; k < 4; k++) {
+				uint32_t v3 = vis_arg_word(&a.args[4], 'R', r, k);
+				uint32_t v4 = vis_arg_word(&b.args[4], 'R', r, k);
+				CHECK(v3 == (k < 2 ? v4 + b4 : v4),
+				      "byte %zu, window %u (border %u), rectangle %u word %u: "
+				      "version 3 got %d, 4 got %d",
+				      at, a.args[1].u, b4, r, k, (int32_t)v3, (int32_t)v4);
+			}
+		shifted += a.args[4].a.n;
+		at += a.size;
+	}
+	printf("mask %u: the streams agree, %zu rectangles shifted by their window's border\n",
+	       mask, shifted);
+	for (int i = 0; i < 2; i++) {
+		harness_close(&o[i].c);
+		vis_buf_finish(&o[i].bytes);
+	}
+	harness_close(&m);
+	harness_stop(&d);
+}
+
 /* A socket listening at path, or one connected to it. */
 static int unix_socket(const char *path, bool listening)
 {
@@ -241,8 +373,17 @@ int main(int argc, char **argv)
 {
 	if (argc == 5 && strcmp(argv[1], "--record") == 0)
 		return record(argv[2], argv[3], argv[4]);
+	if (argc == 3 && strcmp(argv[2], "--side-by-side") == 0) {
+		harness_context("side by side: coalescing");
+		side_by_side(argv[1], VIS_NOTICE_VISIBILITY | VIS_NOTICE_EXPOSURE, 30);
+		harness_context("side by side: overflow");
+		side_by_side(argv[1], VIS_NOTICE_ALL, 30);
+		printf("2 passed, 0 failed\n");
+		return 0;
+	}
 	if (argc < 4) {
 		fprintf(stderr, "usage: test-compat VISD DIR NAME...\n"
+				"       test-compat VISD --side-by-side\n"
 				"       test-compat --record LISTEN DAEMON PREFIX\n");
 		return 2;
 	}
