@@ -109,27 +109,42 @@ static const struct number_option *find_number_option(const char *name)
 	return NULL;
 }
 
+/*
+ * After an option error's one line: the usage line and where the rest is, not the whole --help
+ * (forty lines of limits would bury the one that says what was wrong).
+ */
+static void short_usage(void)
+{
+	fprintf(stderr, "%.*s(visd --help lists every option)\n",
+		(int)(strchr(usage_text, '\n') - usage_text + 1), usage_text);
+}
+
 static int usage_error(const char *fmt, const char *arg)
 {
 	fprintf(stderr, "visd: ");
 	fprintf(stderr, fmt, arg);
-	fprintf(stderr, "\n%s", usage_text);
+	fputc('\n', stderr);
+	short_usage();
 	return 2;
 }
 
-/* Parses "WxH" with both in 1 … INT32_MAX. */
+/* Parses "WxH" with both in 1 … INT32_MAX. Returns 0, -1 (not WxH) or -2 (a side out of range). */
 static int parse_size(const char *s, int32_t *w, int32_t *h)
 {
 	char *end;
 	errno = 0;
 	long a = strtol(s, &end, 10);
-	if (errno || end == s || *end != 'x' || a < 1 || a > INT32_MAX)
+	if (errno == ERANGE && end != s && *end == 'x' && isdigit((unsigned char)*s))
+		a = -1; /* too large: range, not syntax */
+	else if (errno || end == s || *end != 'x' || !isdigit((unsigned char)*s))
 		return -1;
 	const char *t = end + 1;
+	errno = 0;
 	long b = strtol(t, &end, 10);
-	if (errno || end == t || *end || b < 1 || b > INT32_MAX || !isdigit((unsigned char)*s) ||
-	    !isdigit((unsigned char)*t))
+	if (end == t || *end || !isdigit((unsigned char)*t) || (errno && errno != ERANGE))
 		return -1;
+	if (errno == ERANGE || a < 1 || a > INT32_MAX || b < 1 || b > INT32_MAX)
+		return -2;
 	*w = (int32_t)a;
 	*h = (int32_t)b;
 	return 0;
@@ -394,8 +409,9 @@ int main(int argc, char **argv)
 			unsigned long n = strtoul(val, &end, 10);
 			if (errno || *end || !isdigit((unsigned char)*val) || n < num->min ||
 			    n > num->max) {
-				fprintf(stderr, "visd: %s '%s': want a number from %lu to %lu\n%s", a,
-					val, num->min, num->max, usage_text);
+				fprintf(stderr, "visd: %s '%s': want a number from %lu to %lu\n", a,
+					val, num->min, num->max);
+				short_usage();
 				return 2;
 			}
 			*(uint32_t *)((char *)&opt + num->offset) = (uint32_t)n;
@@ -410,8 +426,14 @@ int main(int argc, char **argv)
 			if (errno || *end || !isdigit((unsigned char)*val))
 				return usage_error("--id-key '%s': want a number below 2^64", val);
 			id_key_given = true;
-		} else if (parse_size(val, &opt.screen_width, &opt.screen_height) < 0) {
-			return usage_error("--screen '%s': want WxH, e.g. 1920x1080", val);
+		} else {
+			int r = parse_size(val, &opt.screen_width, &opt.screen_height);
+			if (r == -2)
+				return usage_error("--screen '%s': width and height must each be 1 to "
+						   "2147483647 (WxH, e.g. 1920x1080)",
+						   val);
+			if (r < 0)
+				return usage_error("--screen '%s': want WxH, e.g. 1920x1080", val);
 		}
 	}
 	/* Before anything opens a descriptor: those passed start at fd 3. */
@@ -437,8 +459,9 @@ int main(int argc, char **argv)
 		opt.owner_reserve = opt.max_clients / 2 < 32 ? opt.max_clients / 2 : 32;
 	else if (opt.owner_reserve >= opt.max_clients) {
 		fprintf(stderr, "visd: --owner-reserve %u leaves no slot for others: it must be below "
-				"--max-clients (%u)\n%s",
-			opt.owner_reserve, opt.max_clients, usage_text);
+				"--max-clients (%u)\n",
+			opt.owner_reserve, opt.max_clients);
+		short_usage();
 		return 2;
 	}
 	fit_descriptors(&opt);
