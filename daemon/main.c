@@ -63,6 +63,10 @@ static const char usage_text[] =
 	"  --live-from N             windows from which recomputes go live, costing the\n"
 	"                            windows a change can affect; below, through the\n"
 	"                            tree (default 2048; 0: always live)\n"
+	"testing:\n"
+	"  --id-key KEY              the window IDs' permutation key (decimal or 0x hex;\n"
+	"                            default: random; 0: IDs 1, 2, 3 ... in order), so\n"
+	"                            that a recorded session replays with the same IDs\n"
 	"socket activation: given a listening socket by its service manager (LISTEN_PID,\n"
 	"LISTEN_FDS, LISTEN_FDNAMES, as sd_listen_fds(3) says), visd serves it rather than\n"
 	"bind one; a second socket, named 'restricted' in LISTEN_FDNAMES, is the restricted\n"
@@ -378,6 +382,7 @@ int main(int argc, char **argv)
 		.restricted_fd = -1,
 	};
 	char default_path[PATH_MAX];
+	bool id_key_given = false;
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
 		const char *val = i + 1 < argc ? argv[i + 1] : NULL;
@@ -393,7 +398,7 @@ int main(int argc, char **argv)
 		}
 		const struct number_option *num = find_number_option(a);
 		if (!num && strcmp(a, "--socket") && strcmp(a, "--screen") &&
-		    strcmp(a, "--restricted-socket"))
+		    strcmp(a, "--restricted-socket") && strcmp(a, "--id-key"))
 			return usage_error("unknown option '%s'", a);
 		if (!val || !*val)
 			return usage_error("%s needs a value", a);
@@ -414,6 +419,13 @@ int main(int argc, char **argv)
 			opt.socket_path = val;
 		} else if (strcmp(a, "--restricted-socket") == 0) {
 			opt.restricted_path = val;
+		} else if (strcmp(a, "--id-key") == 0) {
+			char *end;
+			errno = 0;
+			opt.id_key = strtoull(val, &end, 0);
+			if (errno || *end || !isdigit((unsigned char)*val))
+				return usage_error("--id-key '%s': want a number below 2^64", val);
+			id_key_given = true;
 		} else {
 			int r = parse_size(val, &opt.screen_width, &opt.screen_height);
 			if (r == -2)
@@ -483,7 +495,8 @@ int main(int argc, char **argv)
 		log_error("cannot handle signals");
 		goto out_base;
 	}
-	opt.id_key = id_key();
+	if (!id_key_given)
+		opt.id_key = id_key();
 	if (server_init(&server, base, &opt) == 0) {
 		const char *passed = " (socket activation)";
 		log_info("listening on %s%s (screen %dx%d)%s%s%s", opt.socket_path,
