@@ -23,10 +23,11 @@ trap 'exit 141' PIPE
 # scdoc: the man pages (man/); systemd: systemd-socket-activate for the socket activation test,
 # systemd-analyze to verify the user units (tests/test-activate.sh, tests/check-units.sh);
 # xcb-xfixes for visd-x11, and the X desktop its tests run (tests/test-x11.sh): openbox, xcompmgr,
-# picom, xlogo and xeyes (x11-apps), xterm, xprop (x11-utils).
+# picom, xlogo and xeyes (x11-apps), xterm, xprop (x11-utils); abigail-tools: abidiff, for the
+# libraries' ABI against their baselines (tests/check-abi.sh).
 PACKAGES=(gcc meson ninja-build pkg-config libpixman-1-dev libevent-dev libxcb1-dev libxcb-shape0-dev xvfb
 	libxml2-utils
-	scdoc systemd
+	scdoc systemd abigail-tools
 	libxcb-xfixes0-dev openbox xcompmgr picom x11-apps xterm x11-utils)
 
 # Installs the Debian packages given that are missing, asking apt only when something is.
