@@ -39,8 +39,8 @@ void vis_events_finish(struct vis_events *ev);
 /*
  * Writes the 2n events in sweep order into sched (room for 2n): by x, and at equal x all
  * insertions in decreasing z, then all deletions in increasing z — the only order in which no
- * intermediate state inside one x produces a report (ALGORITHM-NOTES.md). Returns 0, or -1
- * (ENOMEM).
+ * intermediate state inside one x produces a report (docs/ENGINES.md, "From the paper's
+ * rectangles to pixels"). Returns 0, or -1 (ENOMEM).
  * O(n) radix passes over the x edges.
  */
 int vis_events_schedule(const struct vis_events *ev, uint32_t *sched);

@@ -5,7 +5,7 @@
  * is visible when it is on the screen and no opaque pixel of a higher window covers it.
  * Seeded random scenes on a small grid (so that every pixel can be painted), the same scenes moved
  * next to the 32-bit limits (states do not change under a move without a screen), and the cases
- * of ALGORITHM-NOTES.md in bordered, shaped and translucent variants, read from scene text.
+ * of docs/ENGINES.md's exactness list in bordered, shaped and translucent variants, read from scene text.
  * A failure prints the seed and the scene; rerun one with `test-look --seed S`.
  */
 #include <errno.h>
@@ -306,7 +306,7 @@ static void check_text(const char *name, const char *text, const char *want)
 	vis_scene_finish(&s);
 }
 
-/* ALGORITHM-NOTES.md's cases and the model's own, in bordered, shaped and translucent variants. */
+/* docs/ENGINES.md's exactness cases and the model's own, in bordered, shaped and translucent variants. */
 static void test_cases(void)
 {
 	/* A border is the window's own: it obscures, and is obscured. */

@@ -1,6 +1,7 @@
 /*
- * The regression cases: every trap and semantic rule of ALGORITHM-NOTES.md as a named scene with
- * its exact expected states, checked against every engine. Each case also runs transposed and
+ * The regression cases: every trap and semantic rule of docs/ENGINES.md ("From the paper's
+ * rectangles to pixels") as a named scene with its exact expected states, checked against every
+ * engine. Each case also runs transposed and
  * mirrored, since a sweep treats its two axes and its two directions differently.
  */
 #include <errno.h>
