@@ -1,7 +1,7 @@
 /*
  * `visctl stress`, in the mould of redis-benchmark and wrk2: its options, and the report of the
  * run (stress-run.c does it) as a table, JSON or CSV. Scripts parse the JSON and CSV: their
- * field names are an interface, documented in the README.
+ * field names are an interface, documented in docs/SERVICE.md (visctl stress).
  */
 #include <errno.h>
 #include <getopt.h>
