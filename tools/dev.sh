@@ -16,11 +16,15 @@ cd "$(dirname "$0")/.."
 # scdoc: the man pages (man/); systemd: systemd-socket-activate for the socket activation test,
 # systemd-analyze to verify the user units (tests/test-activate.sh, tests/check-units.sh);
 # xcb-xfixes for visd-x11, and the X desktop its tests run (tests/test-x11.sh): openbox, xcompmgr,
-# picom, xlogo and xeyes (x11-apps), xterm, xprop (x11-utils).
+# picom, xlogo and xeyes (x11-apps), xterm, xprop (x11-utils); viscomp, the Wayland compositor
+# (compositor/): wlroots 0.15 and what its headers need (libwayland-dev with wayland-scanner,
+# wayland-protocols, libxkbcommon-dev), and the real clients its test runs (tests/test-viscomp.sh):
+# weston's demo clients, foot (with a monospace font: fonts-dejavu-core), grim.
 PACKAGES=(gcc meson ninja-build pkg-config libpixman-1-dev libevent-dev libxcb1-dev libxcb-shape0-dev xvfb
 	libxml2-utils
 	scdoc systemd
-	libxcb-xfixes0-dev openbox xcompmgr picom x11-apps xterm x11-utils)
+	libxcb-xfixes0-dev openbox xcompmgr picom x11-apps xterm x11-utils
+	libwlroots-dev libwayland-dev wayland-protocols libxkbcommon-dev weston foot fonts-dejavu-core grim)
 
 # Installs the Debian packages given that are missing, asking apt only when something is.
 install_missing() {
