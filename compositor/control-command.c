@@ -82,9 +82,12 @@ static void list(struct server *server, bool json, struct control_reply *reply)
 		json_string(reply, title);
 		control_reply_printf(reply,
 				     ",\"pid\":%d,\"x\":%d,\"y\":%d,\"width\":%d,\"height\":%d,"
-				     "\"state\":\"%s\",\"focused\":%s,\"frames\":%u,\"commits\":%u}\n",
+				     "\"state\":\"%s\",\"focused\":%s,\"frames\":%u,\"commits\":%u,"
+				     "\"frames_total\":%llu,\"commits_total\":%llu}\n",
 				     (int)view_pid(view), x, y, width, height, state,
-				     view == server->focused ? "true" : "false", frames, commits);
+				     view == server->focused ? "true" : "false", frames, commits,
+				     (unsigned long long)view->frames_total,
+				     (unsigned long long)view->commits_total);
 	}
 	control_reply_printf(reply, "ok\n");
 }

@@ -148,8 +148,10 @@ static void send_frame_done(struct output *output, const struct wlr_box *box)
 			continue;
 		if (wl_list_empty(&ms->surface->current.frame_callback_list))
 			continue;
-		if (ms->view != NULL && ms->view->xdg->surface == ms->surface)
+		if (ms->view != NULL && ms->view->xdg->surface == ms->surface) {
 			rate_add(&ms->view->frames, now_ms);
+			ms->view->frames_total++;
+		}
 		wlr_surface_send_frame_done(ms->surface, &now);
 	}
 }

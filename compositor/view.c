@@ -143,6 +143,7 @@ void view_surface_committed(struct server *server, struct model_surface *ms)
 		return;
 	uint64_t now = server_now_ms();
 	rate_add(&view->commits, now);
+	view->commits_total++;
 	view_sync(view);
 	/* What the client drew, where it shows. */
 	pixman_region32_t damage;

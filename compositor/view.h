@@ -28,6 +28,7 @@ struct view {
 	uint32_t sync_stamp;
 	struct rate commits; /* of any of its surfaces */
 	struct rate frames; /* frame done events its toplevel surface was sent */
+	uint64_t commits_total, frames_total; /* the same since it was created */
 
 	struct wl_listener map;
 	struct wl_listener unmap;
