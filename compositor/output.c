@@ -239,11 +239,19 @@ static void handle_new_output(struct wl_listener *listener, void *data)
 	}
 	output->server = server;
 	output->wlr_output = wlr_output;
-	output->damage = wlr_output_damage_create(wlr_output);
-	output->frame.notify = handle_frame;
-	wl_signal_add(&output->damage->events.frame, &output->frame);
+	/* Our destroy handler first: the damage tracker frees itself on the same signal, and our
+	 * frame listener must leave its list before. */
 	output->destroy.notify = handle_destroy;
 	wl_signal_add(&wlr_output->events.destroy, &output->destroy);
+	output->damage = wlr_output_damage_create(wlr_output);
+	if (output->damage == NULL) {
+		wlr_log(WLR_ERROR, "output %s: no damage tracking", wlr_output->name);
+		wl_list_remove(&output->destroy.link);
+		free(output);
+		return;
+	}
+	output->frame.notify = handle_frame;
+	wl_signal_add(&output->damage->events.frame, &output->frame);
 	wl_list_insert(server->outputs.prev, &output->link);
 	wlr_output_layout_add_auto(server->layout, wlr_output);
 	wlr_output_create_global(wlr_output);
