@@ -396,11 +396,32 @@ static void popup_destroy(struct wl_listener *listener, void *data)
 	free(popup);
 }
 
+/* Keeps a new popup on the output its toplevel's corner is on (as the client's positioner
+ * allows): a menu cut by the screen's edge helps no one. */
+static void unconstrain(struct wlr_xdg_surface *xdg)
+{
+	struct view *view = view_from_surface(xdg->popup->parent);
+	if (view == NULL)
+		return;
+	struct server *server = view->server;
+	struct wlr_output *output = wlr_output_layout_output_at(server->layout, view->x, view->y);
+	struct wlr_box *box = output ? wlr_output_layout_get_box(server->layout, output) : NULL;
+	if (box == NULL)
+		return;
+	/* In the toplevel surface's coordinates, which wlroots wants. */
+	struct wlr_box geo;
+	wlr_xdg_surface_get_geometry(view->xdg, &geo);
+	struct wlr_box area = { box->x - view->x + geo.x, box->y - view->y + geo.y, box->width,
+				box->height };
+	wlr_xdg_popup_unconstrain_from_box(xdg->popup, &area);
+}
+
 static void handle_new_xdg_surface(struct wl_listener *listener, void *data)
 {
 	struct server *server = wl_container_of(listener, server, new_xdg_surface);
 	struct wlr_xdg_surface *xdg = data;
 	if (xdg->role == WLR_XDG_SURFACE_ROLE_POPUP) {
+		unconstrain(xdg);
 		struct popup *popup = calloc(1, sizeof(*popup));
 		if (popup == NULL)
 			return;
