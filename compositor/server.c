@@ -8,6 +8,8 @@
 #include <wlr/types/wlr_compositor.h>
 #include <wlr/types/wlr_data_device.h>
 #include <wlr/types/wlr_output_layout.h>
+#include <wlr/types/wlr_screencopy_v1.h>
+#include <wlr/types/wlr_xdg_output_v1.h>
 #include <wlr/types/wlr_xdg_shell.h>
 #include <wlr/util/log.h>
 
@@ -79,6 +81,11 @@ int server_init(struct server *server, const struct server_options *options)
 	wlr_data_device_manager_create(server->display);
 	server->layout = wlr_output_layout_create();
 	if (server->compositor == NULL || server->layout == NULL)
+		return -1;
+	/* What grim needs to take a picture of the screen: the outputs' places (xdg-output) and
+	 * their pixels (screencopy). */
+	if (wlr_xdg_output_manager_v1_create(server->display, server->layout) == NULL ||
+	    wlr_screencopy_manager_v1_create(server->display) == NULL)
 		return -1;
 	server->new_surface.notify = handle_new_surface;
 	wl_signal_add(&server->compositor->events.new_surface, &server->new_surface);

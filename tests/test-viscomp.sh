@@ -7,7 +7,9 @@
 #   - wholly covered (or lowered below foot), A gets no frame callback: its commits per second
 #     fall to 0, its commits stop, and its process uses no more CPU time (/proc/PID/stat) while
 #     W draws 120 frames;
-#   - uncovered (or raised), A draws again.
+#   - uncovered (or raised), A draws again;
+#   - what grim takes of the screen (screencopy) shows it: foot where it covers A, A where
+#     nothing does, the background where nothing is.
 # Every wait follows progress (tests/progress.sh): it fails only when a process is gone or the
 # processes named used under 100 ms of CPU time in 60 s. The figures go to the log.
 # Usage: test-viscomp.sh BUILD-DIR. Exits 77 (skipped) where viscomp is not built.
@@ -17,7 +19,7 @@ viscomp=$build/compositor/viscomp
 viscompctl=$build/compositor/ctl/viscompctl
 [ -x "$viscomp" ] || { echo "$viscomp not built: skipped"; exit 77; }
 [ -x "$viscompctl" ] || { echo "$viscompctl not built"; exit 1; }
-for prog in weston-simple-shm foot; do
+for prog in weston-simple-shm foot grim; do
 	command -v $prog >/dev/null 2>&1 || { echo "$prog not installed (tools/dev.sh install)"; exit 1; }
 done
 
@@ -84,6 +86,21 @@ cpu_us() {
 		echo $(($(cpu "$1") * 1000000 / $(getconf CLK_TCK)))
 	fi
 }
+
+# shot NAME: a picture of the screen into $dir/NAME.ppm (grim, through screencopy).
+shot() {
+	grim -t ppm "$dir/$1.ppm" 2>"$dir/grim.log" || fail "grim: $(cat "$dir/grim.log")"
+}
+
+# pixel NAME X Y: "R G B" at X, Y of $dir/NAME.ppm (P6, 255, no comments: grim's).
+pixel() {
+	header=$(head -n 3 "$dir/$1.ppm" | wc -c)
+	width=$(sed -n '2{s/ .*//p;q}' "$dir/$1.ppm")
+	echo $(od -An -tu1 -j $((header + ($3 * width + $2) * 3)) -N 3 "$dir/$1.ppm")
+}
+
+# The background viscomp clears to, (0.18, 0.20, 0.22) in output.c.
+background="46 51 56"
 
 # Whether A's total commits passed $1.
 a_commits_past() {
@@ -176,9 +193,33 @@ check_draws "partly covered"
 ctl move "$fid" 0 0 || fail "move foot over A"
 check_stopped "covered"
 
+# Covered, A's middle shows foot's body, as foot's body beside A does; the corner nobody covers
+# shows the background.
+shot covered
+cx=$((ax + aw / 2)) cy=$((ay + ah / 2))
+foot_body=$(pixel covered $((ax + aw + 40)) "$cy")
+[ "$(pixel covered "$cx" "$cy")" = "$foot_body" ] ||
+	fail "screen: A's middle is $(pixel covered "$cx" "$cy") under foot, foot is $foot_body"
+[ "$(pixel covered 1275 715)" = "$background" ] ||
+	fail "screen: the background is $(pixel covered 1275 715), not $background"
+echo "screen, covered: A's middle $(pixel covered "$cx" "$cy") = foot's body $foot_body;" \
+	"background $background"
+
 ctl move "$fid" 290 0 || fail "move foot away"
 wait_progress "$vpid $apid" a_is unobscured || fail "A not unobscured again"
 check_draws "uncovered again"
+
+# Uncovered, A's pixels show again: its middle row is neither foot's body nor the background.
+shot uncovered
+a_row=
+for dx in 0 10 20 30 40 50 60; do
+	a_row="$a_row/$(pixel uncovered $((ax + aw / 4 + dx)) "$cy")"
+done
+case $a_row in
+*"/$foot_body/$foot_body/$foot_body/"* | *"/$background/$background/$background/"*)
+	fail "screen: A's middle row is $a_row after foot left" ;;
+esac
+echo "screen, uncovered: A's middle row $a_row"
 
 ctl move "$fid" 0 0 || fail "move foot over A again"
 check_stopped "covered again"
