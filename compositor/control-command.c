@@ -39,10 +39,16 @@ static void json_string(struct control_reply *reply, const char *text)
 	control_reply_printf(reply, "\"");
 }
 
-/* A text field of the plain list: "-" for none, spaces kept (the title is the line's last). */
-static const char *text_or_dash(const char *text)
+/* A text field of the plain list: "-" for none, spaces kept (the title is the line's last),
+ * control characters (a newline would start a line of its own) as '?'. */
+static void text_field(struct control_reply *reply, const char *text)
 {
-	return text && *text ? text : "-";
+	if (text == NULL || *text == '\0') {
+		control_reply_printf(reply, "-");
+		return;
+	}
+	for (const unsigned char *p = (const unsigned char *)text; *p; p++)
+		control_reply_printf(reply, "%c", *p < 0x20 || *p == 0x7f ? '?' : *p);
 }
 
 static pid_t view_pid(const struct view *view)
@@ -70,10 +76,13 @@ static void list(struct server *server, bool json, struct control_reply *reply)
 		uint32_t commits = rate_get(&view->commits, now);
 		uint32_t frames = rate_get(&view->frames, now);
 		if (!json) {
-			control_reply_printf(reply, "%u %d,%d %dx%d %s commits=%u frames=%u pid=%d %s %s\n",
+			control_reply_printf(reply, "%u %d,%d %dx%d %s commits=%u frames=%u pid=%d ",
 					     view->id, x, y, width, height, state, commits, frames,
-					     (int)view_pid(view), text_or_dash(app_id),
-					     text_or_dash(title));
+					     (int)view_pid(view));
+			text_field(reply, app_id);
+			control_reply_printf(reply, " ");
+			text_field(reply, title);
+			control_reply_printf(reply, "\n");
 			continue;
 		}
 		control_reply_printf(reply, "{\"id\":%u,\"app_id\":", view->id);

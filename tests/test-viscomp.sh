@@ -232,6 +232,8 @@ check_stopped "lowered under foot"
 # Errors are answered as errors; close ends foot's window and process.
 ctl move 999999 0 0 2>/dev/null && fail "move of no window succeeded"
 ctl frobnicate 2>/dev/null && fail "an unknown command succeeded"
+ctl list a b c d e f g h i j k l m n o p q 2>/dev/null && fail "a 17-word line succeeded"
+ctl list --yaml 2>/dev/null && fail "list --yaml succeeded"
 ctl close "$fid" || fail "close foot"
 wait_progress "$vpid $fpid" progress_gone "$fpid" || fail "foot did not exit on close"
 wait "$fpid" 2>/dev/null
