@@ -15,17 +15,21 @@
 #include <wlr/util/log.h>
 
 #include "control.h"
+#include "mirror.h"
 #include "server.h"
 #include "server-init.h"
 
 #define MAX_HEADS 16
 
 static const char usage[] =
-	"usage: viscomp [--headless WxH[,WxH...]] [--control PATH] [-v] [-- COMMAND...]\n"
+	"usage: viscomp [--headless WxH[,WxH...]] [--visd SOCKET] [--control PATH] [-v]\n"
+	"               [-- COMMAND...]\n"
 	"  A stacking Wayland compositor on libvis: surfaces that cannot be seen get no frame\n"
 	"  callbacks, and each frame draws only what can be seen of the damage.\n"
 	"  --headless WxH[,WxH...]  no display: one headless output of each size, drawn by pixman\n"
 	"                           (without it, wlroots picks: a window in X11 or Wayland, or DRM)\n"
+	"  --visd SOCKET            mirror the windows and their states into the visd there, as\n"
+	"                           its manager (a visd screen at least as large as the outputs)\n"
 	"  --control PATH           the control socket viscompctl talks to (default:\n"
 	"                           $XDG_RUNTIME_DIR/viscomp-$WAYLAND_DISPLAY.sock)\n"
 	"  -v, --verbose            log more (twice: wlroots' debug log too)\n"
@@ -102,13 +106,14 @@ int main(int argc, char **argv)
 	static const struct option longopts[] = {
 		{ "headless", required_argument, NULL, 'H' },
 		{ "control", required_argument, NULL, 'c' },
+		{ "visd", required_argument, NULL, 'V' },
 		{ "verbose", no_argument, NULL, 'v' },
 		{ "help", no_argument, NULL, 'h' },
 		{ NULL, 0, NULL, 0 },
 	};
 	struct server_head heads[MAX_HEADS];
 	struct server_options options = { heads, 0 };
-	const char *control_path = NULL;
+	const char *control_path = NULL, *visd_path = NULL;
 	int verbose = 0, opt;
 	while ((opt = getopt_long(argc, argv, "+vh", longopts, NULL)) != -1) {
 		switch (opt) {
@@ -124,6 +129,9 @@ int main(int argc, char **argv)
 		}
 		case 'c':
 			control_path = optarg;
+			break;
+		case 'V':
+			visd_path = optarg;
 			break;
 		case 'v':
 			verbose++;
@@ -165,6 +173,8 @@ int main(int argc, char **argv)
 	if (server.control == NULL)
 		goto out_signals;
 	setenv("VISCOMP_SOCKET", control_socket_path(server.control), 1);
+	if (visd_path != NULL && (server.mirror = mirror_create(&server, visd_path)) == NULL)
+		goto out_signals;
 	if (!wlr_backend_start(server.backend)) {
 		wlr_log(WLR_ERROR, "cannot start the backend");
 		goto out_signals;

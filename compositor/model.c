@@ -6,6 +6,7 @@
 #include <wlr/types/wlr_surface.h>
 #include <wlr/util/log.h>
 
+#include "mirror.h"
 #include "model.h"
 #include "server.h"
 #include "view.h"
@@ -36,6 +37,8 @@ void model_finish(struct model *model)
 	/* The surfaces are gone with the display (their destroy handlers ran). */
 	vis_tree_destroy(model->tree);
 	model->tree = NULL;
+	free(model->outside_rects);
+	model->outside_rects = NULL;
 }
 
 static void surface_addon_destroy(struct wlr_addon *addon)
@@ -71,6 +74,7 @@ static void handle_destroy(struct wl_listener *listener, void *data)
 	if (ms->mapped)
 		server_damage_box(ms->model->server, ms->x, ms->y, ms->width, ms->height);
 	view_surface_destroyed(ms->model->server, ms);
+	mirror_surface_gone(ms->model->server->mirror, ms);
 	wl_list_remove(&ms->view_link);
 	wl_list_remove(&ms->link);
 	wl_list_remove(&ms->commit.link);
@@ -221,9 +225,15 @@ int model_set_shown(struct model *model, const pixman_region32_t *shown)
 		};
 	}
 	int rc = vis_win_set_shape(model->outside, 1, rects, (uint32_t)n);
-	if (rc < 0)
+	if (rc < 0) {
 		wlr_log_errno(WLR_ERROR, "vis_win_set_shape (the outside)");
-	free(rects);
+		free(rects);
+	} else {
+		free(model->outside_rects);
+		model->outside_rects = rects;
+		model->n_outside = (size_t)n;
+		mirror_outside_changed(model->server->mirror);
+	}
 	pixman_region32_fini(&outside);
 	return rc;
 }
@@ -232,6 +242,8 @@ int model_update(struct model *model)
 {
 	const struct vis_change *changes;
 	size_t n;
+	/* visd gets the model's changes at the same pace as libvis: once a frame, in one batch. */
+	mirror_sync(model->server->mirror);
 	if (vis_tree_update(model->tree, &changes, &n) < 0) {
 		wlr_log_errno(WLR_ERROR, "vis_tree_update");
 		return -1;

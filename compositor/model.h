@@ -27,8 +27,10 @@
 #include <wayland-server-core.h>
 #include <wlr/util/addon.h>
 
+struct mirror_win;
 struct view;
 struct server;
+struct vis_rect32;
 struct vis_tree;
 struct vis_win;
 struct wlr_surface;
@@ -52,12 +54,15 @@ struct model_surface {
 	 * unchanged, the window is still there (view.c says why). */
 	struct model_surface *stack_ref;
 	bool stack_above;
+	struct mirror_win *mirror; /* its visd window (mirror.c), or NULL */
 };
 
 struct model {
 	struct server *server;
 	struct vis_tree *tree;
 	struct vis_win *outside;
+	struct vis_rect32 *outside_rects; /* the outside's shape, as last set */
+	size_t n_outside;
 	struct wl_list surfaces; /* model_surface.link */
 };
 

@@ -15,6 +15,7 @@
 
 #include "control.h"
 #include "input.h"
+#include "mirror.h"
 #include "output.h"
 #include "server.h"
 #include "server-init.h"
@@ -103,6 +104,8 @@ void server_finish(struct server *server)
 {
 	control_destroy(server->control);
 	server->control = NULL;
+	mirror_destroy(server->mirror);
+	server->mirror = NULL;
 	if (server->display != NULL) {
 		wl_display_destroy_clients(server->display);
 		wl_display_destroy(server->display);

@@ -15,6 +15,7 @@
 #include "model.h"
 
 struct control;
+struct mirror;
 
 struct server {
 	struct wl_display *display;
@@ -31,6 +32,7 @@ struct server {
 
 	struct model model;
 	struct control *control;
+	struct mirror *mirror; /* --visd, or NULL */
 
 	struct wl_list outputs;  /* output.link */
 	struct wl_list views;    /* view.link, bottom to top */

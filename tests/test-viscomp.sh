@@ -1,5 +1,6 @@
 #!/bin/sh
-# viscomp with real, unmodified clients: a headless viscomp (one 1280x720 output, pixman), two
+# viscomp with real, unmodified clients: a headless viscomp (one 1280x720 output, pixman,
+# mirroring its model into a visd with --visd), two
 # weston-simple-shm (A, which the test covers, and W, a witness that stays in view and keeps
 # drawing) and foot (the cover, opaque). Through viscompctl, the test covers A with foot, partly
 # and wholly, raises and lowers A, and reads `viscompctl list --json`:
@@ -9,7 +10,8 @@
 #     W draws 120 frames;
 #   - uncovered (or raised), A draws again;
 #   - what grim takes of the screen (screencopy) shows it: foot where it covers A, A where
-#     nothing does, the background where nothing is.
+#     nothing does, the background where nothing is;
+#   - visd, which viscomp mirrors its windows into, says A's state as viscompctl does each time.
 # Every wait follows progress (tests/progress.sh): it fails only when a process is gone or the
 # processes named used under 100 ms of CPU time in 60 s. The figures go to the log.
 # Usage: test-viscomp.sh BUILD-DIR. Exits 77 (skipped) where viscomp is not built.
@@ -17,20 +19,24 @@ set -u
 build=${1:?usage: test-viscomp.sh BUILD-DIR}
 viscomp=$build/compositor/viscomp
 viscompctl=$build/compositor/ctl/viscompctl
+visd=$build/daemon/visd
+visctl=$build/client/visctl/visctl
 [ -x "$viscomp" ] || { echo "$viscomp not built: skipped"; exit 77; }
-[ -x "$viscompctl" ] || { echo "$viscompctl not built"; exit 1; }
+for prog in "$viscompctl" "$visd" "$visctl"; do
+	[ -x "$prog" ] || { echo "$prog not built"; exit 1; }
+done
 for prog in weston-simple-shm foot grim; do
 	command -v $prog >/dev/null 2>&1 || { echo "$prog not installed (tools/dev.sh install)"; exit 1; }
 done
 
 dir=$(mktemp -d "${TMPDIR:-/tmp}/test-viscomp.XXXXXX") || exit 1
 chmod 700 "$dir"
-vpid= apid= wpid= fpid=
+dpid= vpid= apid= wpid= fpid=
 cleanup() {
-	for pid in $fpid $apid $wpid $vpid; do
+	for pid in $fpid $apid $wpid $vpid $dpid; do
 		kill "$pid" 2>/dev/null
 	done
-	for pid in $fpid $apid $wpid $vpid; do
+	for pid in $fpid $apid $wpid $vpid $dpid; do
 		wait "$pid" 2>/dev/null
 	done
 	rm -rf "$dir"
@@ -114,13 +120,37 @@ w_frames_past() {
 	[ -n "$n" ] && [ "$n" -gt "$1" ]
 }
 
+# A's state in visd: its one window (weston-simple-shm has one surface) carries the external ID
+# wayland (2) : pid << 32 | the surface's object ID.
+visd_state() {
+	"$visctl" -s "$dir/visd.sock" --role observer tree 2>/dev/null |
+		awk -v tag="$(printf '2:0x%x' "$1")" \
+			'index($NF, tag) == 1 && length($NF) == length(tag) + 8 { print $8; exit }'
+}
+
+# Whether visd says of A what viscompctl says.
+visd_agrees() {
+	v=$(visd_state "$apid")
+	[ -n "$v" ] && [ "$v" = "$(json_field "$apid" state)" ]
+}
+
+# Named: visd alone, whose work it is (viscomp sends at every frame, and W keeps it busy).
+check_visd() {
+	wait_progress "$dpid" visd_agrees ||
+		fail "$1: visd says A is $(visd_state "$apid"), viscompctl $(json_field "$apid" state)"
+}
+
 # Whether A's state is $1 and its commits in the last second $2 (any: '').
 a_is() {
 	[ "$(json_field "$apid" state)" = "$1" ] || return 1
 	[ -z "${2:-}" ] || [ "$(json_field "$apid" commits)" = "$2" ]
 }
 
-"$viscomp" --headless 1280x720 --control "$VISCOMP_SOCKET" -v >"$dir/viscomp.log" 2>&1 &
+"$visd" --socket "$dir/visd.sock" --screen 1280x720 2>"$dir/visd.log" &
+dpid=$!
+wait_progress "$dpid" test -S "$dir/visd.sock" || fail "visd did not start: $progress_why"
+"$viscomp" --headless 1280x720 --control "$VISCOMP_SOCKET" --visd "$dir/visd.sock" -v \
+	>"$dir/viscomp.log" 2>&1 &
 vpid=$!
 wait_progress "$vpid" grep -qs 'WAYLAND_DISPLAY=' "$dir/viscomp.log" ||
 	fail "viscomp did not start: $progress_why"
@@ -161,7 +191,8 @@ check_draws() {
 	c0=$(json_field "$apid" commits_total) t0=$(cpu "$apid") u0=$(cpu_us "$apid")
 	wait_progress "$vpid $apid" a_commits_past $((c0 + 60)) ||
 		fail "$what: A does not draw: $progress_why"
-	echo "$what: A $(json_field "$apid" state), commits/s $(json_field "$apid" commits)," \
+	check_visd "$what"
+	echo "$what: A $(json_field "$apid" state) (visd: $(visd_state "$apid")), commits/s $(json_field "$apid" commits)," \
 		"CPU $t0 -> $(cpu "$apid") ticks, +$(($(cpu_us "$apid") - u0)) us over 60 commits"
 }
 
@@ -180,7 +211,9 @@ check_stopped() {
 	[ "$c1" -eq "$c0" ] || fail "$what: A committed $((c1 - c0)) times while covered"
 	[ "$t1" -le $((t0 + 1)) ] || fail "$what: A used $((t1 - t0)) ticks of CPU while covered"
 	[ "$u1" -le $((u0 + 1000)) ] || fail "$what: A used $((u1 - u0)) us of CPU while covered"
-	echo "$what: A fully-obscured, commits/s 0, commits $c0 -> $c1, CPU $t0 -> $t1 ticks," \
+	check_visd "$what"
+	echo "$what: A fully-obscured (visd: $(visd_state "$apid")), commits/s 0, commits $c0 -> $c1," \
+		"CPU $t0 -> $t1 ticks," \
 		"+$((u1 - u0)) us while W drew 120 frames"
 }
 
