@@ -51,6 +51,7 @@ static void text_field(struct control_reply *reply, const char *text)
 		control_reply_printf(reply, "%c", *p < 0x20 || *p == 0x7f ? '?' : *p);
 }
 
+/* The pid of the view's client (0 when the socket cannot say). */
 static pid_t view_pid(const struct view *view)
 {
 	pid_t pid = 0;
@@ -59,6 +60,7 @@ static pid_t view_pid(const struct view *view)
 	return pid;
 }
 
+/* list [--json]: the mapped views, top first, with their states and rates. */
 static void list(struct server *server, bool json, struct control_reply *reply)
 {
 	/* Changes since the last frame count: the states are those of now. */

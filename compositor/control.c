@@ -69,6 +69,7 @@ void control_reply_printf(struct control_reply *reply, const char *fmt, ...)
 	}
 }
 
+/* Closes a connection, answered or not. */
 static void conn_destroy(struct control_conn *conn)
 {
 	wl_event_source_remove(conn->source);
@@ -118,6 +119,7 @@ static bool flush(struct control_conn *conn)
 	return true;
 }
 
+/* Reads a connection's line, runs it once whole, and writes the answer as the socket takes it. */
 static int handle_conn(int fd, uint32_t mask, void *data)
 {
 	(void)fd;
@@ -157,6 +159,7 @@ static int handle_conn(int fd, uint32_t mask, void *data)
 	return 0;
 }
 
+/* Accepts a control connection. */
 static int handle_listen(int fd, uint32_t mask, void *data)
 {
 	(void)mask;

@@ -55,6 +55,7 @@ static bool handle_binding(struct server *server, xkb_keysym_t sym, uint32_t mod
 	return true;
 }
 
+/* Tells the focused client of a keyboard's modifiers. */
 static void keyboard_modifiers(struct wl_listener *listener, void *data)
 {
 	(void)data;
@@ -64,6 +65,7 @@ static void keyboard_modifiers(struct wl_listener *listener, void *data)
 	wlr_seat_keyboard_notify_modifiers(seat, &keyboard->device->keyboard->modifiers);
 }
 
+/* A key: the compositor's own bindings first, the focused client the rest. */
 static void keyboard_key(struct wl_listener *listener, void *data)
 {
 	struct keyboard *keyboard = wl_container_of(listener, keyboard, key);
@@ -84,6 +86,7 @@ static void keyboard_key(struct wl_listener *listener, void *data)
 	}
 }
 
+/* Forgets a keyboard that went away. */
 static void keyboard_destroy(struct wl_listener *listener, void *data)
 {
 	(void)data;
@@ -95,6 +98,7 @@ static void keyboard_destroy(struct wl_listener *listener, void *data)
 	free(keyboard);
 }
 
+/* Sets a new keyboard up: its keymap, its repeat rate, its keys for the seat. */
 static void new_keyboard(struct server *server, struct wlr_input_device *device)
 {
 	struct keyboard *keyboard = calloc(1, sizeof(*keyboard));
@@ -121,6 +125,7 @@ static void new_keyboard(struct server *server, struct wlr_input_device *device)
 	wl_list_insert(&server->keyboards, &keyboard->link);
 }
 
+/* A new input device: keyboards get a keymap, pointers move the cursor. */
 static void handle_new_input(struct wl_listener *listener, void *data)
 {
 	struct server *server = wl_container_of(listener, server, new_input);
@@ -161,6 +166,7 @@ static void follow_grab(struct server *server)
 	view_resize(view, width, height);
 }
 
+/* Gives a pointer motion to a grab, or to the surface under the pointer. */
 static void pointer_moved(struct server *server, uint32_t time)
 {
 	if (server->grab.view != NULL) {
@@ -179,6 +185,7 @@ static void pointer_moved(struct server *server, uint32_t time)
 	wlr_seat_pointer_notify_motion(server->seat, time, sx, sy);
 }
 
+/* Relative pointer motion. */
 static void cursor_motion(struct wl_listener *listener, void *data)
 {
 	struct server *server = wl_container_of(listener, server, cursor_motion);
@@ -187,6 +194,7 @@ static void cursor_motion(struct wl_listener *listener, void *data)
 	pointer_moved(server, event->time_msec);
 }
 
+/* Absolute pointer motion (a nested window's pointer, a tablet). */
 static void cursor_motion_absolute(struct wl_listener *listener, void *data)
 {
 	struct server *server = wl_container_of(listener, server, cursor_motion_absolute);
@@ -195,6 +203,7 @@ static void cursor_motion_absolute(struct wl_listener *listener, void *data)
 	pointer_moved(server, event->time_msec);
 }
 
+/* A button: focus and raise on press, Alt-drag grabs; the release ends a grab. */
 static void cursor_button(struct wl_listener *listener, void *data)
 {
 	struct server *server = wl_container_of(listener, server, cursor_button);
@@ -228,6 +237,7 @@ static void cursor_button(struct wl_listener *listener, void *data)
 	wlr_seat_pointer_notify_button(server->seat, event->time_msec, event->button, event->state);
 }
 
+/* Scrolling, for the surface under the pointer. */
 static void cursor_axis(struct wl_listener *listener, void *data)
 {
 	struct server *server = wl_container_of(listener, server, cursor_axis);
@@ -236,6 +246,7 @@ static void cursor_axis(struct wl_listener *listener, void *data)
 				     event->delta, event->delta_discrete, event->source);
 }
 
+/* The end of a group of pointer events. */
 static void cursor_frame(struct wl_listener *listener, void *data)
 {
 	(void)data;
@@ -243,6 +254,7 @@ static void cursor_frame(struct wl_listener *listener, void *data)
 	wlr_seat_pointer_notify_frame(server->seat);
 }
 
+/* A client sets the pointer's image. */
 static void request_cursor(struct wl_listener *listener, void *data)
 {
 	struct server *server = wl_container_of(listener, server, request_cursor);
@@ -253,6 +265,7 @@ static void request_cursor(struct wl_listener *listener, void *data)
 				       event->hotspot_y);
 }
 
+/* A client sets the clipboard. */
 static void request_set_selection(struct wl_listener *listener, void *data)
 {
 	struct server *server = wl_container_of(listener, server, request_set_selection);

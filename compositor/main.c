@@ -82,6 +82,7 @@ static int spawn(char **argv)
 	return 0;
 }
 
+/* SIGINT and SIGTERM end viscomp; SIGCHLD reaps, and ends it when the command exits. */
 static int handle_signal(int signal, void *data)
 {
 	struct wl_display *display = data;

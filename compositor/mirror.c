@@ -42,6 +42,7 @@ struct mirror {
 	size_t n_order, cap_order;
 };
 
+/* Drops the connection after a failure; viscomp goes on without a mirror. */
 static void disconnect(struct mirror *mirror, const char *why)
 {
 	if (mirror->client == NULL)
@@ -65,6 +66,7 @@ static void flush(struct mirror *mirror)
 					  WL_EVENT_READABLE | (rc > 0 ? WL_EVENT_WRITABLE : 0));
 }
 
+/* visd's answers and errors, and writing what the socket did not take. */
 static int handle_fd(int fd, uint32_t mask, void *data)
 {
 	(void)fd;
@@ -77,6 +79,7 @@ static int handle_fd(int fd, uint32_t mask, void *data)
 	return 0;
 }
 
+/* Logs a request visd refused: the mirror may then differ until the window changes again. */
 static void handle_error(void *data, const struct vis_error *error)
 {
 	(void)data;
@@ -84,6 +87,7 @@ static void handle_error(void *data, const struct vis_error *error)
 		vis_request_name(error->opcode), error->message);
 }
 
+/* Frees a window record (not visd's window). */
 static void win_free(struct mirror_win *mw)
 {
 	wl_list_remove(&mw->link);
@@ -130,6 +134,7 @@ static void push(struct mirror *mirror, struct mirror_win *mw)
 	}
 }
 
+/* visd's answer to a create: the window's ID, or it is gone already. */
 static void created(void *data, const struct vis_error *err, uint32_t window)
 {
 	struct mirror_win *mw = data;
@@ -220,6 +225,7 @@ static void restack(struct mirror *mirror)
 	mirror->order = order, mirror->n_order = n, mirror->cap_order = cap;
 }
 
+/* Sends the outside's shape. */
 static void send_outside(struct mirror *mirror)
 {
 	struct model *model = &mirror->server->model;

@@ -60,6 +60,7 @@ struct model_surface *model_surface_from_wlr(struct wlr_surface *surface)
 	return ms;
 }
 
+/* A surface committed: its view places its surfaces again (view.c). */
 static void handle_commit(struct wl_listener *listener, void *data)
 {
 	(void)data;
@@ -67,6 +68,7 @@ static void handle_commit(struct wl_listener *listener, void *data)
 	view_surface_committed(ms->model->server, ms);
 }
 
+/* A surface is destroyed: its window, its damage and its record go. */
 static void handle_destroy(struct wl_listener *listener, void *data)
 {
 	(void)data;

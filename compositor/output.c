@@ -156,6 +156,8 @@ static void send_frame_done(struct output *output, const struct wlr_box *box)
 	}
 }
 
+/* An output's frame: update the states, draw the damage from the repaint sets, commit, and
+ * answer the frame callbacks of what shows on it. */
 static void handle_frame(struct wl_listener *listener, void *data)
 {
 	(void)data;
@@ -204,6 +206,7 @@ static void handle_frame(struct wl_listener *listener, void *data)
 	send_frame_done(output, &box);
 }
 
+/* An output went: the outside grows by it. */
 static void handle_destroy(struct wl_listener *listener, void *data)
 {
 	(void)data;
@@ -216,6 +219,7 @@ static void handle_destroy(struct wl_listener *listener, void *data)
 	server_outputs_changed(server);
 }
 
+/* A new output: enabled in its preferred mode, laid out, drawn from then on. */
 static void handle_new_output(struct wl_listener *listener, void *data)
 {
 	struct server *server = wl_container_of(listener, server, new_output);

@@ -21,6 +21,7 @@
 #include "server-init.h"
 #include "view.h"
 
+/* Every wl_surface is tracked by the model from its creation. */
 static void handle_new_surface(struct wl_listener *listener, void *data)
 {
 	struct server *server = wl_container_of(listener, server, new_surface);

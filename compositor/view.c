@@ -75,6 +75,7 @@ struct sync {
 	int32_t ox, oy; /* the toplevel surface's origin on the screen */
 };
 
+/* Places one surface of a view's (wlroots' iteration: bottom to top, origin-relative). */
 static void sync_surface(struct wlr_surface *surface, int sx, int sy, void *data)
 {
 	struct sync *sync = data;
@@ -282,6 +283,7 @@ struct view *view_at(struct server *server, double lx, double ly, struct wlr_sur
 	return NULL;
 }
 
+/* A toplevel is mapped: placed once, on top, focused. */
 static void handle_map(struct wl_listener *listener, void *data)
 {
 	(void)data;
@@ -295,6 +297,7 @@ static void handle_map(struct wl_listener *listener, void *data)
 	view_focus(view);
 }
 
+/* A toplevel is unmapped: its surfaces leave the model's screen; the focus moves on. */
 static void handle_unmap(struct wl_listener *listener, void *data)
 {
 	(void)data;
@@ -317,6 +320,7 @@ static void handle_unmap(struct wl_listener *listener, void *data)
 	}
 }
 
+/* A toplevel is destroyed. */
 static void handle_destroy(struct wl_listener *listener, void *data)
 {
 	(void)data;
@@ -350,6 +354,7 @@ static void begin_grab(struct view *view, uint32_t edges)
 		 &server->grab.height);
 }
 
+/* The client asks for an interactive move (its title bar was dragged). */
 static void handle_request_move(struct wl_listener *listener, void *data)
 {
 	(void)data;
@@ -357,6 +362,7 @@ static void handle_request_move(struct wl_listener *listener, void *data)
 	begin_grab(view, 0);
 }
 
+/* The client asks for an interactive resize (its border was dragged). */
 static void handle_request_resize(struct wl_listener *listener, void *data)
 {
 	struct wlr_xdg_toplevel_resize_event *event = data;
@@ -379,6 +385,7 @@ struct popup {
 	struct wl_listener destroy;
 };
 
+/* A popup is unmapped. */
 static void popup_unmap(struct wl_listener *listener, void *data)
 {
 	(void)data;
@@ -386,6 +393,7 @@ static void popup_unmap(struct wl_listener *listener, void *data)
 	wl_event_loop_add_idle(popup->server->loop, sync_all, popup->server);
 }
 
+/* A popup is destroyed. */
 static void popup_destroy(struct wl_listener *listener, void *data)
 {
 	(void)data;
@@ -416,6 +424,7 @@ static void unconstrain(struct wlr_xdg_surface *xdg)
 	wlr_xdg_popup_unconstrain_from_box(xdg->popup, &area);
 }
 
+/* A new xdg surface: a toplevel becomes a view; a popup is kept on screen and followed. */
 static void handle_new_xdg_surface(struct wl_listener *listener, void *data)
 {
 	struct server *server = wl_container_of(listener, server, new_xdg_surface);
