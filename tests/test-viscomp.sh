@@ -8,7 +8,7 @@
 #   - wholly covered (or lowered below foot), A gets no frame callback: its commits per second
 #     fall to 0, its commits stop, and its process uses no more CPU time (/proc/PID/stat) while
 #     W draws 120 frames;
-#   - uncovered (or raised), A draws again;
+#   - uncovered (or raised), A draws again; off the output, it stops as when covered;
 #   - what grim takes of the screen (screencopy) shows it: foot where it covers A, A where
 #     nothing does, the background where nothing is;
 #   - visd, which viscomp mirrors its windows into, says A's state as viscompctl does each time.
@@ -261,6 +261,14 @@ wait_progress "$vpid $apid" a_is unobscured || fail "A raised, not unobscured"
 check_draws "raised over foot"
 ctl lower "$aid" || fail "lower A"
 check_stopped "lowered under foot"
+
+# Off every output, A is as covered as under foot; back on, it draws again.
+ctl raise "$aid" || fail "raise A again"
+ctl move "$aid" -400 "$ay" || fail "move A off the output"
+check_stopped "off the output"
+ctl move "$aid" "$ax" "$ay" || fail "move A back"
+wait_progress "$vpid $apid" a_is unobscured || fail "A back, not unobscured"
+check_draws "back on the output"
 
 # Errors are answered as errors; close ends foot's window and process.
 ctl move 999999 0 0 2>/dev/null && fail "move of no window succeeded"
