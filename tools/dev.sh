@@ -19,12 +19,14 @@ cd "$(dirname "$0")/.."
 # picom, xlogo and xeyes (x11-apps), xterm, xprop (x11-utils); viscomp, the Wayland compositor
 # (compositor/): wlroots 0.15 and what its headers need (libwayland-dev with wayland-scanner,
 # wayland-protocols, libxkbcommon-dev), and the real clients its test runs (tests/test-viscomp.sh):
-# weston's demo clients, foot (with a monospace font: fonts-dejavu-core), grim.
+# weston's demo clients, foot (with a monospace font: fonts-dejavu-core), grim, and xdotool, which
+# clicks and types into viscomp nested in Xvfb (tests/test-viscomp-input.sh).
 PACKAGES=(gcc meson ninja-build pkg-config libpixman-1-dev libevent-dev libxcb1-dev libxcb-shape0-dev xvfb
 	libxml2-utils
 	scdoc systemd
 	libxcb-xfixes0-dev openbox xcompmgr picom x11-apps xterm x11-utils
-	libwlroots-dev libwayland-dev wayland-protocols libxkbcommon-dev weston foot fonts-dejavu-core grim)
+	libwlroots-dev libwayland-dev wayland-protocols libxkbcommon-dev weston foot fonts-dejavu-core grim
+	xdotool)
 
 # Installs the Debian packages given that are missing, asking apt only when something is.
 install_missing() {
