@@ -270,6 +270,16 @@ ctl move "$aid" "$ax" "$ay" || fail "move A back"
 wait_progress "$vpid $apid" a_is unobscured || fail "A back, not unobscured"
 check_draws "back on the output"
 
+# resize: foot takes the size asked (its cells permitting: it may round down).
+foot_size() {
+	w=$(json_field "$fpid" width) h=$(json_field "$fpid" height)
+	[ "$w" -le 400 ] && [ "$w" -gt 350 ] && [ "$h" -le 300 ] && [ "$h" -gt 250 ]
+}
+ctl resize "$fid" 400 300 || fail "resize foot"
+wait_progress "$vpid $fpid" foot_size ||
+	fail "foot is $(json_field "$fpid" width)x$(json_field "$fpid" height) after resize 400 300"
+echo "resize: foot asked for 400x300, is $(json_field "$fpid" width)x$(json_field "$fpid" height)"
+
 # Errors are answered as errors; close ends foot's window and process.
 ctl move 999999 0 0 2>/dev/null && fail "move of no window succeeded"
 ctl frobnicate 2>/dev/null && fail "an unknown command succeeded"
