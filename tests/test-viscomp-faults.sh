@@ -50,7 +50,9 @@ fail() {
 
 export XDG_RUNTIME_DIR="$dir"
 export VISCOMP_SOCKET="$dir/control.sock"
-export LSAN_OPTIONS="suppressions=$(cd "$(dirname "$0")" && pwd)/viscomp-lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
+here=$(cd "$(dirname "$0")" && pwd)
+LSAN_OPTIONS="suppressions=$here/viscomp-lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
+export LSAN_OPTIONS
 
 # The next number of a 31-bit LCG, in $r (0 … 2^31 - 1): the same seed, the same run.
 r=$seed
@@ -117,6 +119,7 @@ while [ "$round" -lt "$rounds" ]; do
 	moves=$n
 	while [ "$moves" -gt 0 ]; do
 		moves=$((moves - 1))
+		# shellcheck disable=SC2046 # one ID a word
 		set -- $(ids)
 		[ $# -gt 0 ] || break
 		[ $# -le "$most" ] || most=$#
@@ -135,6 +138,7 @@ while [ "$round" -lt "$rounds" ]; do
 	# Kill one client in two, at random among those left.
 	pick 2
 	if [ "$n" -eq 0 ]; then
+		# shellcheck disable=SC2086 # one pid a word
 		set -- $clients
 		pick $#
 		shift "$n"

@@ -45,7 +45,9 @@ fail() {
 
 export XDG_RUNTIME_DIR="$dir"
 export VISCOMP_SOCKET="$dir/control.sock"
-export LSAN_OPTIONS="suppressions=$(cd "$(dirname "$0")" && pwd)/viscomp-lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
+here=$(cd "$(dirname "$0")" && pwd)
+LSAN_OPTIONS="suppressions=$here/viscomp-lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
+export LSAN_OPTIONS
 
 exec 3>"$dir/display"
 Xvfb -displayfd 3 -screen 0 1280x800x24 -nolisten tcp -noreset >"$dir/xvfb.log" 2>&1 &

@@ -59,7 +59,9 @@ export XDG_RUNTIME_DIR="$dir"
 export VISCOMP_SOCKET="$dir/control.sock"
 # The wlroots 0.15 output globals are destroyed on a timer that the display's end never runs:
 # a leak of wlroots' own (wlr_global_destroy_safe), not viscomp's.
-export LSAN_OPTIONS="suppressions=$(cd "$(dirname "$0")" && pwd)/viscomp-lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
+here=$(cd "$(dirname "$0")" && pwd)
+LSAN_OPTIONS="suppressions=$here/viscomp-lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
+export LSAN_OPTIONS
 
 ctl() {
 	"$viscompctl" "$@"
@@ -102,7 +104,8 @@ shot() {
 pixel() {
 	header=$(head -n 3 "$dir/$1.ppm" | wc -c)
 	width=$(sed -n '2{s/ .*//p;q}' "$dir/$1.ppm")
-	echo $(od -An -tu1 -j $((header + ($3 * width + $2) * 3)) -N 3 "$dir/$1.ppm")
+	od -An -tu1 -j $((header + ($3 * width + $2) * 3)) -N 3 "$dir/$1.ppm" |
+		awk '{ print $1, $2, $3 }'
 }
 
 # The background viscomp clears to, (0.18, 0.20, 0.22) in output.c.
@@ -182,7 +185,7 @@ read -r top _ <"$dir/list.txt"
 ax=$(json_field "$apid" x) ay=$(json_field "$apid" y)
 aw=$(json_field "$apid" width) ah=$(json_field "$apid" height)
 fw=$(json_field "$fpid" width) fh=$(json_field "$fpid" height)
-[ "$fw" -gt "$((ax + aw))" ] && [ "$fh" -gt "$((ay + ah))" ] ||
+{ [ "$fw" -gt "$((ax + aw))" ] && [ "$fh" -gt "$((ay + ah))" ]; } ||
 	fail "foot (${fw}x$fh) too small to cover A at $ax,$ay ${aw}x$ah"
 
 # Drawing: A's commits go on by 60 (a second at 60 Hz) while unobscured.

@@ -15,7 +15,7 @@
 # a run).
 # Installs sway when missing (tools/dev.sh install). Prints a table.
 set -u
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/.." || exit 1
 build=${1:-build-release}
 shift || true
 sizes=("$@")
@@ -85,10 +85,10 @@ run() {
 	pids+=("$cpid")
 	wait_for socket_in "$run" ||
 		{ echo "viscomp-bench: $kind did not start" >&2; cat "$run/log" >&2; exit 1; }
-	local display
-	display=$(basename "$(ls "$run"/wayland-? | head -n 1)")
+	local display f
+	for f in "$run"/wayland-?; do [ -S "$f" ] && display=$(basename "$f") && break; done
 	for ((i = 0; i < n; i++)); do
-		WAYLAND_DISPLAY=$display "${as_nobody[@]}" $client >/dev/null 2>&1 &
+		WAYLAND_DISPLAY=$display "${as_nobody[@]}" "$client" >/dev/null 2>&1 &
 		clients+=($!)
 		pids+=($!)
 		if [ "$kind" = viscomp ]; then
