@@ -63,6 +63,10 @@ static const char usage_text[] =
 	"  --live-from N             windows from which recomputes go live, costing the\n"
 	"                            windows a change can affect; below, through the\n"
 	"                            tree (default 2048; 0: always live)\n"
+	"testing:\n"
+	"  --id-key KEY              the window IDs' permutation key (decimal or 0x hex;\n"
+	"                            default: random; 0: IDs 1, 2, 3 ... in order), so\n"
+	"                            that a recorded session replays with the same IDs\n"
 	"socket activation: given a listening socket by its service manager (LISTEN_PID,\n"
 	"LISTEN_FDS, LISTEN_FDNAMES, as sd_listen_fds(3) says), visd serves it rather than\n"
 	"bind one; a second socket, named 'restricted' in LISTEN_FDNAMES, is the restricted\n"
@@ -105,27 +109,42 @@ static const struct number_option *find_number_option(const char *name)
 	return NULL;
 }
 
+/*
+ * After an option error's one line: the usage line and where the rest is, not the whole --help
+ * (forty lines of limits would bury the one that says what was wrong).
+ */
+static void short_usage(void)
+{
+	fprintf(stderr, "%.*s(visd --help lists every option)\n",
+		(int)(strchr(usage_text, '\n') - usage_text + 1), usage_text);
+}
+
 static int usage_error(const char *fmt, const char *arg)
 {
 	fprintf(stderr, "visd: ");
 	fprintf(stderr, fmt, arg);
-	fprintf(stderr, "\n%s", usage_text);
+	fputc('\n', stderr);
+	short_usage();
 	return 2;
 }
 
-/* Parses "WxH" with both in 1 … INT32_MAX. */
+/* Parses "WxH" with both in 1 … INT32_MAX. Returns 0, -1 (not WxH) or -2 (a side out of range). */
 static int parse_size(const char *s, int32_t *w, int32_t *h)
 {
 	char *end;
 	errno = 0;
 	long a = strtol(s, &end, 10);
-	if (errno || end == s || *end != 'x' || a < 1 || a > INT32_MAX)
+	if (errno == ERANGE && end != s && *end == 'x' && isdigit((unsigned char)*s))
+		a = -1; /* too large: range, not syntax */
+	else if (errno || end == s || *end != 'x' || !isdigit((unsigned char)*s))
 		return -1;
 	const char *t = end + 1;
+	errno = 0;
 	long b = strtol(t, &end, 10);
-	if (errno || end == t || *end || b < 1 || b > INT32_MAX || !isdigit((unsigned char)*s) ||
-	    !isdigit((unsigned char)*t))
+	if (end == t || *end || !isdigit((unsigned char)*t) || (errno && errno != ERANGE))
 		return -1;
+	if (errno == ERANGE || a < 1 || a > INT32_MAX || b < 1 || b > INT32_MAX)
+		return -2;
 	*w = (int32_t)a;
 	*h = (int32_t)b;
 	return 0;
@@ -363,6 +382,7 @@ int main(int argc, char **argv)
 		.restricted_fd = -1,
 	};
 	char default_path[PATH_MAX];
+	bool id_key_given = false;
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
 		const char *val = i + 1 < argc ? argv[i + 1] : NULL;
@@ -378,7 +398,7 @@ int main(int argc, char **argv)
 		}
 		const struct number_option *num = find_number_option(a);
 		if (!num && strcmp(a, "--socket") && strcmp(a, "--screen") &&
-		    strcmp(a, "--restricted-socket"))
+		    strcmp(a, "--restricted-socket") && strcmp(a, "--id-key"))
 			return usage_error("unknown option '%s'", a);
 		if (!val || !*val)
 			return usage_error("%s needs a value", a);
@@ -389,8 +409,9 @@ int main(int argc, char **argv)
 			unsigned long n = strtoul(val, &end, 10);
 			if (errno || *end || !isdigit((unsigned char)*val) || n < num->min ||
 			    n > num->max) {
-				fprintf(stderr, "visd: %s '%s': want a number from %lu to %lu\n%s", a,
-					val, num->min, num->max, usage_text);
+				fprintf(stderr, "visd: %s '%s': want a number from %lu to %lu\n", a,
+					val, num->min, num->max);
+				short_usage();
 				return 2;
 			}
 			*(uint32_t *)((char *)&opt + num->offset) = (uint32_t)n;
@@ -398,8 +419,21 @@ int main(int argc, char **argv)
 			opt.socket_path = val;
 		} else if (strcmp(a, "--restricted-socket") == 0) {
 			opt.restricted_path = val;
-		} else if (parse_size(val, &opt.screen_width, &opt.screen_height) < 0) {
-			return usage_error("--screen '%s': want WxH, e.g. 1920x1080", val);
+		} else if (strcmp(a, "--id-key") == 0) {
+			char *end;
+			errno = 0;
+			opt.id_key = strtoull(val, &end, 0);
+			if (errno || *end || !isdigit((unsigned char)*val))
+				return usage_error("--id-key '%s': want a number below 2^64", val);
+			id_key_given = true;
+		} else {
+			int r = parse_size(val, &opt.screen_width, &opt.screen_height);
+			if (r == -2)
+				return usage_error("--screen '%s': width and height must each be 1 to "
+						   "2147483647 (WxH, e.g. 1920x1080)",
+						   val);
+			if (r < 0)
+				return usage_error("--screen '%s': want WxH, e.g. 1920x1080", val);
 		}
 	}
 	/* Before anything opens a descriptor: those passed start at fd 3. */
@@ -425,8 +459,9 @@ int main(int argc, char **argv)
 		opt.owner_reserve = opt.max_clients / 2 < 32 ? opt.max_clients / 2 : 32;
 	else if (opt.owner_reserve >= opt.max_clients) {
 		fprintf(stderr, "visd: --owner-reserve %u leaves no slot for others: it must be below "
-				"--max-clients (%u)\n%s",
-			opt.owner_reserve, opt.max_clients, usage_text);
+				"--max-clients (%u)\n",
+			opt.owner_reserve, opt.max_clients);
+		short_usage();
 		return 2;
 	}
 	fit_descriptors(&opt);
@@ -460,7 +495,8 @@ int main(int argc, char **argv)
 		log_error("cannot handle signals");
 		goto out_base;
 	}
-	opt.id_key = id_key();
+	if (!id_key_given)
+		opt.id_key = id_key();
 	if (server_init(&server, base, &opt) == 0) {
 		const char *passed = " (socket activation)";
 		log_info("listening on %s%s (screen %dx%d)%s%s%s", opt.socket_path,

@@ -222,18 +222,25 @@ static void write_exposure(struct client *c, uint32_t window, uint32_t rect_limi
 	write_copy(c, b->data, b->len);
 }
 
-/* As write_exposure(), for a region not yet in words. */
-static void write_region(struct client *c, uint32_t window, uint32_t rect_limit,
-			 pixman_region32_t *exposed, uint32_t coalesced)
+/*
+ * As write_exposure(), for w's rectangles as c's protocol version reads them, from a region
+ * (today's window coordinates) or from n words (exposed NULL), left as they are.
+ */
+static void write_region(struct client *c, const struct vis_window *w, uint32_t rect_limit,
+			 pixman_region32_t *exposed, const uint32_t *from, uint32_t n,
+			 uint32_t coalesced)
 {
-	uint32_t n;
-	uint32_t *words = server_region_words(exposed, &n);
+	uint32_t *words = exposed ? server_region_words(exposed, &n)
+				  : malloc(((size_t)n + 1) * 4 * sizeof *words);
 	if (!words) {
 		log_error("client %u: out of memory for an exposure notice", c->id);
 		server_client_close(c);
 		return;
 	}
-	write_exposure(c, window, rect_limit, words, n, coalesced);
+	if (!exposed)
+		memcpy(words, from, (size_t)n * 4 * sizeof *words);
+	server_compat_rects(c, w, words, n);
+	write_exposure(c, w->id, rect_limit, words, n, coalesced);
 	free(words);
 }
 
@@ -323,6 +330,11 @@ void server_notice_exposure(struct client *c, const struct sub *s, const struct 
 			    struct server_exposure *once)
 {
 	if (!must_hold(c)) {
+		if (server_compat_rects_differ(c, w)) {
+			/* An older version's rectangles: this connection's own copy. */
+			write_region(c, w, s->rect_limit, NULL, once->words, once->n, 0);
+			return;
+		}
 		bool collapse = once->n > s->rect_limit;
 		struct vis_buf *b = &once->encoded[collapse];
 		if (!b->len && encode_exposure(b, w->id, collapse, once->words, once->n, 0) < 0) {
@@ -429,7 +441,8 @@ static void release_held(struct client *c)
 					 h->visibility_count - 1);
 		const struct sub *s;
 		if (h->exposure && (s = server_client_sub_for(c, w, VIS_NOTICE_EXPOSURE)))
-			write_region(c, h->window, s->rect_limit, &h->exposed, h->exposure_count - 1);
+			write_region(c, w, s->rect_limit, &h->exposed, NULL, 0,
+				     h->exposure_count - 1);
 	}
 	free(order);
 	drop_held(o);
@@ -470,7 +483,7 @@ static uint32_t resync(struct client *c, bool write)
 		if (s && win->tracked && pixman_region32_not_empty(&win->region)) {
 			n++;
 			if (write)
-				write_region(c, w->id, s->rect_limit, &win->region, 0);
+				write_region(c, w, s->rect_limit, &win->region, NULL, 0, 0);
 		}
 	}
 	return n;

@@ -122,10 +122,10 @@ static void do_hello(struct client *c, uint32_t seq, const union vis_arg *a)
 				    a[0].u);
 		return;
 	}
-	if (a[1].u != VIS_PROTOCOL_VERSION) {
+	if (!server_compat_speaks(a[1].u)) {
 		server_client_error(c, seq, op, VIS_ERROR_HANDSHAKE,
-				    "protocol version %u is not supported (this daemon speaks %u)",
-				    a[1].u, VIS_PROTOCOL_VERSION);
+				    "protocol version %u is not supported (this daemon speaks %u to %u)",
+				    a[1].u, VIS_PROTOCOL_OLDEST_VERSION, VIS_PROTOCOL_VERSION);
 		return;
 	}
 	uint32_t role = a[2].u;
@@ -149,11 +149,12 @@ static void do_hello(struct client *c, uint32_t seq, const union vis_arg *a)
 	}
 	c->hello_done = true;
 	c->role = role;
+	c->version = a[1].u;
 	if (role == VIS_ROLE_MANAGER)
 		server->manager = c;
 	union vis_arg r[7];
 	r[0].u = seq;
-	r[1].u = VIS_PROTOCOL_VERSION;
+	r[1].u = c->version;
 	r[2].u = c->id;
 	r[3].u = role;
 	r[4].u = (uint32_t)server->vis->core.root.width;
@@ -608,6 +609,7 @@ static void do_get_region(struct client *c, uint32_t seq, uint32_t id)
 		server_client_error(c, seq, VIS_OP_GET_REGION, VIS_ERROR_LIMIT, "out of memory");
 		goto out;
 	}
+	server_compat_rects(c, w, v, n);
 	union vis_arg r[4] = { { .u = seq }, { .u = id } };
 	send_list(c, VIS_OP_REGION, r, 3, v, n, 4);
 out:

@@ -71,7 +71,9 @@ struct held {
 	bool visibility, exposure;
 	uint32_t state, previous;           /* previous: what the connection was last told */
 	uint32_t visibility_count, exposure_count; /* notices folded in */
-	pixman_region32_t exposed;          /* window coordinates */
+	/* Today's window coordinates, converted for the connection's version as it goes out (with
+	 * the window's border as it is then: server_compat_rects()). */
+	pixman_region32_t exposed;
 };
 
 /* The words of a stack notice after its serial: change window parent x y width height sibling
@@ -141,6 +143,9 @@ struct client {
 	bool close_after_answers; /* a batch's fatal error waits in answers */
 	bool waited; /* its next request waited a turn for the shared recompute */
 	uint32_t role;
+	/* The protocol version its hello asked for, which it speaks from then on (server-compat.c);
+	 * 0 before hello. */
+	uint32_t version;
 	uint32_t seq;
 	uint64_t serial;
 	struct evbuffer *batch;
@@ -361,6 +366,21 @@ bool server_look_pieces_ok(struct client *c, uint32_t seq, uint32_t op, const st
  * server_look_charged() said before the change), and gives them to w. */
 void server_look_keep(struct server *server, struct vis_window *w, uint64_t old,
 		      struct vis_look_cut *cut);
+
+/*
+ * The protocol versions the daemon speaks, and what differs between them (server-compat.c): the
+ * one place that knows what an older version reads otherwise.
+ */
+/* Whether the daemon speaks version (VIS_PROTOCOL_OLDEST_VERSION to VIS_PROTOCOL_VERSION). */
+bool server_compat_speaks(uint32_t version);
+/* Whether c reads rectangles about w (region replies, exposures) other than today's version. */
+bool server_compat_rects_differ(const struct client *c, const struct vis_window *w);
+/*
+ * Converts n rectangles about w, as x, y, width, height words in today's window coordinates
+ * (clipped to w's border box), to what c's version reads, in place. O(n).
+ */
+void server_compat_rects(const struct client *c, const struct vis_window *w, uint32_t *words,
+			 uint32_t n);
 
 /* Per-uid quotas (server-quota.c). */
 /*

@@ -11,12 +11,15 @@
 #include "zgrid.h"
 
 /*
- * The windows below which updates go through the tree: measured with bench-wtree, at 1,000
- * windows the damaged recompute costs 10–20 µs a change and the live one's medians are as low
- * but its 99th percentiles 2–20 times higher (walks over large windows' many cells); at 3,000
- * the damaged recompute costs 30–70 µs and the live one wins on medians and means.
+ * The windows below which updates go through the tree, for libvis (visd sets its own, 2048, for
+ * its tails: at 1,000 windows bench-wtree found the live update's 99th percentiles 2-20 times
+ * the damaged recompute's). Measured on members of the scene family nobody tuned either for
+ * (bench-libvis --family 40 --min-n 16 --max-n 256 --seed 11, two runs of each threshold), a
+ * frame's median over the region method's was 3.1-3.6 going live from 2048, 2.3-2.6 from 32,
+ * 2.2-2.5 from 64, 2.8-2.9 from 128; the 99th percentiles' medians 2.5-3.4 from 2048 and
+ * 2.5-2.8 from 64. Below 64 the tree costs less (n 10-64: 3.5 through it, 4.1 live).
  */
-#define LIVE_MIN_WINDOWS 2048
+#define LIVE_MIN_WINDOWS 64
 
 /*
  * The work, per window, of making the seen regions exact when the structures are built: a unit
@@ -478,6 +481,20 @@ void wtree_live_computed(struct vis_wtree *tree, const struct vis_wtree_work *wk
 }
 
 /*
+ * The cells along a side of the grid for n windows: about 16 windows a cell, up to
+ * VIS_ZGRID_SIDE. A walk merges the cells its box meets, a heap step an entry: in a small tree
+ * fine cells cost more steps than the entries they leave out (100 windows on 3840×2160, a
+ * move 116,000 instructions in 16 × 16 cells, of which 40% the merge).
+ */
+static uint32_t grid_side(size_t n)
+{
+	uint32_t side = 1;
+	while (side < VIS_ZGRID_SIDE && (size_t)side * side * 16 < n)
+		side++;
+	return side;
+}
+
+/*
  * Builds the live structures from a tree just computed through the order, unless a viewable
  * window has a look: the grid from the order, the seen list from the states (the regions not
  * known: their clips). 0, or -1 (ENOMEM, or a look: the structures are then not valid).
@@ -501,7 +518,8 @@ static int rebuild(struct vis_wtree *tree, struct vis_wtree_live *lv)
 	}
 	for (size_t i = 0; i < tree->n_order; i++)
 		tree->order[i]->parent->live_leaf = false;
-	if (vis_zgrid_init(&lv->grid, tree->root.clip) < 0)
+	lv->grid_windows = tree->n_order;
+	if (vis_zgrid_init(&lv->grid, tree->root.clip, grid_side(tree->n_order)) < 0)
 		return -1;
 	for (size_t i = 0; i < tree->n_order; i++) {
 		struct vis_window *w = tree->order[i];
@@ -913,6 +931,12 @@ int vis_wtree_update(struct vis_wtree *tree)
 	struct vis_wtree_live *lv = live_of(tree);
 	if (!lv)
 		return vis_wtree_compute(tree);
+	/* A grid built for a tree a quarter the size has too few cells: built again at once. */
+	if (lv->valid && grid_side(lv->grid_windows) < VIS_ZGRID_SIDE &&
+	    tree->count / 4 > lv->grid_windows) {
+		lv->valid = false;
+		lv->cooldown = 0;
+	}
 	bool was_valid = lv->valid;
 	bool small = tree->count < lv->min_windows;
 	if (lv->valid && !small && !tree->stale && !lv->changed_lost) {

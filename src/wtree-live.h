@@ -175,6 +175,7 @@ struct vis_wtree_live {
 	unsigned seen_boxes; /* the boxes a seen region keeps: SEEN_BOXES, or fewer in tests */
 	size_t left_boxes;   /* the boxes a walk keeps what is left in: LEFT_BOXES, or fewer */
 	size_t min_windows;  /* the windows below which updates go through the tree */
+	size_t grid_windows; /* the windows when the grid was built, for its side (grid_side()) */
 	/* Updates left to go through the tree after one could not go live, before the structures
 	 * are built again: where updates cost more than that, rebuilding each time costs more. */
 	unsigned cooldown;

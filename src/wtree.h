@@ -424,8 +424,8 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
 int vis_wtree_update(struct vis_wtree *tree);
 
 /*
- * Sets the windows from which vis_wtree_update() goes live (default 2048: below, the damaged
- * recompute costs as little and its tail less; 0: always). 0, or -1 with ENOMEM.
+ * Sets the windows from which vis_wtree_update() goes live (default 64: below, the damaged
+ * recompute costs less; 0: always). 0, or -1 with ENOMEM.
  */
 int vis_wtree_live_from(struct vis_wtree *tree, size_t windows);
 

@@ -116,9 +116,9 @@ struct vis_zgrid_cell {
 	size_t n, cap;
 };
 
-int vis_zgrid_init(struct vis_zgrid *g, struct vis_box area)
+int vis_zgrid_init(struct vis_zgrid *g, struct vis_box area, uint32_t side)
 {
-	unsigned shift = vis_cells_shift(area, VIS_ZGRID_SIDE);
+	unsigned shift = vis_cells_shift(area, side);
 	*g = (struct vis_zgrid){ .area = area, .shift = shift };
 	g->cols = vis_cells_along(area.x2 - area.x1, shift);
 	g->rows = vis_cells_along(area.y2 - area.y1, shift);

@@ -34,8 +34,9 @@ struct vis_zgrid {
 /* The most cells along a side: a window meets a few, so that a cell holds few to pass over. */
 #define VIS_ZGRID_SIDE 16
 
-/* Sets up an empty index over area (not empty). 0, or -1 with ENOMEM. O(cells). */
-int vis_zgrid_init(struct vis_zgrid *g, struct vis_box area);
+/* Sets up an empty index over area (not empty), at most side cells (1 … VIS_ZGRID_SIDE) along
+ * each side. 0, or -1 with ENOMEM. O(cells). */
+int vis_zgrid_init(struct vis_zgrid *g, struct vis_box area, uint32_t side);
 
 /* Frees the index's memory. O(entries). */
 void vis_zgrid_finish(struct vis_zgrid *g);

@@ -21,7 +21,9 @@
 #include <vis/vis.h>
 
 #include "bench-time.h"
+#include "family.h"
 #include "gen.h"
+#include "libvis-private.h"
 #include "rng.h"
 
 static void die(const char *what)
@@ -40,11 +42,14 @@ static void region_of(pixman_region32_t *r, const struct vis_rect *rects, uint32
 					   (unsigned)rects[k].w, (unsigned)rects[k].h);
 }
 
-/* The region method's windows: their pixels and opaque pixels, in screen coordinates. */
+/*
+ * The region method's windows: their pixels, opaque pixels and visible pixels (what a compositor
+ * keeps to know which windows it can see), in screen coordinates.
+ */
 struct method {
 	size_t n;
-	pixman_region32_t *own, *opaque;
-	pixman_region32_t above, part;
+	pixman_region32_t *own, *opaque, *visible;
+	pixman_region32_t above, part, damage;
 };
 
 static void method_init(struct method *m, const struct vis_scene *s)
@@ -52,7 +57,8 @@ static void method_init(struct method *m, const struct vis_scene *s)
 	m->n = s->n;
 	m->own = calloc(s->n, sizeof *m->own);
 	m->opaque = calloc(s->n, sizeof *m->opaque);
-	if (!m->own || !m->opaque)
+	m->visible = calloc(s->n, sizeof *m->visible);
+	if (!m->own || !m->opaque || !m->visible)
 		die("out of memory");
 	for (size_t i = 0; i < s->n; i++) {
 		const struct vis_look *l = s->looks ? &s->looks[i] : NULL;
@@ -77,9 +83,49 @@ static void method_init(struct method *m, const struct vis_scene *s)
 	}
 	pixman_region32_init(&m->above);
 	pixman_region32_init(&m->part);
+	pixman_region32_init(&m->damage);
+	for (size_t i = m->n; i-- > 0;) {
+		pixman_region32_init(&m->visible[i]);
+		pixman_region32_intersect_rect(&m->visible[i], &m->own[i], 0, 0,
+					       (unsigned)s->screen_w, (unsigned)s->screen_h);
+		pixman_region32_subtract(&m->visible[i], &m->visible[i], &m->above);
+		pixman_region32_union(&m->above, &m->above, &m->opaque[i]);
+	}
 }
 
-/* One frame of the region method: the parts of the windows in damage; returns how many. */
+/*
+ * One change under the region method as wlroots' scene keeps it (scene_update_region(), 0.16 on):
+ * from the top window down, each window that meets the damage gets its visible pixels there
+ * anew, the damage less the opaque pixels of the windows above; returns the windows that can be
+ * seen. Its repaint set is then each window's visible pixels in the damage.
+ */
+static size_t method_update(struct method *m, const pixman_box32_t *damage)
+{
+	size_t k = 0;
+	pixman_region32_t *left = &m->above; /* the damage less the opaque pixels above */
+	pixman_region32_fini(left);
+	pixman_region32_init_rects(left, damage, 1);
+	pixman_region32_fini(&m->damage);
+	pixman_region32_init_rects(&m->damage, damage, 1);
+	for (size_t i = m->n; i-- > 0;) {
+		const pixman_box32_t *e = pixman_region32_extents(&m->own[i]);
+		if (e->x1 < damage->x2 && damage->x1 < e->x2 && e->y1 < damage->y2 &&
+		    damage->y1 < e->y2) {
+			pixman_region32_intersect(&m->part, &m->own[i], left);
+			pixman_region32_subtract(&m->visible[i], &m->visible[i], &m->damage);
+			pixman_region32_union(&m->visible[i], &m->visible[i], &m->part);
+			pixman_region32_subtract(left, left, &m->opaque[i]);
+		}
+		k += pixman_region32_not_empty(&m->visible[i]);
+	}
+	return k;
+}
+
+/*
+ * The repaint set alone by the region method, stopping once opaque windows cover the damage
+ * (which tells nothing of the windows below, whose frames a compositor then cannot withhold):
+ * the parts of the windows in damage; returns how many.
+ */
 static size_t method_repaint(struct method *m, const pixman_box32_t *damage)
 {
 	size_t k = 0;
@@ -103,11 +149,14 @@ static void method_finish(struct method *m)
 	for (size_t i = 0; i < m->n; i++) {
 		pixman_region32_fini(&m->own[i]);
 		pixman_region32_fini(&m->opaque[i]);
+		pixman_region32_fini(&m->visible[i]);
 	}
 	free(m->own);
 	free(m->opaque);
+	free(m->visible);
 	pixman_region32_fini(&m->above);
 	pixman_region32_fini(&m->part);
+	pixman_region32_fini(&m->damage);
 }
 
 /* A look's rectangles as libvis takes them: a new array. */
@@ -155,19 +204,31 @@ static struct vis_tree *tree_of(const struct vis_scene *s, struct vis_win **wins
 	return t;
 }
 
-/* Runs one scene: moves alternately timed on libvis and the region method. */
-static void run(enum vis_gen_kind kind, size_t n, size_t moves, uint64_t seed)
+/* The medians of one scene's moves, in µs. */
+struct medians {
+	double lib, rep, reg, stop;
+	double lib99, reg99; /* the 99th percentiles */
+};
+
+/* The windows below which libvis updates through the tree (--live-from), or SIZE_MAX: its own. */
+static size_t live_from = SIZE_MAX;
+
+/* Runs one scene (its screen made w × h when it has none): moves timed on libvis and the region
+ * method in turn. */
+static struct medians run_scene(struct vis_scene s, size_t moves, uint64_t seed)
 {
-	struct vis_scene s;
-	vis_scene_init(&s);
-	if (vis_gen(&s, kind, n, seed, 0, 0) < 0)
-		die("vis_gen");
+	size_t n = s.n;
+	if (s.screen_w < 1 || s.screen_h < 1)
+		die("a scene without a screen");
 	struct vis_win **wins = malloc(n * sizeof *wins);
 	double *lib = malloc(moves * sizeof *lib), *reg = malloc(moves * sizeof *reg);
 	double *rep = malloc(moves * sizeof *rep); /* libvis's repaint query alone */
-	if (!wins || !lib || !reg || !rep)
+	double *stop = malloc(moves * sizeof *stop); /* the region method's repaint alone */
+	if (!wins || !lib || !reg || !rep || !stop)
 		die("out of memory");
 	struct vis_tree *t = tree_of(&s, wins);
+	if (live_from != SIZE_MAX && vis_wtree_live_from(&t->core, live_from) < 0)
+		die("vis_wtree_live_from");
 	struct method m;
 	method_init(&m, &s);
 	struct vis_rng rng = { seed ^ 0x5bd1e995u };
@@ -196,10 +257,13 @@ static void run(enum vis_gen_kind kind, size_t n, size_t moves, uint64_t seed)
 		const struct vis_change *c;
 		const struct vis_repaint *out;
 		size_t nc, nr;
-		for (int turn = 0; turn < 2; turn++) {
-			bool lib_first = k % 2 == 0;
+		pixman_region32_translate(&m.own[i], dx, dy);
+		pixman_region32_translate(&m.opaque[i], dx, dy);
+		/* The three in turn, each first in a third of the moves. */
+		for (int turn = 0; turn < 3; turn++) {
+			int which = (int)((k + (size_t)turn) % 3);
 			double t0 = bench_now_us();
-			if (lib_first == (turn == 0)) {
+			if (which == 0) {
 				if (vis_win_move(wins[i], r->x, r->y) < 0 ||
 				    vis_tree_update(t, &c, &nc) < 0)
 					die("libvis failed");
@@ -208,34 +272,118 @@ static void run(enum vis_gen_kind kind, size_t n, size_t moves, uint64_t seed)
 					die("libvis failed");
 				lib[k] = bench_now_us() - t0;
 				rep[k] = bench_now_us() - t1;
-			} else {
-				pixman_region32_translate(&m.own[i], dx, dy);
-				pixman_region32_translate(&m.opaque[i], dx, dy);
-				method_repaint(&m, &db);
+			} else if (which == 1) {
+				method_update(&m, &db);
 				reg[k] = bench_now_us() - t0;
+			} else {
+				method_repaint(&m, &db);
+				stop[k] = bench_now_us() - t0;
 			}
 		}
 	}
 	qsort(lib, moves, sizeof *lib, bench_cmp_double);
 	qsort(reg, moves, sizeof *reg, bench_cmp_double);
 	qsort(rep, moves, sizeof *rep, bench_cmp_double);
-	double ml = lib[moves / 2], mr = reg[moves / 2];
-	printf("| %s | %zu | %.2f | %.2f | %.2f | %.2f |\n", vis_gen_kind_name(kind), n, ml,
-	       rep[moves / 2], mr, mr > 0 ? ml / mr : 0);
-	fflush(stdout);
+	qsort(stop, moves, sizeof *stop, bench_cmp_double);
+	struct medians med = { lib[moves / 2], rep[moves / 2], reg[moves / 2], stop[moves / 2],
+			       lib[moves * 99 / 100], reg[moves * 99 / 100] };
 	method_finish(&m);
 	vis_tree_destroy(t);
-	vis_scene_finish(&s);
 	free(wins);
 	free(lib);
 	free(reg);
 	free(rep);
+	free(stop);
+	return med;
+}
+
+/* Runs one generated scene and prints its row. */
+static void run(enum vis_gen_kind kind, size_t n, size_t moves, uint64_t seed)
+{
+	struct vis_scene s;
+	vis_scene_init(&s);
+	if (vis_gen(&s, kind, n, seed, 0, 0) < 0)
+		die("vis_gen");
+	struct medians m = run_scene(s, moves, seed);
+	printf("| %s | %zu | %.2f | %.2f | %.2f | %.2f | %.2f |\n", vis_gen_kind_name(kind), n, m.lib,
+	       m.rep, m.reg, m.stop, m.reg > 0 ? m.lib / m.reg : 0);
+	fflush(stdout);
+	vis_scene_finish(&s);
+}
+
+static int cmp_ratio(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+	return (x > y) - (x < y);
+}
+
+/*
+ * Draws count members of the scene family (src/family.h: sizes, aspects, overlap, clusters,
+ * cascades, lattices, shared edges, nobody tuned libvis for them), n log-uniform in
+ * [min_n, max_n], each on its area as the screen, and prints the distribution of libvis's
+ * median over the region method's, with the worst member.
+ */
+static void run_family(size_t count, size_t min_n, size_t max_n, size_t moves, uint64_t seed,
+		       size_t only)
+{
+	double *ratio = malloc((count ? count : 1) * sizeof *ratio);
+	double *tail = malloc((count ? count : 1) * sizeof *tail);
+	if (!ratio || !tail)
+		die("out of memory");
+	struct vis_rng rng = { seed };
+	double worst = -1;
+	char worst_desc[512] = "";
+	for (size_t k = 0; k < count; k++) {
+		struct vis_family f;
+		vis_family_draw(&rng, min_n, max_n, &f);
+		struct vis_scene s;
+		vis_scene_init(&s);
+		uint64_t scene_seed = seed * 1000003u + k;
+		if (only != SIZE_MAX && k != only) {
+			ratio[k] = tail[k] = 0;
+			continue;
+		}
+		if (vis_family_gen(&s, &f, scene_seed) < 0)
+			die("vis_family_gen");
+		s.screen_w = f.w;
+		s.screen_h = f.h;
+		struct medians m = run_scene(s, moves, scene_seed);
+		ratio[k] = m.reg > 0 ? m.lib / m.reg : 0;
+		tail[k] = m.reg99 > 0 ? m.lib99 / m.reg99 : 0;
+		if (ratio[k] > worst) {
+			worst = ratio[k];
+			int len = snprintf(worst_desc, sizeof worst_desc, "scene %zu: ", k);
+			len = len < 0 || (size_t)len >= sizeof worst_desc ? 0 : len;
+			int more = vis_family_describe(&f, worst_desc + len, sizeof worst_desc - (size_t)len);
+			len += more < 0 ? 0 : more;
+			len = (size_t)len >= sizeof worst_desc ? (int)sizeof worst_desc - 1 : len;
+			snprintf(worst_desc + len, sizeof worst_desc - (size_t)len,
+				 " (libvis %.2f µs, region %.2f µs)", m.lib, m.reg);
+		}
+		vis_scene_finish(&s);
+	}
+	qsort(ratio, count, sizeof *ratio, cmp_ratio);
+	qsort(tail, count, sizeof *tail, cmp_ratio);
+	size_t over1 = 0, over2 = 0;
+	for (size_t k = 0; k < count; k++)
+		over1 += ratio[k] > 1, over2 += ratio[k] > 2;
+	printf("family seed %llu, %zu scenes, n %zu..%zu, %zu moves each: libvis / region method "
+	       "median %.2f, p95 %.2f, worst %.2f; %zu scenes above 1, %zu above 2\n"
+	       "their 99th percentiles: median %.2f, p95 %.2f, worst %.2f\n"
+	       "worst: %s\n",
+	       (unsigned long long)seed, count, min_n, max_n, moves, ratio[count / 2],
+	       ratio[count * 95 / 100 < count ? count * 95 / 100 : count - 1], ratio[count - 1],
+	       over1, over2, tail[count / 2],
+	       tail[count * 95 / 100 < count ? count * 95 / 100 : count - 1], tail[count - 1],
+	       worst_desc);
+	free(ratio);
+	free(tail);
 }
 
 int main(int argc, char **argv)
 {
 	const char *kinds = "random,tiles,cascade,translucent", *sizes = "10,100,1000,10000";
-	size_t moves = 2000;
+	size_t moves = 2000, family = 0, min_n = 10, max_n = 10000, only = SIZE_MAX;
 	uint64_t seed = 1;
 	for (int i = 1; i < argc; i++) {
 		if (!strcmp(argv[i], "--kinds") && i + 1 < argc)
@@ -246,13 +394,32 @@ int main(int argc, char **argv)
 			moves = strtoul(argv[++i], NULL, 10);
 		else if (!strcmp(argv[i], "--seed") && i + 1 < argc)
 			seed = strtoull(argv[++i], NULL, 10);
+		else if (!strcmp(argv[i], "--family") && i + 1 < argc)
+			family = strtoul(argv[++i], NULL, 10);
+		else if (!strcmp(argv[i], "--min-n") && i + 1 < argc)
+			min_n = strtoul(argv[++i], NULL, 10);
+		else if (!strcmp(argv[i], "--max-n") && i + 1 < argc)
+			max_n = strtoul(argv[++i], NULL, 10);
+		else if (!strcmp(argv[i], "--only") && i + 1 < argc)
+			only = strtoul(argv[++i], NULL, 10);
+		else if (!strcmp(argv[i], "--live-from") && i + 1 < argc)
+			live_from = strtoul(argv[++i], NULL, 10);
 		else
-			die("usage: bench-libvis [--kinds K,...] [--sizes N,...] [--moves M] [--seed S]");
+			die("usage: bench-libvis [--kinds K,...] [--sizes N,...] [--moves M] [--seed S]\n"
+			    "       bench-libvis --family COUNT [--min-n N] [--max-n N] [--moves M] "
+			    "[--seed S] [--only K]\n       (either also [--live-from N])");
 	}
 	if (moves < 1)
 		die("--moves must be at least 1");
-	printf("| kind | windows | libvis µs | of which repaint µs | region method µs | ratio |\n"
-	       "|---|---|---|---|---|---|\n");
+	if (family) {
+		if (min_n < 1 || max_n < min_n)
+			die("--min-n must be at least 1 and at most --max-n");
+		run_family(family, min_n, max_n, moves, seed, only);
+		return 0;
+	}
+	printf("| kind | windows | libvis µs | of which repaint µs | region method µs | "
+	       "its repaint alone, early stop µs | ratio |\n"
+	       "|---|---|---|---|---|---|---|\n");
 	char kbuf[256];
 	snprintf(kbuf, sizeof kbuf, "%s", kinds);
 	for (char *ks = NULL, *k = strtok_r(kbuf, ",", &ks); k; k = strtok_r(NULL, ",", &ks)) {

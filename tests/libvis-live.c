@@ -1,6 +1,6 @@
 /*
- * test-libvis's one hook past <vis/vis.h>: libvis recomputes through the tree below 2,048
- * windows, where that costs as little, and the test's trees are smaller; so that they also
+ * test-libvis's one hook past <vis/vis.h>: libvis recomputes through the tree below 64
+ * windows, where that costs less, and most of the test's trees are smaller; so that they also
  * exercise the live engine's lists of changed windows, it can go live from the first window.
  */
 #include "libvis-private.h"

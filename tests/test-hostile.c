@@ -403,7 +403,6 @@ static void test_handshake(void)
 		{ VIS_PROTOCOL_MAGIC, 0, 0, "protocol version 0 is not supported" },
 		{ VIS_PROTOCOL_MAGIC, 1, 0, "protocol version 1 is not supported" },
 		{ VIS_PROTOCOL_MAGIC, 2, 0, "protocol version 2 is not supported" },
-		{ VIS_PROTOCOL_MAGIC, 3, 0, "protocol version 3 is not supported" },
 		{ VIS_PROTOCOL_MAGIC, 5, 0, "protocol version 5 is not supported" },
 		{ VIS_PROTOCOL_MAGIC, UINT32_MAX, 0, "version 4294967295 is not supported" },
 		{ VIS_PROTOCOL_MAGIC, VIS_PROTOCOL_VERSION, 3, "unknown role 3" },

@@ -169,8 +169,50 @@ done
 v map 999999 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "map" "$dir/err" && grep -q "no such window" "$dir/err" ||
 	fail "map of a missing window: $(cat "$dir/err")"
+# A window another connection made is hidden from a plain client: the error says it may be
+# another connection's, and which role sees (observer) and changes (manager) it; with a role,
+# the bare error. In a script, the script's connection is named.
+other=$(v create 0 0 10 10 --map --retain)
+v raise "$other" 2>"$dir/err"
+[ $? -eq 1 ] && grep -qF "raise $other: window: no such window $other (it may be another connection's: each visctl is a new connection, a plain client, which sees only its own windows; --role observer reads every window, --role manager changes them)" "$dir/err" ||
+	fail "raise of another connection's window: $(cat "$dir/err")"
+printf 'raise %s\n' "$other" >"$dir/other-script"
+v script "$dir/other-script" 2>"$dir/err"
+[ $? -eq 1 ] && grep -qF "other-script:1: raise $other: window: no such window $other (it may be another connection's: this script's connection is a plain client" "$dir/err" ||
+	fail "a script's raise of another connection's window: $(cat "$dir/err")"
+v --role manager raise 999999 2>"$dir/err"
+[ $? -eq 1 ] && ! grep -q "another connection" "$dir/err" ||
+	fail "a manager's missing window: $(cat "$dir/err")"
+v --role manager destroy "$other" || fail "the manager did not destroy another connection's window"
 "$visctl" -s "$dir/nothing" states 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "$dir/nothing" "$dir/err" || fail "no daemon: $(cat "$dir/err")"
+# A refused connection says what is at the path and whether a visd runs for it (holds the
+# path's .lock), not a bare "Connection refused": a regular file; the socket a killed visd left;
+# that socket while something holds the lock, as a visd starting there does.
+: >"$dir/plain"
+"$visctl" -s "$dir/plain" states 2>"$dir/err"
+[ $? -eq 1 ] && grep -qF "cannot connect to $dir/plain: Connection refused: it is a regular file, not a socket; no visd holds its .lock, so none runs for this path (a new one replaces what is there)" "$dir/err" ||
+	fail "a regular file at the socket's path: $(cat "$dir/err")"
+"$visd" --socket "$dir/crashed" 2>/dev/null &
+cpid=$!
+wait_socket "$cpid" "$dir/crashed"
+kill -KILL "$cpid"
+wait "$cpid" 2>/dev/null
+"$visctl" -s "$dir/crashed" states 2>"$dir/err"
+[ $? -eq 1 ] && grep -qF "cannot connect to $dir/crashed: Connection refused: the socket there has no listener: the visd that made it has gone (killed or crashed); no visd holds its .lock, so none runs for this path" "$dir/err" ||
+	fail "a killed visd's socket: $(cat "$dir/err")"
+if command -v flock >/dev/null; then
+	# The lock is held by fd 9 of the subshell, which becomes the sleep: killing it frees it.
+	(flock 9 && exec sleep 600) 9>"$dir/crashed.lock" >/dev/null 2>&1 &
+	fpid=$!
+	held() { grep -q "FLOCK.*:$(stat -c %i "$dir/crashed.lock") " /proc/locks; }
+	wait_progress "$fpid" held
+	"$visctl" -s "$dir/crashed" states 2>"$dir/err"
+	[ $? -eq 1 ] && grep -qF "the visd that made it has gone (killed or crashed); yet a visd holds its .lock: one runs for this path" "$dir/err" ||
+		fail "a stale socket with its lock held: $(cat "$dir/err")"
+	kill "$fpid"
+	wait "$fpid" 2>/dev/null
+fi
 
 # snapshot --svg: every window the observer sees, children at their absolute place, each in the
 # state the daemon gives it; a client draws only its own.
@@ -318,6 +360,21 @@ out=$("$visctl" --version) || fail "visctl --version exited $?"
 [ $? -eq 1 ] && grep -q "another visd" "$dir/err" || fail "second daemon: $(cat "$dir/err")"
 "$visd" --screen 0x5 --socket "$dir/x" 2>/dev/null
 [ $? -eq 2 ] || fail "visd --screen 0x5 was accepted"
+# An option's error is one line, then the usage line and where the rest is: not the forty lines
+# of --help that once buried it. A size out of range says so, not "want WxH".
+"$visd" --screen 0x0 --socket "$dir/x" 2>"$dir/err"
+[ $? -eq 2 ] && [ "$(head -n 1 "$dir/err")" = "visd: --screen '0x0': width and height must each be 1 to 2147483647 (WxH, e.g. 1920x1080)" ] ||
+	fail "visd --screen 0x0: $(cat "$dir/err")"
+"$visd" --screen 1920 --socket "$dir/x" 2>"$dir/err"
+[ $? -eq 2 ] && grep -qx "visd: --screen '1920': want WxH, e.g. 1920x1080" "$dir/err" ||
+	fail "visd --screen 1920: $(cat "$dir/err")"
+for opt in "--bogus" "--screen 0x0" "--max-clients 0" "--owner-reserve 8 --max-clients 8"; do
+	# shellcheck disable=SC2086
+	"$visd" --socket "$dir/x" $opt 2>"$dir/err"
+	[ "$(wc -l <"$dir/err")" -eq 3 ] && grep -qx "usage: visd .*" "$dir/err" &&
+		grep -qxF "(visd --help lists every option)" "$dir/err" ||
+		fail "visd $opt: not one line and the usage line: $(cat "$dir/err")"
+done
 env -u VISD_SOCKET -u XDG_RUNTIME_DIR "$visd" 2>"$dir/err"
 [ $? -eq 2 ] && grep -q "VISD_SOCKET" "$dir/err" || fail "no socket path: $(cat "$dir/err")"
 for opt in "--max-clients 0" "--max-depth 4097" "--max-pending 100" "--max-windows x" "--max-request" \

@@ -137,7 +137,7 @@ static void test_area(struct vis_box area, uint64_t seed, size_t n, size_t walks
 {
 	struct vis_rng rng = { seed };
 	struct vis_zgrid g;
-	if (vis_zgrid_init(&g, area) < 0) {
+	if (vis_zgrid_init(&g, area, VIS_ZGRID_SIDE) < 0) {
 		CHECK(!"init failed");
 		return;
 	}

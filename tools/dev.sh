@@ -12,18 +12,26 @@ called_from=$PWD
 cd "$(dirname "$0")/.."
 # wait_progress PIDS COMMAND: COMMAND until it succeeds, while the processes named work.
 . tests/progress.sh
+# A signal ends the script through `exit`, so that the EXIT trap (the demo's: its visd, its
+# watch and its scratch directory) runs however it ends: Ctrl-C, a kill, or a reader that stops
+# reading (`tools/dev.sh demo | head`), which would otherwise kill the shell outright by SIGPIPE.
+trap 'exit 130' INT
+trap 'exit 143' TERM
+trap 'exit 129' HUP
+trap 'exit 141' PIPE
 
 # scdoc: the man pages (man/); systemd: systemd-socket-activate for the socket activation test,
 # systemd-analyze to verify the user units (tests/test-activate.sh, tests/check-units.sh);
 # xcb-xfixes for visd-x11, and the X desktop its tests run (tests/test-x11.sh): openbox, xcompmgr,
-# picom, xlogo and xeyes (x11-apps), xterm, xprop (x11-utils); viscomp, the Wayland compositor
+# picom, xlogo and xeyes (x11-apps), xterm, xprop (x11-utils); abigail-tools: abidiff, for the
+# libraries' ABI against their baselines (tests/check-abi.sh); viscomp, the Wayland compositor
 # (compositor/): wlroots 0.15 and what its headers need (libwayland-dev with wayland-scanner,
 # wayland-protocols, libxkbcommon-dev), and the real clients its test runs (tests/test-viscomp.sh):
 # weston's demo clients, foot (with a monospace font: fonts-dejavu-core), grim, and xdotool, which
 # clicks and types into viscomp nested in Xvfb (tests/test-viscomp-input.sh).
 PACKAGES=(gcc meson ninja-build pkg-config libpixman-1-dev libevent-dev libxcb1-dev libxcb-shape0-dev xvfb
 	libxml2-utils
-	scdoc systemd
+	scdoc systemd abigail-tools
 	libxcb-xfixes0-dev openbox xcompmgr picom x11-apps xterm x11-utils
 	libwlroots-dev libwayland-dev wayland-protocols libxkbcommon-dev weston foot fonts-dejavu-core grim
 	xdotool)
@@ -68,6 +76,15 @@ build() {
 	step "building $dir (ninja -C $dir)" "$dir/dev-build.log" ninja -C "$dir"
 }
 
+# Stops what the demo started and removes its scratch directory (the EXIT trap): the watch first,
+# so that it does not report visd's going; visd removes its socket and lock on SIGTERM.
+demo_cleanup() {
+	[ -n "${watch_pid:-}" ] && kill "$watch_pid" 2>/dev/null && wait "$watch_pid" 2>/dev/null
+	[ -n "${visd_pid:-}" ] && kill "$visd_pid" 2>/dev/null && wait "$visd_pid" 2>/dev/null
+	[ -n "${demo_tmp:-}" ] && rm -rf "$demo_tmp"
+	return 0
+}
+
 # Runs the demo on the programs built in $1. Every line it prints is labelled: a '== ' heading,
 # or under one, indented, a line that names what it shows (tests/test-devsh.sh checks it).
 demo() {
@@ -76,12 +93,13 @@ demo() {
 		echo "dev.sh: no visd or visctl built in $bin" >&2
 		exit 1
 	fi
-	tmp=$(mktemp -d)
-	local sock=$tmp/visd-0
 	visd_pid=
 	watch_pid=
-	# shellcheck disable=SC2064
-	trap "kill \${watch_pid:-} 2>/dev/null; sleep 0.1; kill \${visd_pid:-} 2>/dev/null; rm -rf '$tmp'" EXIT
+	demo_tmp=
+	trap demo_cleanup EXIT
+	tmp=$(mktemp -d)
+	demo_tmp=$tmp
+	local sock=$tmp/visd-0
 	local visctl=$bin/client/visctl/visctl
 	v() { "$visctl" -s "$sock" "$@"; }
 
@@ -94,6 +112,18 @@ demo() {
 		printf '   %-9s ' "$e"
 		"$visctl" compute --engine="$e" --time "$tmp/big.scene" 2>&1 >/dev/null
 	done
+	echo "   (region, the union of the windows above as X.Org computes it, wins on a desktop: once"
+	echo "   the union covers the screen, as a few maximized windows do, each window below costs"
+	echo "   it almost nothing, while the sweep (gmv, gmv-heap) pays O(n log n) for any stack)"
+	"$visctl" gen grid 1000 1 >"$tmp/grid.scene"
+	echo "== the same on the paper's worst case, a grid of 500 bars over 500 (visctl gen grid 1000 1):"
+	for e in auto gmv gmv-heap region; do
+		printf '   %-9s ' "$e"
+		"$visctl" compute --engine="$e" --time "$tmp/grid.scene" 2>&1 >/dev/null
+	done
+	echo "   (every bar crosses every other: the union above gains a piece at every crossing and"
+	echo "   region takes quadratic time, where the sweep stays O(n log n); auto runs region until"
+	echo "   a forecast of its remaining work passes the sweep's cost, then hands over to gmv-heap)"
 
 	echo "== the daemon: visd --socket $sock --screen 3840x2160"
 	"$bin/daemon/visd" --socket "$sock" --screen 3840x2160 &

@@ -232,11 +232,16 @@ static int setup_visd(struct bridge *b, const char *socket)
 		return -1;
 	}
 	if (vis_client_error(b->vc)) {
+		/* A refused handshake's message is the daemon's already: say it once. */
 		struct vis_error e;
-		bridge_log(NULL, 0, "cannot connect to visd as its manager: %s%s%s",
-			   vis_client_error_message(b->vc),
-			   vis_client_last_error(b->vc, &e) ? ": " : "",
-			   vis_client_last_error(b->vc, &e) ? e.message : "");
+		const char *msg = vis_client_error_message(b->vc);
+		bool more = vis_client_last_error(b->vc, &e) && !strstr(msg, e.message);
+		bridge_log(NULL, 0, "cannot connect to visd as its manager: %s%s%s%s", msg,
+			   more ? ": " : "", more ? e.message : "",
+			   vis_client_error(b->vc) == EBUSY
+				   ? " (another visd-x11, or another manager, is connected to this "
+				     "visd: one bridge a visd)"
+				   : "");
 		return -1;
 	}
 	uint32_t w, h;
@@ -476,7 +481,7 @@ int main(int argc, char **argv)
 			usage(stdout);
 			return 0;
 		case 'V':
-			printf("visd-x11 %s\n", VIS_VERSION);
+			printf("visd-x11 %s (protocol %u)\n", VIS_VERSION, VIS_PROTOCOL_VERSION);
 			return 0;
 		default:
 			usage(stderr);

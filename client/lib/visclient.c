@@ -6,10 +6,13 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <sys/un.h>
 #include <unistd.h>
 
@@ -258,6 +261,60 @@ int vis_client_default_socket(char *buf, size_t len)
 	return n < 0 || (size_t)n >= len ? -1 : 0;
 }
 
+/*
+ * Whether a process holds an flock on file: visd holds SOCKET.lock while it runs. Reads
+ * /proc/locks rather than trying the lock, which could make a visd starting at that moment think
+ * another holds it. Returns 1, 0, or -1 when it cannot tell.
+ */
+static int lock_held(const char *file)
+{
+	struct stat st;
+	if (stat(file, &st) < 0)
+		return errno == ENOENT ? 0 : -1;
+	FILE *f = fopen("/proc/locks", "re");
+	if (!f)
+		return -1;
+	char line[256], kind[16];
+	unsigned maj, min;
+	unsigned long long ino;
+	int held = 0;
+	while (!held && fgets(line, sizeof(line), f))
+		held = sscanf(line, "%*s %15s %*s %*s %*d %x:%x:%llu", kind, &maj, &min, &ino) == 4 &&
+		       strcmp(kind, "FLOCK") == 0 && maj == major(st.st_dev) &&
+		       min == minor(st.st_dev) && ino == (unsigned long long)st.st_ino;
+	fclose(f);
+	return held;
+}
+
+/*
+ * Says what refused a connection at path: what is there (a socket nothing listens on is what a
+ * visd that was killed or crashed leaves; a file is not a socket at all), and whether a visd
+ * runs on the path (holds its lock). "" when path is gone or cannot be read.
+ */
+static const char *refused_why(const char *path, char *buf, size_t len)
+{
+	struct stat st;
+	char lock[sizeof(((struct sockaddr_un *)0)->sun_path) + 5];
+	if (lstat(path, &st) < 0)
+		return "";
+	snprintf(lock, sizeof(lock), "%s.lock", path);
+	int held = lock_held(lock);
+	bool sock = S_ISSOCK(st.st_mode), file = S_ISREG(st.st_mode);
+	const char *what = sock ? "the socket there has no listener: the visd that made it has gone "
+				  "(killed or crashed)"
+			   : file		 ? "it is a regular file, not a socket"
+			   : S_ISDIR(st.st_mode) ? "it is a directory, not a socket"
+						 : "it is not a socket";
+	const char *visd = held > 0 ? "; yet a visd holds its .lock: one runs for this path "
+				      "(starting, stopping, or its socket was replaced)"
+			   : held < 0	       ? ""
+			   : sock || file ? "; no visd holds its .lock, so none runs for this path "
+					    "(a new one replaces what is there)"
+					  : "; no visd holds its .lock, so none runs for this path";
+	snprintf(buf, len, ": %s%s", what, visd);
+	return buf;
+}
+
 /* Opens the socket and sends hello; errors are left sticky on c. */
 static void connect_socket(struct vis_client *c, const char *path, uint32_t role)
 {
@@ -286,7 +343,10 @@ static void connect_socket(struct vis_client *c, const char *path, uint32_t role
 		r = connect(c->fd, (struct sockaddr *)&addr, sizeof(addr));
 	while (r < 0 && errno == EINTR);
 	if (r < 0 || fcntl(c->fd, F_SETFL, fcntl(c->fd, F_GETFL) | O_NONBLOCK) < 0) {
-		vis_client_fail(c, errno, "cannot connect to %s: %s", path, strerror(errno));
+		int err = errno;
+		char why[200];
+		vis_client_fail(c, err, "cannot connect to %s: %s%s", path, strerror(err),
+				err == ECONNREFUSED ? refused_why(path, why, sizeof(why)) : "");
 		return;
 	}
 	if (vis_client_hello(c, role))

@@ -1,6 +1,7 @@
 /*
  * The live queries: states, tree, region, repaint, look, lookup. Each prints its records one a line, as text
- * or, with --json, as one JSON object a line (every string is one of ours: nothing to escape).
+ * or, with --json, as one JSON object a line (every string is one of ours, nothing to escape,
+ * but X's window names of states --x11 --names).
  */
 #include <inttypes.h>
 #include <stdbool.h>
@@ -10,6 +11,7 @@
 
 #include "live.h"
 #include "visctl.h"
+#include "x11-names.h"
 
 /* Reports a failed query, naming it by its command line. */
 static int query_failed(struct live *l, int argc, char **argv)
@@ -55,10 +57,79 @@ static int by_external(const void *a, const void *b)
 }
 
 /*
+ * Prints an X string as text, quoted: '"', '\\' and control bytes escaped ('\\"', '\\\\',
+ * '\\xNN'), other bytes as they are (a name is UTF-8 or Latin-1: X does not say which for WM_NAME).
+ */
+static void print_quoted(const char *s)
+{
+	putchar('"');
+	for (const unsigned char *p = (const unsigned char *)s; *p; p++)
+		if (*p == '"' || *p == '\\')
+			printf("\\%c", *p);
+		else if (*p < 0x20 || *p == 0x7f)
+			printf("\\x%02x", *p);
+		else
+			putchar(*p);
+	putchar('"');
+}
+
+/* Prints an X string as a JSON string (control bytes as \\u00NN), or null for none. */
+static void print_json_string(const char *s)
+{
+	if (!s) {
+		fputs("null", stdout);
+		return;
+	}
+	putchar('"');
+	for (const unsigned char *p = (const unsigned char *)s; *p; p++)
+		if (*p == '"' || *p == '\\')
+			printf("\\%c", *p);
+		else if (*p < 0x20 || *p == 0x7f)
+			printf("\\u%04x", *p);
+		else
+			putchar(*p);
+	putchar('"');
+}
+
+/* A window's name and class after its state, as xwininfo -tree prints them. */
+static void print_x11_name(const struct x11_name *x, bool json)
+{
+	if (json) {
+		fputs(",\"name\":", stdout);
+		print_json_string(x->name);
+		fputs(",\"class\":", stdout);
+		if (x->instance) {
+			putchar('[');
+			print_json_string(x->instance);
+			putchar(',');
+			print_json_string(x->class_name ? x->class_name : "");
+			putchar(']');
+		} else {
+			fputs("null", stdout);
+		}
+		return;
+	}
+	putchar(' ');
+	if (x->name)
+		print_quoted(x->name);
+	else
+		fputs("(has no name)", stdout);
+	fputs(" (", stdout);
+	if (x->instance) {
+		print_quoted(x->instance);
+		putchar(' ');
+		print_quoted(x->class_name ? x->class_name : "");
+	}
+	putchar(')');
+}
+
+/*
  * states --x11: the X windows (external namespace X11) among the viewable windows with a state,
  * by XID, read from the tree, whose records carry the external IDs that states records lack.
+ * With names, each window's name and class too, asked of the X server ($DISPLAY): visd knows
+ * the windows by XID alone.
  */
-static int states_x11(struct live *l, int argc, char **argv, bool json)
+static int states_x11(struct live *l, int argc, char **argv, bool json, bool names)
 {
 	struct vis_window_info *w;
 	size_t n, k = 0;
@@ -70,25 +141,53 @@ static int states_x11(struct live *l, int argc, char **argv, bool json)
 			w[k++] = w[i];
 	if (k)
 		qsort(w, k, sizeof(*w), by_external);
-	for (size_t i = 0; i < k; i++)
+	struct x11_name *xn = NULL;
+	if (names) {
+		uint32_t *xids = calloc(k + 1, sizeof(*xids));
+		xn = calloc(k + 1, sizeof(*xn));
+		char why[160];
+		if (!xids || !xn) {
+			free(xids);
+			free(xn);
+			free(w);
+			return live_error(l, "%s: out of memory", argv[0]);
+		}
+		for (size_t i = 0; i < k; i++)
+			xids[i] = (uint32_t)w[i].external;
+		int r = x11_names_read(NULL, xids, k, xn, why, sizeof(why));
+		free(xids);
+		if (r < 0) {
+			x11_names_finish(xn, k);
+			free(xn);
+			free(w);
+			return live_error(l, "%s: %s", argv[0], why);
+		}
+	}
+	for (size_t i = 0; i < k; i++) {
 		if (json)
-			printf("{\"x11\":\"0x%" PRIx64 "\",\"window\":%u,\"state\":\"%s\"}\n",
+			printf("{\"x11\":\"0x%" PRIx64 "\",\"window\":%u,\"state\":\"%s\"",
 			       w[i].external, w[i].window, vis_visibility_name(w[i].state));
 		else
-			printf("0x%" PRIx64 " %s\n", w[i].external, vis_visibility_name(w[i].state));
+			printf("0x%" PRIx64 " %s", w[i].external, vis_visibility_name(w[i].state));
+		if (xn)
+			print_x11_name(&xn[i], json);
+		fputs(json ? "}\n" : "\n", stdout);
+	}
+	x11_names_finish(xn, k);
+	free(xn);
 	free(w);
 	if (!k && live_sees_nothing(l))
 		live_warn_sees_nothing(l, argv[0]);
 	return VISCTL_EXIT_OK;
 }
 
-/* Takes the option --x11 out of argv; whether it was there. */
-static bool take_x11(int *argc, char **argv)
+/* Takes the option flag (e.g. --x11) out of argv; whether it was there. */
+static bool take_flag(int *argc, char **argv, const char *flag)
 {
 	bool found = false;
 	int k = 1;
 	for (int i = 1; i < *argc; i++)
-		if (strcmp(argv[i], "--x11") == 0)
+		if (strcmp(argv[i], flag) == 0)
 			found = true;
 		else
 			argv[k++] = argv[i];
@@ -102,13 +201,15 @@ int cmd_states(struct live *l, int argc, char **argv)
 	size_t n;
 	bool json = false;
 	int ret;
-	bool x11 = take_x11(&argc, argv);
+	bool x11 = take_flag(&argc, argv, "--x11"), names = take_flag(&argc, argv, "--names");
+	if (names && !x11)
+		return live_usage(l, argv[0], "--names goes with --x11 (the names are X's)");
 	if (x11)
 		live_x11_role(l);
 	if (begin(l, &argc, argv, 0, "", &json, &ret) < 0)
 		return ret;
 	if (x11)
-		return states_x11(l, argc, argv, json);
+		return states_x11(l, argc, argv, json, names);
 	if (vis_client_get_states(l->client, &states, &n) < 0)
 		return query_failed(l, argc, argv);
 	/* The daemon sends them in order already; sorting again costs little and promises it. */

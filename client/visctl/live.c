@@ -163,6 +163,16 @@ int live_failed(struct live *l, const char *what)
 		return VISCTL_EXIT_FAILURE;
 	if (vis_client_error(l->client))
 		return live_error(l, "%s: %s", what, vis_client_error_message(l->client));
+	if (vis_client_last_error(l->client, &e) && e.code == VIS_ERROR_WINDOW &&
+	    vis_client_role(l->client) == VIS_ROLE_CLIENT)
+		/* The window is likely another connection's: isolation hides it, so say so. */
+		return live_error(l,
+				  "%s: %s: %s (it may be another connection's: %s a plain client, "
+				  "which sees only its own windows; --role observer reads every "
+				  "window, --role manager changes them)",
+				  what, vis_error_code_name(e.code), e.message,
+				  l->in_script ? "this script's connection is"
+					       : "each visctl is a new connection,");
 	if (vis_client_last_error(l->client, &e))
 		return live_error(l, "%s: %s: %s", what, vis_error_code_name(e.code), e.message);
 	return live_error(l, "%s: failed", what);

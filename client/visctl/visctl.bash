@@ -20,7 +20,7 @@ _visctl_options() {
 	create) echo "--parent --map --retain --border --input-only --x11 --external --help" ;;
 	shape) echo "--box --help" ;;
 	load) echo "--retain --any-screen --json --help" ;;
-	states) echo "--json --x11 --help" ;;
+	states) echo "--json --x11 --names --help" ;;
 	tree | region | repaint | look) echo "--json --help" ;;
 	lookup) echo "--x11 --help" ;;
 	snapshot) echo "--svg --help" ;;

@@ -58,7 +58,7 @@ static const struct visctl_command commands[] = {
 	  "  coordinates, as _NET_WM_OPAQUE_REGION), e.g. the inside of a client-side\n"
 	  "  shadow. Windows below show through the rest.\n" },
 	{ "load", NULL, cmd_load, "[--retain] [--any-screen] [--json] SCENE", NULL },
-	{ "states", NULL, cmd_states, "[--json] [--x11]",
+	{ "states", NULL, cmd_states, "[--json] [--x11 [--names]]",
 	  "  Prints 'ID STATE' for every viewable window the connection may see, ascending ID;\n"
 	  "  STATE is unobscured, partially-obscured or fully-obscured. A client sees only\n"
 	  "  the windows its connection made (--role observer or manager: every window).\n"
@@ -66,7 +66,11 @@ static const struct visctl_command commands[] = {
 	  "  --x11: only the windows that mirror X windows, as 'XID STATE' (XID in lowercase\n"
 	  "  hex, 0x1e00003), ascending XID; with --json {\"x11\":\"XID\",\"window\":ID,\n"
 	  "  \"state\":STATE}. Without --role it takes the observer role: X windows are\n"
-	  "  the bridge's (the manager's), so a plain client sees none.\n" },
+	  "  the bridge's (the manager's), so a plain client sees none.\n"
+	  "  --names: with --x11, each window's name and class after its state, as\n"
+	  "  xwininfo -tree prints them: 0x1e00003 unobscured \"~/src\" (\"xterm\" \"XTerm\"),\n"
+	  "  or (has no name) (); read from the X server on $DISPLAY (visd knows XIDs\n"
+	  "  only). With --json, \"name\":NAME|null,\"class\":[INSTANCE,CLASS]|null.\n" },
 	{ "tree", NULL, cmd_tree, "[--json]",
 	  "  Prints every window the connection may see, bottom to top, each before its\n"
 	  "  children, as 'ID PARENT X Y W H MAPPED STATE RETAINED BORDER LOOK EXTERNAL':\n"

@@ -10,6 +10,12 @@
 /* 4: regions and exposures in window coordinates, from the inside's corner (3: external IDs;
  * 2: borders, shapes, opaque regions, input-only). The history is PROTOCOL.md's. */
 #define VIS_PROTOCOL_VERSION 4u
+/*
+ * The oldest version a daemon serves: a daemon speaks every version from this one to its own, each
+ * connection the one its hello asks for, byte for byte as that version was (PROTOCOL.md,
+ * "Versions"); hello-reply's version is the one the connection speaks.
+ */
+#define VIS_PROTOCOL_OLDEST_VERSION 3u
 
 /* Every message, either way, is at most this many bytes, header included. */
 #define VIS_PROTOCOL_MAX_MESSAGE (16u << 20)

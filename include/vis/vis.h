@@ -196,7 +196,7 @@ struct vis_change {
  * vis_tree_destroy(), and reused from one update to the next (no allocation per change once they
  * have grown); an entry's window must not be used once destroyed. With no change since the last
  * update, *n is 0 and nothing is recomputed. 0, or -1 with EINVAL or ENOMEM (the states stay as
- * they were, the changes pending: the next update tries again). Cost: from 2,048 windows, while no
+ * they were, the changes pending: the next update tries again). Cost: from 64 windows, while no
  * viewable window has a shape or an opaque region other than all, the live recompute, whose cost
  * follows the windows the change can affect, not the tree; else a recompute limited to the
  * damage, O(n log n) at worst for n windows (pieces, for windows with looks). Plus, for each
