@@ -10,13 +10,18 @@
 # subsection. -h and --help are checked by running them: both must print the same usage and exit
 # 0. Every command `visctl --help` lists needs its subsection, and every subsection its command.
 # libvisclient.3.scd must document each function visclient.h exports (*name*( terms), and no other;
-# libvis.3.scd each function of vis.h, beside it.
-# Usage: check-man.sh VISD VISCTL MAN-DIR VISCLIENT-H
+# libvis.3.scd each function of vis.h, beside it. Where viscomp is built (VISCOMP and VISCOMPCTL
+# given), viscomp.1.scd documents the options `viscomp --help` prints and no other, and
+# viscompctl.1.scd its options under "# OPTIONS" and, under "# COMMANDS", a *COMMAND* term for
+# each command `viscompctl --help` lists (and none other), with the options the help gives it.
+# Usage: check-man.sh VISD VISCTL MAN-DIR VISCLIENT-H [VISCOMP VISCOMPCTL]
 set -u
 visd=${1:?usage: check-man.sh VISD VISCTL MAN-DIR VISCLIENT-H}
 visctl=${2:?}
 man=${3:?}
 header=${4:?}
+viscomp=${5:-}
+viscompctl=${6:-}
 T=$(mktemp -d "${TMPDIR:-/tmp}/check-man.XXXXXX") || exit 1
 trap 'rm -rf "$T"' EXIT
 
@@ -137,8 +142,44 @@ check_api() {
 check_api "$man/libvisclient.3.scd" "$header"
 check_api "$man/libvis.3.scd" "$(dirname "$header")/vis.h"
 
+# viscomp: one page, one option list. viscompctl: the options, then the commands, whose lines
+# in --help ("  list [--json]  ...") must each have a term "*list* [*--json*]" in the page.
+if [ -n "$viscomp" ]; then
+	page=$man/viscomp.1.scd
+	run_help viscomp "$T/viscomp.help" "$viscomp"
+	help_options <"$T/viscomp.help" >"$T/viscomp.opts"
+	man_options <"$page" >"$T/viscomp.doc"
+	compare "$page" viscomp "$T/viscomp.opts" "$T/viscomp.doc" "$T/viscomp.doc"
+
+	page=$man/viscompctl.1.scd
+	run_help viscompctl "$T/vcc.help" "$viscompctl"
+	sed '/^commands:/,$d' "$T/vcc.help" | help_options >"$T/vcc.opts"
+	section "$page" '# OPTIONS' | man_options >"$T/vcc.doc"
+	compare "$page" viscompctl "$T/vcc.opts" "$T/vcc.doc" "$T/vcc.doc"
+	sed -n '/^commands:/,$p' "$T/vcc.help" | sed -n 's/^  \([a-z][a-z-]*\).*/\1/p' >"$T/vcc.cmds"
+	[ -s "$T/vcc.cmds" ] || fail "\`viscompctl --help\` lists no command"
+	section "$page" '# COMMANDS' | sed -n 's/^\*\([a-z][a-z-]*\)\*.*/\1/p' >"$T/vcc.terms"
+	for c in $(comm -23 "$(sort -u "$T/vcc.cmds" >"$T/a"; echo "$T/a")" \
+		"$(sort -u "$T/vcc.terms" >"$T/b"; echo "$T/b")"); do
+		fail "$page: no *$c* term under '# COMMANDS' for \`viscompctl $c\`"
+	done
+	for c in $(comm -13 "$T/a" "$T/b"); do
+		fail "$page: *$c* names no command that \`viscompctl --help\` lists"
+	done
+	for c in $(cat "$T/a"); do
+		sed -n "/^commands:/,\$ { /^  $c /p; }" "$T/vcc.help" | help_options >"$T/c.line"
+		section "$page" '# COMMANDS' | grep "^\*$c\*" | grep -oE '\*--?[A-Za-z][A-Za-z0-9-]*' |
+			sed 's/^\*//' | sort -u >"$T/c.doc"
+		cmp -s "$T/c.line" "$T/c.doc" ||
+			fail "$page: the options of *$c* ($(echo $(cat "$T/c.doc"))) are not those" \
+				"\`viscompctl --help\` prints ($(echo $(cat "$T/c.line")))"
+	done
+	checked=$((checked + 1))
+fi
+
 if [ "$failed" -gt 0 ]; then
 	echo "$failed differences between the man pages and the programs"
 	exit 1
 fi
-echo "the man pages match visd's, visctl's, libvisclient's and libvis's $checked help texts and API lists"
+echo "the man pages match visd's, visctl's, libvisclient's and libvis's${viscomp:+, viscomp's and viscompctl's}" \
+	"$checked help texts and API lists"

@@ -24,11 +24,17 @@ trap 'exit 141' PIPE
 # systemd-analyze to verify the user units (tests/test-activate.sh, tests/check-units.sh);
 # xcb-xfixes for visd-x11, and the X desktop its tests run (tests/test-x11.sh): openbox, xcompmgr,
 # picom, xlogo and xeyes (x11-apps), xterm, xprop (x11-utils); abigail-tools: abidiff, for the
-# libraries' ABI against their baselines (tests/check-abi.sh).
+# libraries' ABI against their baselines (tests/check-abi.sh); viscomp, the Wayland compositor
+# (compositor/): wlroots 0.15 and what its headers need (libwayland-dev with wayland-scanner,
+# wayland-protocols, libxkbcommon-dev), and the real clients its test runs (tests/test-viscomp.sh):
+# weston's demo clients, foot (with a monospace font: fonts-dejavu-core), grim, and xdotool, which
+# clicks and types into viscomp nested in Xvfb (tests/test-viscomp-input.sh).
 PACKAGES=(gcc meson ninja-build pkg-config libpixman-1-dev libevent-dev libxcb1-dev libxcb-shape0-dev xvfb
 	libxml2-utils
 	scdoc systemd abigail-tools
-	libxcb-xfixes0-dev openbox xcompmgr picom x11-apps xterm x11-utils)
+	libxcb-xfixes0-dev openbox xcompmgr picom x11-apps xterm x11-utils
+	libwlroots-dev libwayland-dev wayland-protocols libxkbcommon-dev weston foot fonts-dejavu-core grim
+	xdotool)
 
 # Installs the Debian packages given that are missing, asking apt only when something is.
 install_missing() {
