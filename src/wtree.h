@@ -29,12 +29,14 @@ struct vis_window {
 	uint64_t key;
 	/* vis_wtree_update()'s (wtree-live.c): slots in its lists (1-based, 0: in none), a mark for
 	 * the windows it has taken, its slot among the indexed windows (while live_indexed), whether
-	 * it indexed the clip and counted the window as having a look, whether the window is
+	 * it indexed the clip and counted the window as having a look, whether it has a look as
+	 * indexed (live_look: its pixels hide what lies below only where opaque) and had one when
+	 * taken out of the grid last (live_looked), whether the window is
 	 * viewable (while it works), and whether it had no viewable descendants at the last
 	 * recompute (or may have had: false); the parent it had when first noted since the last
 	 * recompute (a reparented window's subtree saw pixels elsewhere). */
 	uint32_t live_seen, live_mark, live_cand, live_slot;
-	bool live_indexed, live_viewable, live_leaf;
+	bool live_indexed, live_viewable, live_leaf, live_look, live_looked;
 	/* Set by vis_wtree_compute(): enum vis_visibility numbering, 3 (none) when not viewable. */
 	uint8_t state, old_state;
 	bool mapped, retained;
