@@ -510,21 +510,44 @@ static void keep_seen(const struct vis_wtree_live *lv, pixman_region32_t *u, str
 }
 
 /*
- * A candidate's state and seen region from the pixels it sees, u (NULL: none, as after a
- * failed walk): unobscured when they are its whole box.
+ * Whether u, pixels a window sees, are all of its own: its whole box, or for one with a look all
+ * its pieces, none outside its clip. 1, 0, or -1 without memory.
  */
-static void settle(const struct vis_wtree_live *lv, struct candidate *c, pixman_region32_t *u)
+static int sees_all(const struct vis_window *w, pixman_region32_t *u)
+{
+	if (!wtree_live_has_look(w)) {
+		const pixman_box32_t *e = pixman_region32_extents(u);
+		return pixman_region32_n_rects(u) == 1 && e->x1 == w->box.x1 &&
+		       e->y1 == w->box.y1 && e->x2 == w->box.x2 && e->y2 == w->box.y2;
+	}
+	int in = whole_in_clip(w);
+	if (in <= 0)
+		return in;
+	pixman_region32_t p;
+	if (!pixels_of(w, &p)) {
+		pixman_region32_fini(&p);
+		return -1;
+	}
+	int all = pixman_region32_equal(&p, u);
+	pixman_region32_fini(&p);
+	return all;
+}
+
+/*
+ * A candidate's state and seen region from the pixels it sees, u (NULL: none, as after a
+ * failed walk): unobscured when they are all its own. false without memory.
+ */
+static bool settle(const struct vis_wtree_live *lv, struct candidate *c, pixman_region32_t *u)
 {
 	const struct vis_window *w = c->w;
 	c->seen.n = 0;
 	c->state = VIS_FULLY_OBSCURED;
 	if (!u || !pixman_region32_not_empty(u))
-		return;
-	const pixman_box32_t *e = pixman_region32_extents(u);
-	bool whole = pixman_region32_n_rects(u) == 1 && e->x1 == w->box.x1 && e->y1 == w->box.y1 &&
-		     e->x2 == w->box.x2 && e->y2 == w->box.y2;
-	c->state = whole ? VIS_UNOBSCURED : VIS_PARTIALLY_OBSCURED;
+		return true;
+	int all = sees_all(w, u);
+	c->state = all > 0 ? VIS_UNOBSCURED : VIS_PARTIALLY_OBSCURED;
 	keep_seen(lv, u, &c->seen);
+	return all >= 0;
 }
 
 /*
@@ -534,11 +557,12 @@ static void settle(const struct vis_wtree_live *lv, struct candidate *c, pixman_
 static int finish(const struct vis_wtree_live *lv, struct candidate *c, pixman_region32_t *u,
 		  int rc, bool ok)
 {
-	if (rc == 0 && !ok) {
+	if (rc == 0 && (!ok || !settle(lv, c, u))) {
 		errno = ENOMEM;
 		rc = -1;
 	}
-	settle(lv, c, rc == 0 ? u : NULL);
+	if (rc != 0)
+		settle(lv, c, NULL);
 	pixman_region32_fini(u);
 	return rc;
 }
@@ -1201,10 +1225,8 @@ int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *
 {
 	const struct vis_window *w = c->w;
 	const struct seen *old = wtree_live_old_seen(lv, w);
-	/* An indexed window's clip is not empty (and a line away: not read for those). What a
-	 * window with a look saw is its pieces', not its clip's: its query finds them. */
-	if (lv->n_moved > SINCE_MOVED_MAX || (!w->live_indexed && vis_box_empty(w->clip)) ||
-	    wtree_live_has_look(w))
+	/* An indexed window's clip is not empty (and a line away: not read for those). */
+	if (lv->n_moved > SINCE_MOVED_MAX || (!w->live_indexed && vis_box_empty(w->clip)))
 		return wtree_live_walk_query(lv, c);
 	if (old && !seen_exact(old))
 		return keeps_an_edge(lv, c, old) ? 0 : wtree_live_walk_query(lv, c);
@@ -1218,7 +1240,8 @@ int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *
 	}
 	/* What rule 3's walks listed as seen of the exposed pixels, for one without descendants
 	 * (it may gain pixels: one that cannot went to since_losing()). */
-	bool listed = w->live_leaf && !c->unlisted;
+	bool look = wtree_live_has_look(w);
+	bool listed = w->live_leaf && !c->unlisted && !look;
 	for (uint32_t g = listed ? c->gained : 0; ok && g; g = lv->gains[g - 1].next) {
 		pixman_box32_t b = pbox(lv->gains[g - 1].box);
 		ok = pixman_region32_union_rect(&u, &u, b.x1, b.y1, (unsigned)(b.x2 - b.x1),
@@ -1235,8 +1258,11 @@ int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *
 	int rc = 0;
 	if (ok && !listed) {
 		pixman_region32_t g;
-		init_box(&g, w->clip);
-		ok = pixman_region32_intersect(&g, &g, exposed);
+		if (look)
+			ok = pixels_of(w, &g);
+		else
+			init_box(&g, w->clip);
+		ok = ok && pixman_region32_intersect(&g, &g, exposed);
 		bool hit;
 		if (ok && pixman_region32_not_empty(&g))
 			rc = hide(lv, end, &g, &hit, &lv->steps, lv->budget);
@@ -1415,9 +1441,11 @@ int wtree_live_walk_lowered(struct vis_wtree_live *lv, struct candidate *c, stru
 	bool ok = true;
 	/* The windows between its keys were taken, with the pixels each gains: the exposure is
 	 * walked, and what it saw less what it sees is exposed for the other queries. */
+	/* While windows with looks are indexed, one it went below may see through to it and gain
+	 * pixels it still sees: all it saw is exposed. */
 	if (rc == 0) {
 		e->seen.n = 0;
-		ok = pixman_region32_subtract(&saw, &saw, &sees) &&
+		ok = (lv->n_looks || pixman_region32_subtract(&saw, &saw, &sees)) &&
 		     pixman_region32_union(exposed, exposed, &saw);
 	}
 	pixman_region32_fini(&saw);

@@ -411,8 +411,10 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  * to be its clip, all opaque, and is kept from windows with looks: the pixels seen before and
  * now are walked too while any window with a look is indexed (h moved above or below a
  * see-through pixel of another window hides it, or stops hiding it, where both are seen) or when
- * h had or has a look; a lone window with a look, then or now, and any candidate with a look
- * get their query; a look's gains are found by its query, not listed; and loose boxes are not
+ * h had or has a look, and a lowered lone window exposes all it saw (one it went below may see
+ * through to it); a lone window with a look, then or now, gets its query; an unchanged one's
+ * gains are found by a walk over its pieces in exposed, not listed, and it is unobscured when it
+ * sees all its pieces; and loose boxes are not
  * narrowed while looks are indexed (a changed window not yet out of the grid would cut by
  * pieces for its new size at its old place). The unit test holds the result to vis_wtree_compute()'s
  * after every batch of edits on random trees, and the structures to their invariants.
