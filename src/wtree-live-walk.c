@@ -258,6 +258,123 @@ region:;
 	return cut(l->u, clip, ok);
 }
 
+/*
+ * A window with a look: its kept cut (NULL for a translucent border box, which has none; NULL
+ * with *ok false without memory), and its k-th piece on the screen inside its clip, false when
+ * the clip leaves nothing of it. The pieces are placed at the border box (look.h); the live
+ * engine takes no window under a shaped ancestor, so no other shape clips them.
+ */
+static const struct vis_look_cut *cut_of(const struct vis_window *w, bool *ok)
+{
+	if (!w->cut)
+		return NULL;
+	const struct vis_look_cut *cut = vis_wtree_cut(w);
+	if (!cut)
+		*ok = false;
+	return cut;
+}
+
+static bool piece_of(const struct vis_window *w, const struct vis_look_cut *cut, uint32_t k,
+		     pixman_box32_t *out)
+{
+	struct vis_rect r = cut->rects[k];
+	struct vis_box b = vis_box_intersect(
+		(struct vis_box){ w->box.x1 + r.x, w->box.y1 + r.y, w->box.x1 + r.x + r.w,
+				  w->box.y1 + r.y + r.h },
+		w->clip);
+	*out = pbox(b);
+	return !vis_box_empty(b);
+}
+
+/*
+ * As left_cut() for a window with a look: its opaque pieces alone hide. Their run is banded, by
+ * top, so the cut stops at the first below what is left.
+ */
+static bool left_cut_look(struct left *l, const struct vis_window *w, bool *ok)
+{
+	const struct vis_look_cut *cut = cut_of(w, ok);
+	if (!cut)
+		return !*ok;
+	bool any = false;
+	for (uint32_t k = 0; k < cut->n_opaque && !left_empty(l); k++) {
+		pixman_box32_t b;
+		if (!piece_of(w, cut, k, &b))
+			continue;
+		if (b.y1 >= left_extents(l).y2)
+			break;
+		any |= left_cut(l, b, NULL, ok);
+		if (!*ok)
+			return true;
+	}
+	return any;
+}
+
+/* left_cut() by an indexed window's pixels that hide (met: for its clip, when it has no look). */
+static bool left_cut_slot(struct left *l, const struct live_slot *s, const uint8_t *met, bool *ok)
+{
+	return s->look ? left_cut_look(l, s->w, ok) : left_cut(l, s->clip, met, ok);
+}
+
+/* Takes off u the pixels of an indexed window v that hide what lies below. */
+static void cut_window(pixman_region32_t *u, const struct vis_window *v, bool *ok)
+{
+	if (!wtree_live_has_look(v)) {
+		cut(u, pbox(v->clip), ok);
+		return;
+	}
+	const struct vis_look_cut *c = cut_of(v, ok);
+	for (uint32_t k = 0; c && *ok && k < c->n_opaque; k++) {
+		pixman_box32_t b;
+		if (piece_of(v, c, k, &b))
+			cut(u, b, ok);
+	}
+}
+
+/*
+ * Sets u (not initialized) to a viewable window's pixels, or with opaque to those that hide
+ * what lies below: its clip, or its look's pieces in it (the opaque ones first). false without
+ * memory.
+ */
+static bool pieces_region(const struct vis_window *w, pixman_region32_t *u, bool opaque)
+{
+	bool ok = true;
+	const struct vis_look_cut *cut = wtree_live_has_look(w) ? cut_of(w, &ok) : NULL;
+	if (!cut) {
+		/* A look without a cut is a translucent border box: nothing of it hides. */
+		if (ok && !(opaque && wtree_live_has_look(w)))
+			init_box(u, w->clip);
+		else
+			pixman_region32_init(u);
+		return ok;
+	}
+	uint32_t m = opaque ? cut->n_opaque : cut->n;
+	pixman_box32_t *b = malloc((m ? m : 1) * sizeof *b);
+	size_t n = 0;
+	for (uint32_t k = 0; b && k < m; k++)
+		n += piece_of(w, cut, k, &b[n]);
+	/* The two runs, opaque and see-through, are each banded: init_rects sorts them together. */
+	ok = b && pixman_region32_init_rects(u, b, (int)n);
+	if (!b)
+		pixman_region32_init(u);
+	free(b);
+	return ok;
+}
+
+static bool pixels_of(const struct vis_window *w, pixman_region32_t *u)
+{
+	return pieces_region(w, u, false);
+}
+
+/* Whether a window sees all its pixels when nothing hides them: none lies outside its clip. */
+static int whole_in_clip(const struct vis_window *w)
+{
+	if (!wtree_live_has_look(w))
+		return w->clip.x1 == w->box.x1 && w->clip.y1 == w->box.y1 &&
+		       w->clip.x2 == w->box.x2 && w->clip.y2 == w->box.y2;
+	int cut = wtree_work_cut(w, w->clip);
+	return cut < 0 ? -1 : !cut;
+}
+
 static int per_cell(const struct vis_zgrid *grid, pixman_region32_t *u,
 		    int (*each)(pixman_region32_t *piece, void *arg), void *arg);
 static int hide_cells(const struct vis_wtree_live *lv, uint64_t end, pixman_region32_t *u,
@@ -311,7 +428,7 @@ static int hide_split(const struct vis_wtree_live *lv, uint64_t end, pixman_regi
 				continue;
 			}
 			*(side ? &hi : &lo) = key;
-			if (!left_cut(&l, lv->slots[slot].clip, NULL, &ok)) {
+			if (!left_cut_slot(&l, &lv->slots[slot], NULL, &ok)) {
 				left_prune(&l, side ? &down : &up, &misses[side]);
 			} else {
 				misses[side].n = 0;
@@ -393,21 +510,44 @@ static void keep_seen(const struct vis_wtree_live *lv, pixman_region32_t *u, str
 }
 
 /*
- * A candidate's state and seen region from the pixels it sees, u (NULL: none, as after a
- * failed walk): unobscured when they are its whole box.
+ * Whether u, pixels a window sees, are all of its own: its whole box, or for one with a look all
+ * its pieces, none outside its clip. 1, 0, or -1 without memory.
  */
-static void settle(const struct vis_wtree_live *lv, struct candidate *c, pixman_region32_t *u)
+static int sees_all(const struct vis_window *w, pixman_region32_t *u)
+{
+	if (!wtree_live_has_look(w)) {
+		const pixman_box32_t *e = pixman_region32_extents(u);
+		return pixman_region32_n_rects(u) == 1 && e->x1 == w->box.x1 &&
+		       e->y1 == w->box.y1 && e->x2 == w->box.x2 && e->y2 == w->box.y2;
+	}
+	int in = whole_in_clip(w);
+	if (in <= 0)
+		return in;
+	pixman_region32_t p;
+	if (!pixels_of(w, &p)) {
+		pixman_region32_fini(&p);
+		return -1;
+	}
+	int all = pixman_region32_equal(&p, u);
+	pixman_region32_fini(&p);
+	return all;
+}
+
+/*
+ * A candidate's state and seen region from the pixels it sees, u (NULL: none, as after a
+ * failed walk): unobscured when they are all its own. false without memory.
+ */
+static bool settle(const struct vis_wtree_live *lv, struct candidate *c, pixman_region32_t *u)
 {
 	const struct vis_window *w = c->w;
 	c->seen.n = 0;
 	c->state = VIS_FULLY_OBSCURED;
 	if (!u || !pixman_region32_not_empty(u))
-		return;
-	const pixman_box32_t *e = pixman_region32_extents(u);
-	bool whole = pixman_region32_n_rects(u) == 1 && e->x1 == w->box.x1 && e->y1 == w->box.y1 &&
-		     e->x2 == w->box.x2 && e->y2 == w->box.y2;
-	c->state = whole ? VIS_UNOBSCURED : VIS_PARTIALLY_OBSCURED;
+		return true;
+	int all = sees_all(w, u);
+	c->state = all > 0 ? VIS_UNOBSCURED : VIS_PARTIALLY_OBSCURED;
 	keep_seen(lv, u, &c->seen);
+	return all >= 0;
 }
 
 /*
@@ -417,11 +557,12 @@ static void settle(const struct vis_wtree_live *lv, struct candidate *c, pixman_
 static int finish(const struct vis_wtree_live *lv, struct candidate *c, pixman_region32_t *u,
 		  int rc, bool ok)
 {
-	if (rc == 0 && !ok) {
+	if (rc == 0 && (!ok || !settle(lv, c, u))) {
 		errno = ENOMEM;
 		rc = -1;
 	}
-	settle(lv, c, rc == 0 ? u : NULL);
+	if (rc != 0)
+		settle(lv, c, NULL);
 	pixman_region32_fini(u);
 	return rc;
 }
@@ -454,13 +595,20 @@ int wtree_live_walk_query(struct vis_wtree_live *lv, struct candidate *c)
 	if (vis_box_empty(w->clip))
 		return 0;
 	pixman_region32_t u;
-	init_box(&u, w->clip);
+	if (!pixels_of(w, &u)) {
+		pixman_region32_fini(&u);
+		errno = ENOMEM;
+		return -1;
+	}
 	bool hit;
 	int rc = hide(lv, wtree_live_subtree_end(w), &u, &hit, &lv->steps, lv->budget);
 	if (rc == 0 && pixman_region32_not_empty(&u)) {
-		bool whole = !hit && w->clip.x1 == w->box.x1 && w->clip.y1 == w->box.y1 &&
-			     w->clip.x2 == w->box.x2 && w->clip.y2 == w->box.y2;
-		c->state = whole ? VIS_UNOBSCURED : VIS_PARTIALLY_OBSCURED;
+		int whole = hit ? 0 : whole_in_clip(w);
+		if (whole < 0) {
+			errno = ENOMEM;
+			rc = -1;
+		}
+		c->state = whole > 0 ? VIS_UNOBSCURED : VIS_PARTIALLY_OBSCURED;
 		keep_seen(lv, &u, &c->seen);
 	}
 	pixman_region32_fini(&u);
@@ -474,7 +622,11 @@ int wtree_live_walk_region(const struct vis_wtree *tree, const struct vis_window
 	if (vis_box_empty(w->clip) || w->look.input_only)
 		return 0;
 	pixman_region32_t u;
-	init_box(&u, w->clip);
+	if (!pixels_of(w, &u)) {
+		pixman_region32_fini(&u);
+		errno = ENOMEM;
+		return -1;
+	}
 	bool hit;
 	/* As X's clip list, its descendants hide it here: every window after it. */
 	size_t steps = 0;
@@ -597,14 +749,16 @@ static int walk_left(struct vis_wtree_live *lv, struct left *l, uint64_t key, bo
 				ok = wtree_live_take(lv, a, STATE_UNKNOWN, !losing) == 0;
 		/* Without descendants, it sees what is left that its clip holds, but for what
 		 * changed windows hide now (wtree_live_walk_since()). */
+		/* Its gains are its pixels in what is left: its clip's part for one without a look. */
+		bool look = lv->slots[slot].look;
 		if (ok && !losing && !moved(lv, v)) {
 			struct candidate *c = &lv->cands[v->live_cand - 1];
-			c->unlisted |= !exact;
-			if (exact && v->live_leaf)
+			c->unlisted |= !exact || look;
+			if (exact && v->live_leaf && !look)
 				ok = gained(lv, c, v, l);
 		}
 		bool was_boxes = l->n != LEFT_REGION;
-		left_cut(l, b, l->n == LEFT_REGION ? NULL : met, &ok);
+		left_cut_slot(l, &lv->slots[slot], l->n == LEFT_REGION ? NULL : met, &ok);
 		if (!ok || left_empty(l))
 			break;
 		if (split && was_boxes && l->n == LEFT_REGION && walk.n > 1) {
@@ -753,7 +907,9 @@ static int walk_down(struct vis_wtree_live *lv, pixman_region32_t *u, uint64_t k
 int wtree_live_walk_refine(struct vis_wtree_live *lv, struct vis_window *v)
 {
 	struct seen *s = &lv->seen[v->live_seen - 1].seen;
-	if (s->n != SEEN_EXTENTS || !v->live_leaf || !v->live_indexed)
+	/* While windows with looks are indexed, those changed but not yet out of the grid may hide
+	 * by pieces cut for their new size at their old place: the box stays. */
+	if (s->n != SEEN_EXTENTS || !v->live_leaf || !v->live_indexed || lv->n_looks)
 		return 0;
 	struct vis_box b = vis_box_intersect(vbox(&s->boxes[0]), v->clip);
 	if (vis_box_empty(b))
@@ -886,7 +1042,13 @@ int wtree_live_walk_cover(struct vis_wtree *tree, struct vis_wtree_live *lv,
 	}
 	const struct seen *old = wtree_live_old_seen(lv, w);
 	bool ok = true;
-	if (old && seen_exact(old) && wtree_live_kept_parent(w))
+	/*
+	 * Not when windows with looks are indexed: a window seen through one it moved above hides
+	 * from it now pixels it saw before too. Nor when it had a look, then or now: it may hide now
+	 * what it saw through before.
+	 */
+	if (old && seen_exact(old) && wtree_live_kept_parent(w) && !lv->n_looks && !w->live_look &&
+	    !w->live_looked)
 		ok = subtract_seen(&u, old, tree->root.clip);
 	int rc = -1;
 	if (ok) {
@@ -932,7 +1094,10 @@ int wtree_live_walk_exposed(struct vis_wtree *tree, struct vis_wtree_live *lv,
 		return -1;
 	}
 	bool ok = true;
-	if (e->w && moved(lv, e->w) && wtree_live_kept_parent(e->w)) {
+	/* Not when windows with looks are indexed: one it moved below sees through it what it
+	 * hid. Nor when it had a look, then or now: it may no longer hide what it still sees. */
+	if (e->w && moved(lv, e->w) && wtree_live_kept_parent(e->w) && !lv->n_looks &&
+	    !e->w->live_look && !e->w->live_looked) {
 		const struct candidate *now = &lv->cands[e->w->live_cand - 1];
 		if (now->state != STATE_UNKNOWN && seen_exact(&now->seen))
 			ok = subtract_seen(&u, &now->seen, tree->root.clip);
@@ -1012,10 +1177,10 @@ static int since_losing(struct vis_wtree_live *lv, struct candidate *c, const st
 			const struct vis_window *v = lv->cands[j].w;
 			if (!v->live_indexed || v->key <= end)
 				continue;
-			pixman_box32_t k = lv->slots[v->live_slot].clip;
-			if (boxes_meet(&k, b)) {
+			const struct live_slot *s = &lv->slots[v->live_slot];
+			if (boxes_meet(&s->clip, b)) {
 				none_met = false;
-				under |= vis_box_contains(vbox(&k), vbox(b));
+				under |= !s->look && vis_box_contains(vbox(&s->clip), vbox(b));
 			}
 		}
 		all_under &= under;
@@ -1050,7 +1215,7 @@ static int since_losing(struct vis_wtree_live *lv, struct candidate *c, const st
 	for (size_t i = 0; ok && i < lv->n_moved && !left_empty(&l); i++) {
 		const struct vis_window *v = lv->cands[i].w;
 		if (v->live_indexed && v->key > end)
-			left_cut(&l, lv->slots[v->live_slot].clip, NULL, &ok);
+			left_cut_slot(&l, &lv->slots[v->live_slot], NULL, &ok);
 	}
 	ok = left_finish(&l) && ok;
 	return finish(lv, c, &u, 0, ok);
@@ -1075,7 +1240,8 @@ int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *
 	}
 	/* What rule 3's walks listed as seen of the exposed pixels, for one without descendants
 	 * (it may gain pixels: one that cannot went to since_losing()). */
-	bool listed = w->live_leaf && !c->unlisted;
+	bool look = wtree_live_has_look(w);
+	bool listed = w->live_leaf && !c->unlisted && !look;
 	for (uint32_t g = listed ? c->gained : 0; ok && g; g = lv->gains[g - 1].next) {
 		pixman_box32_t b = pbox(lv->gains[g - 1].box);
 		ok = pixman_region32_union_rect(&u, &u, b.x1, b.y1, (unsigned)(b.x2 - b.x1),
@@ -1086,14 +1252,17 @@ int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *
 	for (size_t i = 0; ok && i < lv->n_moved && pixman_region32_not_empty(&u); i++) {
 		const struct vis_window *v = lv->cands[i].w;
 		if (v->live_indexed && v->key > end)
-			cut(&u, pbox(v->clip), &ok);
+			cut_window(&u, v, &ok);
 	}
 	/* Else what it sees of the exposed pixels, by walking the grid over those alone. */
 	int rc = 0;
 	if (ok && !listed) {
 		pixman_region32_t g;
-		init_box(&g, w->clip);
-		ok = pixman_region32_intersect(&g, &g, exposed);
+		if (look)
+			ok = pixels_of(w, &g);
+		else
+			init_box(&g, w->clip);
+		ok = ok && pixman_region32_intersect(&g, &g, exposed);
 		bool hit;
 		if (ok && pixman_region32_not_empty(&g))
 			rc = hide(lv, end, &g, &hit, &lv->steps, lv->budget);
@@ -1109,12 +1278,18 @@ struct cell_above {
 	bool full;
 };
 
+/* A window with a look's pixels and those of them that hide, as regions. */
+struct look_regions {
+	pixman_region32_t pixels, opaque;
+};
+
 /*
  * Adds the part of w's clip in cell c to what lies above there; if u, first adds to u what that
- * part shows. The work: the boxes read. false without memory.
+ * part shows. For a window with a look (lr), its pixels there show and its opaque ones hide.
+ * The work: the boxes read. false without memory.
  */
 static bool seen_in_cell(struct cell_above *c, struct vis_box cell, const struct vis_window *w,
-			 pixman_region32_t *u, uint64_t *work)
+			 struct look_regions *lr, pixman_region32_t *u, uint64_t *work)
 {
 	pixman_box32_t b = pbox(vis_box_intersect(w->clip, cell));
 	unsigned width = (unsigned)(b.x2 - b.x1), height = (unsigned)(b.y2 - b.y1);
@@ -1123,13 +1298,23 @@ static bool seen_in_cell(struct cell_above *c, struct vis_box cell, const struct
 	if (u) {
 		pixman_region32_t part;
 		pixman_region32_init_rect(&part, b.x1, b.y1, width, height);
-		ok = pixman_region32_subtract(&part, &part, &c->above) &&
+		ok = (!lr || pixman_region32_intersect(&part, &part, &lr->pixels)) &&
+		     pixman_region32_subtract(&part, &part, &c->above) &&
 		     pixman_region32_union(u, u, &part);
 		pixman_region32_fini(&part);
 		*work += 1 + boxes;
 	}
 	*work += 1 + boxes;
-	ok = ok && pixman_region32_union_rect(&c->above, &c->above, b.x1, b.y1, width, height);
+	if (lr) {
+		pixman_region32_t hides;
+		pixman_region32_init_rect(&hides, b.x1, b.y1, width, height);
+		ok = ok && pixman_region32_intersect(&hides, &hides, &lr->opaque) &&
+		     pixman_region32_union(&c->above, &c->above, &hides);
+		pixman_region32_fini(&hides);
+	} else {
+		ok = ok && pixman_region32_union_rect(&c->above, &c->above, b.x1, b.y1, width,
+						      height);
+	}
 	const pixman_box32_t *e = pixman_region32_extents(&c->above);
 	if (ok && pixman_region32_n_rects(&c->above) == 1 && e->x1 == cell.x1 && e->y1 == cell.y1 &&
 	    e->x2 == cell.x2 && e->y2 == cell.y2) {
@@ -1169,14 +1354,23 @@ int wtree_live_seen_from_order(const struct vis_wtree *tree, struct vis_wtree_li
 		/* Its descendants, which never hide it, lie above it already: only windows without
 		 * any get their seen region. */
 		bool leaf = w->live_seen && w->live_leaf;
+		struct look_regions lr, *look = w->live_look ? &lr : NULL;
+		if (look) {
+			ok = pieces_region(w, &lr.pixels, false);
+			ok = pieces_region(w, &lr.opaque, true) && ok;
+		}
 		pixman_region32_clear(&u);
 		for (uint32_t y = r[1]; ok && y <= r[3]; y++)
 			for (uint32_t x = r[0]; ok && x <= r[2]; x++) {
 				struct cell_above *c = &cells[(size_t)y * g->cols + x];
 				if (!c->full)
-					ok = seen_in_cell(c, vis_zgrid_cell_box(g, x, y), w,
+					ok = seen_in_cell(c, vis_zgrid_cell_box(g, x, y), w, look,
 							  leaf ? &u : NULL, &work);
 			}
+		if (look) {
+			pixman_region32_fini(&lr.pixels);
+			pixman_region32_fini(&lr.opaque);
+		}
 		if (ok && leaf)
 			keep_seen(lv, &u, &lv->seen[w->live_seen - 1].seen);
 	}
@@ -1247,9 +1441,11 @@ int wtree_live_walk_lowered(struct vis_wtree_live *lv, struct candidate *c, stru
 	bool ok = true;
 	/* The windows between its keys were taken, with the pixels each gains: the exposure is
 	 * walked, and what it saw less what it sees is exposed for the other queries. */
+	/* While windows with looks are indexed, one it went below may see through to it and gain
+	 * pixels it still sees: all it saw is exposed. */
 	if (rc == 0) {
 		e->seen.n = 0;
-		ok = pixman_region32_subtract(&saw, &saw, &sees) &&
+		ok = (lv->n_looks || pixman_region32_subtract(&saw, &saw, &sees)) &&
 		     pixman_region32_union(exposed, exposed, &saw);
 	}
 	pixman_region32_fini(&saw);

@@ -149,7 +149,9 @@ static int index_window(struct vis_wtree_live *lv, struct vis_window *w)
 		lv->cap_slots = cap;
 		slot = (uint32_t)lv->n_slots++;
 	}
-	lv->slots[slot] = (struct live_slot){ pbox(w->clip), w };
+	lv->slots[slot] = (struct live_slot){ pbox(w->clip), w, wtree_live_has_look(w) };
+	w->live_look = lv->slots[slot].look;
+	lv->n_looks += w->live_look;
 	w->live_slot = slot;
 	w->live_indexed = true;
 	return vis_zgrid_insert(&lv->grid, w->clip, w->key, slot);
@@ -161,12 +163,8 @@ static void unindex_window(struct vis_wtree_live *lv, struct vis_window *w)
 	vis_zgrid_remove(&lv->grid, w->clip, w->key);
 	lv->free_slots[lv->n_free++] = w->live_slot;
 	w->live_indexed = false;
-}
-
-/* Whether the window's pixels are other than its clip, all opaque (input-only ones have none). */
-static bool has_look(const struct vis_window *w)
-{
-	return !w->look.input_only && (w->look.shaped || w->look.opaque != VIS_OPAQUE_ALL);
+	w->live_looked = w->live_look;
+	lv->n_looks -= w->live_look;
 }
 
 /* Removes slot (1-based) from a list of windows whose slot field is at offset off. */
@@ -496,13 +494,14 @@ static uint32_t grid_side(size_t n)
 
 /*
  * Builds the live structures from a tree just computed through the order, unless a viewable
- * window has a look: the grid from the order, the seen list from the states (the regions not
- * known: their clips). 0, or -1 (ENOMEM, or a look: the structures are then not valid).
+ * window lies under a shaped ancestor: the grid from the order, the seen list from the states
+ * (the regions not known: their clips). 0, or -1 (ENOMEM, or such a window: the structures are
+ * then not valid).
  */
 static int rebuild(struct vis_wtree *tree, struct vis_wtree_live *lv)
 {
 	for (size_t i = 0; i < tree->n_order; i++)
-		if (has_look(tree->order[i]))
+		if (wtree_live_under_shape(tree->order[i]))
 			return -1;
 	if (lv->grid.cells)
 		vis_zgrid_finish(&lv->grid);
@@ -510,6 +509,7 @@ static int rebuild(struct vis_wtree *tree, struct vis_wtree_live *lv)
 	lv->n_free_seen = 0;
 	lv->n_pending = 0;
 	lv->n_slots = 0;
+	lv->n_looks = 0;
 	lv->n_free = 0;
 	for (struct vis_window *w = tree->root.bottom; w; w = vis_wtree_next(w)) {
 		w->live_seen = 0;
@@ -672,10 +672,19 @@ static bool under_dirty(const struct vis_window *w)
 /* The result of a live update that cannot go live: the caller recomputes through the tree. */
 #define NOT_LIVE 1
 
+/* Whether an ancestor of w up to d (w in d's subtree) has a shape. O(depth below d). */
+static bool shaped_within(const struct vis_window *w, const struct vis_window *d)
+{
+	for (const struct vis_window *a = w; a != d; a = a->parent)
+		if (a->parent->look.shaped)
+			return true;
+	return false;
+}
+
 /*
  * Finds the changed subtrees' roots (moved to the front of dirty; returns how many) and marks
- * their windows viewable or not; -1 when the changes would leave a viewable window with a look
- * (the live structures know no looks). *many: they take more windows than a budget, past which
+ * their windows viewable or not; -1 when the changes would leave a viewable window under a shaped
+ * ancestor (the live engine does not cut by ancestors' shapes). *many: they take more windows than a budget, past which
  * recomputing the states through the tree costs less.
  */
 static long roots_of(struct vis_wtree *tree, struct vis_wtree_live *lv, bool *many)
@@ -688,10 +697,11 @@ static long roots_of(struct vis_wtree *tree, struct vis_wtree_live *lv, bool *ma
 			continue;
 		lv->dirty[i] = lv->dirty[roots];
 		lv->dirty[roots++] = d;
+		bool d_under = wtree_live_under_shape(d);
 		for (struct vis_window *v = d; v; v = vis_wtree_next_within(v, d)) {
 			v->live_viewable = v->mapped &&
 					   (v == d ? vis_wtree_viewable(v->parent) : v->parent->live_viewable);
-			look |= v->live_viewable && has_look(v);
+			look |= v->live_viewable && (d_under || shaped_within(v, d));
 			windows++;
 		}
 	}
@@ -825,7 +835,8 @@ static enum lone lone(const struct vis_wtree *tree, const struct vis_wtree_live 
 				*n = vis_wtree_next_viewable(tree, w);
 	uint64_t old = lv->saved[0].key;
 	struct vis_box was = lv->saved[0].clip;
-	if (!w->key || w->state == VIS_WTREE_STATE_NONE)
+	/* Its shortcuts take its pixels to be its clip, before and now. */
+	if (!w->key || w->state == VIS_WTREE_STATE_NONE || wtree_live_has_look(w) || w->live_looked)
 		return LONE_NO;
 	if ((!p || p->key < old) && (!n || n->key > old))
 		return LONE_IN_PLACE;
@@ -970,7 +981,8 @@ int vis_wtree_update(struct vis_wtree *tree)
 	else if (lv->cooldown)
 		lv->cooldown--;
 	else if (rebuild(tree, lv) < 0)
-		lv->cooldown = LIVE_COOLDOWN; /* a look, or no memory: the states are right still */
+		lv->cooldown = LIVE_COOLDOWN; /* a window under a shape, or no memory: the states are
+						 right still */
 	return 0;
 }
 

@@ -117,14 +117,33 @@ struct gained_box {
 struct live_slot {
 	pixman_box32_t clip;
 	struct vis_window *w;
+	bool look; /* its pixels are its look's pieces in its clip: only the opaque ones hide */
 };
+
+/* Whether a window's pixels are other than its clip, all opaque (input-only ones have none). */
+static inline bool wtree_live_has_look(const struct vis_window *w)
+{
+	return !w->look.input_only && (w->look.shaped || w->look.opaque != VIS_OPAQUE_ALL);
+}
+
+/* Whether an ancestor of w has a shape, which clips w's pixels: the live engine does not cut
+ * windows by their ancestors' shapes (the recompute through the tree does, UNDER). */
+static inline bool wtree_live_under_shape(const struct vis_window *w)
+{
+	for (const struct vis_window *a = w->parent; a && a->parent; a = a->parent)
+		if (a->look.shaped)
+			return true;
+	return false;
+}
 
 /*
  * The invariants, while valid: every viewable window has a key, growing in pre-order (the others
  * 0); the grid holds the clip of every viewable window with pixels (not input-only), under its
- * key, flagged live_indexed, with its slot (live_slot) holding its clip; seen lists every viewable window that is not fully obscured, with a
- * region holding the pixels it saw at the last recompute (exact, or its clip when not known);
- * no viewable window has a look (its pixels are its clip, all opaque). Whatever the validity, dirty
+ * key, flagged live_indexed, with its slot (live_slot) holding its clip and whether it has a
+ * look; seen lists every viewable window that is not fully obscured, with a region holding the
+ * pixels it saw at the last recompute (exact, or its clip when not known); no viewable window
+ * lies under a shaped ancestor (its pixels are its clip, or its look's pieces in its clip, of
+ * which the opaque ones hide what lies below). Whatever the validity, dirty
  * lists the windows noted since the last recompute, changed those the last one may have changed
  * (state ≠ old_state only among them), exposures what windows destroyed since saw.
  */
@@ -176,6 +195,7 @@ struct vis_wtree_live {
 	size_t left_boxes;   /* the boxes a walk keeps what is left in: LEFT_BOXES, or fewer */
 	size_t min_windows;  /* the windows below which updates go through the tree */
 	size_t grid_windows; /* the windows when the grid was built, for its side (grid_side()) */
+	size_t n_looks;      /* indexed windows with a look */
 	/* Updates left to go through the tree after one could not go live, before the structures
 	 * are built again: where updates cost more than that, rebuilding each time costs more. */
 	unsigned cooldown;

@@ -87,8 +87,8 @@ int vis_wtree_visible_region(const struct vis_wtree *tree, const struct vis_wind
 
 /*
  * The viewable windows with pixels in pre-order, for a tree whose order is stale (its last
- * recompute was a live one, so that no window has a look; input-only ones, which show nothing,
- * are left out): into a new array, *n of them. NULL without memory.
+ * recompute was a live one; input-only ones, which show nothing, are left out): into a new
+ * array, *n of them. NULL without memory.
  */
 static struct vis_window **live_order(const struct vis_wtree *tree, size_t *n)
 {

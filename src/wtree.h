@@ -29,12 +29,14 @@ struct vis_window {
 	uint64_t key;
 	/* vis_wtree_update()'s (wtree-live.c): slots in its lists (1-based, 0: in none), a mark for
 	 * the windows it has taken, its slot among the indexed windows (while live_indexed), whether
-	 * it indexed the clip and counted the window as having a look, whether the window is
+	 * it indexed the clip and counted the window as having a look, whether it has a look as
+	 * indexed (live_look: its pixels hide what lies below only where opaque) and had one when
+	 * taken out of the grid last (live_looked), whether the window is
 	 * viewable (while it works), and whether it had no viewable descendants at the last
 	 * recompute (or may have had: false); the parent it had when first noted since the last
 	 * recompute (a reparented window's subtree saw pixels elsewhere). */
 	uint32_t live_seen, live_mark, live_cand, live_slot;
-	bool live_indexed, live_viewable, live_leaf;
+	bool live_indexed, live_viewable, live_leaf, live_look, live_looked;
 	/* Set by vis_wtree_compute(): enum vis_visibility numbering, 3 (none) when not viewable. */
 	uint8_t state, old_state;
 	bool mapped, retained;
@@ -402,13 +404,25 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  * hidden by no window that did not hide it before, and a box kept so was never its whole box;
  * the box still holds what it sees. Seen regions start exact when the structures are built, by
  * the region method from the top of the order down, a grid cell at a time (a cell once covered
- * is passed over below), within a bound. The unit test holds the result to vis_wtree_compute()'s
+ * is passed over below), within a bound.
+ * A window with a look has for pixels its look's pieces in its clip, and only its opaque pieces
+ * hide: the argument holds with "hides p" meaning an opaque piece holds p, the walks testing
+ * clips (which hold the pieces) and cutting by opaque pieces. The rest takes a window's pixels
+ * to be its clip, all opaque, and is kept from windows with looks: the pixels seen before and
+ * now are walked too while any window with a look is indexed (h moved above or below a
+ * see-through pixel of another window hides it, or stops hiding it, where both are seen) or when
+ * h had or has a look, and a lowered lone window exposes all it saw (one it went below may see
+ * through to it); a lone window with a look, then or now, gets its query; an unchanged one's
+ * gains are found by a walk over its pieces in exposed, not listed, and it is unobscured when it
+ * sees all its pieces; and loose boxes are not
+ * narrowed while looks are indexed (a changed window not yet out of the grid would cut by
+ * pieces for its new size at its old place). The unit test holds the result to vis_wtree_compute()'s
  * after every batch of edits on random trees, and the structures to their invariants.
  *
  * Where the live structures do not apply, it recomputes through the tree instead, with the same
  * result: below vis_wtree_live_from()'s windows, the first time, after a failed recompute, keys
- * used up where a subtree goes, or a viewable window with a look (a shape, an opaque region
- * other than all); vis_wtree_compute_damaged() with the notes' boxes when it can (up to 64),
+ * used up where a subtree goes, or a viewable window under a shaped ancestor (whose shape also
+ * clips it); vis_wtree_compute_damaged() with the notes' boxes when it can (up to 64),
  * else vis_wtree_compute(). The structures are then built again once 64 updates have gone
  * through the tree in a row. Positions (order, pos) are kept only by the recomputes through the
  * tree: n_order is 0 after a live one.
@@ -445,7 +459,7 @@ bool vis_wtree_changes(const struct vis_wtree *tree, struct vis_window *const **
  * (pixman_region32_t *, initialized by the caller); empty for input-only windows. Needs a
  * computed tree. 0 or -1 (ENOMEM).
  * O(n + r log r) for r pieces of the window and of the later windows that overlap it; while the
- * live structures are built (no window has a look), a walk over the later windows there.
+ * live structures are built, a walk over the later windows there.
  */
 int vis_wtree_visible_region(const struct vis_wtree *tree, const struct vis_window *window,
 			     void *region);

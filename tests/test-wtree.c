@@ -154,7 +154,8 @@ static uint64_t incremental_runs, affected_states, live_runs;
 
 /*
  * How the twin is recomputed: vis_wtree_compute_damaged(), or vis_wtree_update() from the notes
- * (which goes live while no viewable window has a look), with looks or with borders only.
+ * (which goes live while no viewable window lies under a shaped ancestor), with looks or with
+ * borders only.
  */
 static enum engine { DAMAGED, LIVE, LIVE_PLAIN } engine;
 

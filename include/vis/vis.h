@@ -197,7 +197,7 @@ struct vis_change {
  * have grown); an entry's window must not be used once destroyed. With no change since the last
  * update, *n is 0 and nothing is recomputed. 0, or -1 with EINVAL or ENOMEM (the states stay as
  * they were, the changes pending: the next update tries again). Cost: from 64 windows, while no
- * viewable window has a shape or an opaque region other than all, the live recompute, whose cost
+ * viewable window lies inside a shaped window, the live recompute, whose cost
  * follows the windows the change can affect, not the tree; else a recompute limited to the
  * damage, O(n log n) at worst for n windows (pieces, for windows with looks). Plus, for each
  * tracked window the change may have touched, its visible region (vis_win_visible_region()'s
