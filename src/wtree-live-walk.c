@@ -1162,6 +1162,9 @@ static bool keeps_an_edge(const struct vis_wtree_live *lv, struct candidate *c,
 	return true;
 }
 
+/* The cells settle_loose() walks, with pixels of the window, before it leaves it to its query. */
+#define SETTLE_CELLS 4
+
 /* The windows above a window hides_one() looks at before it gives up. */
 #define HIDER_STEPS 64
 
@@ -1203,20 +1206,25 @@ static int hides_one(struct vis_wtree_live *lv, const struct vis_window *w, uint
 /*
  * For a window whose last seen region is loose and which an unchanged window above it hides in
  * part (hides_one()): partially obscured if it sees a pixel anywhere, found a grid cell at a time,
- * the first cell with one ending the search; fully obscured if none. What a cell shows is walked
+ * the first cell with one ending the search. What a cell shows is walked
  * as a query would, but a query of a large window under many small ones walks them all: a
  * screen-size backdrop under 10,000 windows went over the update's budget at every change that
  * took it. Its seen region stays loose: the extents of its pixels, with the edges the pixels
- * found touch. 1 when that settled it, 0 (its query must), -1 (ENOMEM) or OVER_BUDGET.
+ * found touch. Only for a window over several cells, and within SETTLE_CELLS of them (a window
+ * most of which is hidden, a parent under its descendants in a deep tree, is left to its query).
+ * 1 when that settled it, 0 (its query must), -1 (ENOMEM) or OVER_BUDGET.
  */
 static int settle_loose(struct vis_wtree_live *lv, struct candidate *c)
 {
 	const struct vis_window *w = c->w;
+	uint32_t r[4];
+	/* Within a cell, the query is the same walk. */
+	if (!vis_zgrid_cells(&lv->grid, w->clip, r) || (r[0] == r[2] && r[1] == r[3]))
+		return 0;
 	uint64_t end = wtree_live_subtree_end(w);
 	int rc = hides_one(lv, w, end);
-	uint32_t r[4];
-	if (rc <= 0 || !vis_zgrid_cells(&lv->grid, w->clip, r))
-		return rc < 0 ? -1 : 0;
+	if (rc <= 0)
+		return rc;
 	pixman_region32_t u;
 	if (!pixels_of(w, &u)) {
 		pixman_region32_fini(&u);
@@ -1226,9 +1234,11 @@ static int settle_loose(struct vis_wtree_live *lv, struct candidate *c)
 	pixman_box32_t box = *pixman_region32_extents(&u);
 	uint8_t edges = 0;
 	bool found = false;
+	unsigned tried = 0;
 	rc = 0;
-	for (uint32_t y = r[1]; rc == 0 && !found && y <= r[3]; y++)
-		for (uint32_t x = r[0]; rc == 0 && !found && x <= r[2]; x++) {
+	for (uint32_t y = r[1]; rc == 0 && !found && tried < SETTLE_CELLS && y <= r[3]; y++)
+		for (uint32_t x = r[0]; rc == 0 && !found && tried < SETTLE_CELLS && x <= r[2];
+		     x++) {
 			pixman_box32_t cell = pbox(vis_zgrid_cell_box(&lv->grid, x, y));
 			pixman_region32_t piece;
 			pixman_region32_init_rect(&piece, cell.x1, cell.y1,
@@ -1239,6 +1249,7 @@ static int settle_loose(struct vis_wtree_live *lv, struct candidate *c)
 				errno = ENOMEM;
 				rc = -1;
 			} else if (pixman_region32_not_empty(&piece)) {
+				tried++;
 				rc = hide(lv, end, &piece, &hit, &lv->steps, lv->budget);
 				found = rc == 0 && pixman_region32_not_empty(&piece);
 			}
@@ -1252,10 +1263,10 @@ static int settle_loose(struct vis_wtree_live *lv, struct candidate *c)
 			pixman_region32_fini(&piece);
 		}
 	pixman_region32_fini(&u);
-	if (rc != 0)
-		return rc;
-	c->state = found ? VIS_PARTIALLY_OBSCURED : VIS_FULLY_OBSCURED;
-	c->seen = found ? (struct seen){ SEEN_EXTENTS, edges, { box } } : (struct seen){ 0 };
+	if (rc != 0 || !found)
+		return rc; /* none in the cells tried: the query looks at all of them at once */
+	c->state = VIS_PARTIALLY_OBSCURED;
+	c->seen = (struct seen){ SEEN_EXTENTS, edges, { box } };
 	return 1;
 }
 
