@@ -1113,18 +1113,10 @@ int wtree_live_walk_exposed(struct vis_wtree *tree, struct vis_wtree_live *lv,
 /* Past this many changed windows, each candidate's query walks the grid over all its pixels. */
 #define SINCE_MOVED_MAX 32
 
-/*
- * A window that may only lose pixels (rule 2 alone), partially obscured, whose seen region is
- * loose: a box, with edges known to hold pixels it saw. Those pixels it still sees, unless a
- * changed window now after its subtree covers them: while one such edge meets no changed clip,
- * it sees some pixel still, and not its whole box (which a loose region never was), so it stays
- * partially obscured, and the box still holds what it sees. Returns whether that settled it.
- */
-static bool keeps_an_edge(const struct vis_wtree_live *lv, struct candidate *c,
-			  const struct seen *old)
+/* The edges of a loose seen box of w that no changed clip now after w's subtree meets. */
+static unsigned surviving_edges(const struct vis_wtree_live *lv, const struct candidate *c,
+				const struct seen *old)
 {
-	if (c->gain || c->w->state != VIS_PARTIALLY_OBSCURED || !old->edges)
-		return false;
 	pixman_box32_t e = old->boxes[0];
 	unsigned edges = old->edges;
 	uint64_t end = wtree_live_subtree_end(c->w);
@@ -1146,12 +1138,136 @@ static bool keeps_an_edge(const struct vis_wtree_live *lv, struct candidate *c,
 				edges &= ~(unsigned)EDGE_BOTTOM;
 		}
 	}
+	return edges;
+}
+
+/*
+ * A window that may only lose pixels (rule 2 alone), partially obscured, whose seen region is
+ * loose: a box, with edges known to hold pixels it saw. Those pixels it still sees, unless a
+ * changed window now after its subtree covers them: while one such edge meets no changed clip,
+ * it sees some pixel still, and not its whole box (which a loose region never was), so it stays
+ * partially obscured, and the box still holds what it sees. Returns whether that settled it.
+ */
+static bool keeps_an_edge(const struct vis_wtree_live *lv, struct candidate *c,
+			  const struct seen *old)
+{
+	if (c->gain || c->w->state != VIS_PARTIALLY_OBSCURED || !old->edges)
+		return false;
+	unsigned edges = surviving_edges(lv, c, old);
 	if (!edges)
 		return false;
 	c->state = VIS_PARTIALLY_OBSCURED;
 	c->seen = *old;
 	c->seen.edges = (uint8_t)edges;
 	return true;
+}
+
+/* The cells settle_loose() walks, with pixels of the window, before it leaves it to its query. */
+#define SETTLE_CELLS 4
+
+/* The windows above a window hides_one() looks at before it gives up. */
+#define HIDER_STEPS 64
+
+/*
+ * Whether an unchanged window after w's subtree (end its last key), without a look, holds a
+ * pixel of w in its clip: it hides that pixel now, so w is not unobscured. Looks at the first
+ * HIDER_STEPS windows above w in the grid over w's clip: 1, 0 (none found there), or -1
+ * (ENOMEM).
+ */
+static int hides_one(struct vis_wtree_live *lv, const struct vis_window *w, uint64_t end)
+{
+	bool ok = true;
+	const struct vis_look_cut *cut = wtree_live_has_look(w) ? cut_of(w, &ok) : NULL;
+	struct vis_zgrid_walk walk;
+	if (!ok || vis_zgrid_walk_init(&walk, &lv->grid, w->clip, end, true) < 0) {
+		errno = ENOMEM;
+		return -1;
+	}
+	pixman_box32_t clip = pbox(w->clip);
+	uint64_t key;
+	uint32_t slot;
+	int found = 0;
+	for (int steps = 0; !found && steps < HIDER_STEPS && vis_zgrid_walk_next(&walk, &key, &slot);
+	     steps++) {
+		lv->steps++;
+		const struct live_slot *s = &lv->slots[slot];
+		if (s->look || !boxes_meet(&s->clip, &clip) || moved(lv, s->w))
+			continue;
+		found = !cut; /* without a cut, w's pixels are its clip */
+		for (uint32_t k = 0; !found && cut && k < cut->n; k++) {
+			pixman_box32_t b;
+			found = piece_of(w, cut, k, &b) && boxes_meet(&b, &s->clip);
+		}
+	}
+	vis_zgrid_walk_finish(&walk);
+	return found;
+}
+
+/*
+ * For a window whose last seen region is loose and which an unchanged window above it hides in
+ * part (hides_one()): partially obscured if it sees a pixel anywhere, found a grid cell at a time,
+ * the first cell with one ending the search. What a cell shows is walked
+ * as a query would, but a query of a large window under many small ones walks them all: a
+ * screen-size backdrop under 10,000 windows went over the update's budget at every change that
+ * took it. Its seen region stays loose: the extents of its pixels, with the edges the pixels
+ * found touch. Only for a window over several cells, and within SETTLE_CELLS of them (a window
+ * most of which is hidden, a parent under its descendants in a deep tree, is left to its query).
+ * 1 when that settled it, 0 (its query must), -1 (ENOMEM) or OVER_BUDGET.
+ */
+static int settle_loose(struct vis_wtree_live *lv, struct candidate *c)
+{
+	const struct vis_window *w = c->w;
+	uint32_t r[4];
+	/* Within a cell, the query is the same walk. */
+	if (!vis_zgrid_cells(&lv->grid, w->clip, r) || (r[0] == r[2] && r[1] == r[3]))
+		return 0;
+	uint64_t end = wtree_live_subtree_end(w);
+	int rc = hides_one(lv, w, end);
+	if (rc <= 0)
+		return rc;
+	pixman_region32_t u;
+	if (!pixels_of(w, &u)) {
+		pixman_region32_fini(&u);
+		errno = ENOMEM;
+		return -1;
+	}
+	pixman_box32_t box = *pixman_region32_extents(&u);
+	uint8_t edges = 0;
+	bool found = false;
+	unsigned tried = 0;
+	rc = 0;
+	for (uint32_t y = r[1]; rc == 0 && !found && tried < SETTLE_CELLS && y <= r[3]; y++)
+		for (uint32_t x = r[0]; rc == 0 && !found && tried < SETTLE_CELLS && x <= r[2];
+		     x++) {
+			pixman_box32_t cell = pbox(vis_zgrid_cell_box(&lv->grid, x, y));
+			pixman_region32_t piece;
+			pixman_region32_init_rect(&piece, cell.x1, cell.y1,
+						  (unsigned)(cell.x2 - cell.x1),
+						  (unsigned)(cell.y2 - cell.y1));
+			bool hit;
+			if (!pixman_region32_intersect(&piece, &piece, &u)) {
+				errno = ENOMEM;
+				rc = -1;
+			} else if (pixman_region32_not_empty(&piece)) {
+				tried++;
+				rc = hide(lv, end, &piece, &hit, &lv->steps, lv->budget);
+				found = rc == 0 && pixman_region32_not_empty(&piece);
+			}
+			if (found) {
+				const pixman_box32_t *e = pixman_region32_extents(&piece);
+				edges = (uint8_t)((e->x1 == box.x1 ? EDGE_LEFT : 0) |
+						  (e->y1 == box.y1 ? EDGE_TOP : 0) |
+						  (e->x2 == box.x2 ? EDGE_RIGHT : 0) |
+						  (e->y2 == box.y2 ? EDGE_BOTTOM : 0));
+			}
+			pixman_region32_fini(&piece);
+		}
+	pixman_region32_fini(&u);
+	if (rc != 0 || !found)
+		return rc; /* none in the cells tried: the query looks at all of them at once */
+	c->state = VIS_PARTIALLY_OBSCURED;
+	c->seen = (struct seen){ SEEN_EXTENTS, edges, { box } };
+	return 1;
 }
 
 /*
@@ -1228,8 +1344,12 @@ int wtree_live_walk_since(struct vis_wtree_live *lv, struct candidate *c, void *
 	/* An indexed window's clip is not empty (and a line away: not read for those). */
 	if (lv->n_moved > SINCE_MOVED_MAX || (!w->live_indexed && vis_box_empty(w->clip)))
 		return wtree_live_walk_query(lv, c);
-	if (old && !seen_exact(old))
-		return keeps_an_edge(lv, c, old) ? 0 : wtree_live_walk_query(lv, c);
+	if (old && !seen_exact(old)) {
+		if (keeps_an_edge(lv, c, old))
+			return 0;
+		int settled = settle_loose(lv, c);
+		return settled != 0 ? (settled > 0 ? 0 : settled) : wtree_live_walk_query(lv, c);
+	}
 	if (!c->gain)
 		return since_losing(lv, c, old);
 	pixman_region32_t u;

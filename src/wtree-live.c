@@ -479,15 +479,20 @@ void wtree_live_computed(struct vis_wtree *tree, const struct vis_wtree_work *wk
 }
 
 /*
- * The cells along a side of the grid for n windows: about 16 windows a cell, up to
- * VIS_ZGRID_SIDE. A walk merges the cells its box meets, a heap step an entry: in a small tree
- * fine cells cost more steps than the entries they leave out (100 windows on 3840×2160, a
- * move 116,000 instructions in 16 × 16 cells, of which 40% the merge).
+ * The cells along a side of the grid for n windows: about GRID_WINDOWS_PER_CELL windows a cell,
+ * up to VIS_ZGRID_SIDE. A walk merges the cells its box meets, a heap step an entry: in a small
+ * tree fine cells cost more steps than the entries they leave out (100 windows on 3840×2160, a
+ * move 116,000 instructions in 16 × 16 cells, of which 40% the merge). Coarse cells cost a walk
+ * that fragments, which goes on a cell at a time, more: at 16 windows a cell, bench-stall's chain
+ * 64 deep over 1,000 windows took 23.7 s for its moves against 7.9 s in 16 × 16 cells; at 4, 7.9 s,
+ * and a frame of random 100 / 300 windows in bench-libvis 10.6 / 9.0 µs against 13.4 / 11.1.
  */
+#define GRID_WINDOWS_PER_CELL 4
+
 static uint32_t grid_side(size_t n)
 {
 	uint32_t side = 1;
-	while (side < VIS_ZGRID_SIDE && (size_t)side * side * 16 < n)
+	while (side < VIS_ZGRID_SIDE && (size_t)side * side * GRID_WINDOWS_PER_CELL < n)
 		side++;
 	return side;
 }
