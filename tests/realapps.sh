@@ -18,6 +18,7 @@ cover=$build/tests/x11-cover
 xpid= wpid= cmpid= vpid= bpid= kpid= app_pid= lock_pid= tick_pid=
 ra_n=0
 
+# Ends every process the desktop started, the last started first.
 ra_cleanup() {
 	exec 4>&- 5<&- 2>/dev/null
 	for pid in $tick_pid $lock_pid $app_pid $kpid $bpid $vpid $cmpid $wpid $xpid; do
@@ -55,6 +56,7 @@ ra_start_x() {
 	exec 4>"$dir/cover.in" 5<"$dir/cover.out"
 }
 
+# Whether openbox has taken the screen (it sets _NET_SUPPORTING_WM_CHECK then).
 ra_wm_ready() {
 	xprop -root _NET_SUPPORTING_WM_CHECK 2>/dev/null | grep -q 'window id'
 }
@@ -76,11 +78,13 @@ ra_start_cm() {
 	wait_progress "$cmpid $xpid" ra_cm_ready || fail "$1 did not start ($progress_why):" "$dir/cm.log"
 }
 
+# Whether a compositing manager owns _NET_WM_CM_S0.
 ra_cm_ready() {
 	ra_cover cm
 	[ "$answer" != 0x0 ]
 }
 
+# Ends the compositing manager.
 ra_stop_cm() {
 	kill "$cmpid"
 	wait "$cmpid" 2>/dev/null
@@ -100,6 +104,7 @@ ra_start_bridge() {
 	bpid=$!
 }
 
+# Ends visd-x11 and its visd, where they run.
 ra_stop_bridge() {
 	[ -n "$bpid" ] || return 0
 	kill "$bpid" "$vpid"
@@ -133,6 +138,7 @@ ra_lines() {
 	: "${lines:=0}"
 }
 
+# Whether the writer named $1 has printed $2 lines.
 ra_reached() {
 	ra_lines "$1"
 	[ "$lines" -ge "$2" ]
@@ -154,10 +160,12 @@ ra_start_alacritty() {
 		fail "Alacritty did not start ($progress_why):" "$dir/alacritty.$1.log"
 }
 
+# Whether Alacritty's window is there and its writer has printed.
 ra_app_ready() {
 	ra_find "$app_name" && app_win=$win && ra_reached "$app_name" 1
 }
 
+# Ends Alacritty (its writer goes with its terminal).
 ra_stop_app() {
 	kill "$app_pid"
 	wait "$app_pid" 2>/dev/null
@@ -198,6 +206,7 @@ ra_start_i3lock() {
 	wait_progress "$lock_pid $xpid" ra_lock_on_top || fail "i3lock did not start ($progress_why):" "$dir/i3lock.log"
 }
 
+# Whether i3lock's window is the topmost viewable one (it is found on the first call).
 ra_lock_on_top() {
 	if [ -z "$lock_win" ]; then
 		lock_win=$(xwininfo -root -children 2>/dev/null |
@@ -208,6 +217,7 @@ ra_lock_on_top() {
 	[ "$answer" = "$lock_win" ]
 }
 
+# Ends i3lock.
 ra_stop_i3lock() {
 	kill "$lock_pid"
 	wait "$lock_pid" 2>/dev/null

@@ -11,7 +11,7 @@
 # (the same machine, the same load). Then i3lock: with visd-x11, covered by a window raised over
 # it, it raises itself back; without visd-x11 it stays under the cover (for ten times the lines
 # a ticker printed while it took with the bridge); visd-x11 started late: it raises itself.
-# Then under xcompmgr, where installed, Alacritty's first three spans again.
+# Then under xcompmgr, where installed, Alacritty's first four spans again.
 # SEND_EVENTS=never runs the bridge without its synthetic events, where this test must fail
 # (nothing is told); BRIDGE: another program of visd-x11's interface.
 # Usage: test-realapps.sh BUILD-DIR. Exits 77 (skipped) where visd-x11 is not built or Xvfb,
@@ -141,7 +141,7 @@ ra_stop_i3lock
 ra_stop_bridge
 ra_cover unmap
 
-# xcompmgr, shorter: the first three spans.
+# xcompmgr, shorter: the first four spans.
 if command -v xcompmgr >/dev/null 2>&1; then
 	ra_stop_cm
 	cm=xcompmgr
