@@ -131,11 +131,14 @@ ra_find() {
 	[ -n "$win" ]
 }
 
-# The count the writer named $1 has reached, in $lines (0 while the file is being written).
+# The count the writer named $1 has reached, in $lines (0 before it starts). It writes its
+# count into two files by turns, so that one holds a count while the other is being rewritten.
 ra_lines() {
-	lines=
-	{ read -r lines <"$dir/count.$1"; } 2>/dev/null
-	: "${lines:=0}"
+	ra_odd= ra_even=
+	{ read -r ra_odd <"$dir/count.$1.1"; } 2>/dev/null
+	{ read -r ra_even <"$dir/count.$1.0"; } 2>/dev/null
+	lines=${ra_odd:-0}
+	[ "${ra_even:-0}" -le "$lines" ] || lines=$ra_even
 }
 
 # Whether the writer named $1 has printed $2 lines.
@@ -144,14 +147,14 @@ ra_reached() {
 	[ "$lines" -ge "$2" ]
 }
 
-# The writer's loop: a line every 10 ms, its count in the file named by $0.
-ra_writer='i=0; while :; do i=$((i + 1)); echo "line $i"; echo $i >"$0"; sleep 0.01; done'
+# The writer's loop: a line every 10 ms, its count in $0.1 and $0.0 by turns.
+ra_writer='i=0; while :; do i=$((i + 1)); echo "line $i"; echo $i >"$0.$((i % 2))"; sleep 0.01; done'
 
 # Alacritty titled $1 running the writer $1; its pid in $app_pid, its window in $app_win, once
 # its writer has printed a line. Mesa's llvmpipe draws for it (Xvfb has no GL of its own).
 ra_start_alacritty() {
 	: >"$dir/alacritty.yml"
-	rm -f "$dir/count.$1"
+	rm -f "$dir/count.$1".*
 	LIBGL_ALWAYS_SOFTWARE=1 WINIT_X11_SCALE_FACTOR=1 alacritty --config-file "$dir/alacritty.yml" \
 		--title "$1" -e sh -c "$ra_writer" "$dir/count.$1" >"$dir/alacritty.$1.log" 2>&1 &
 	app_pid=$!
@@ -174,7 +177,7 @@ ra_stop_app() {
 
 # A writer alone, as a clock of progress for what has nothing to measure (ra_span_of_ticks).
 ra_start_ticker() {
-	rm -f "$dir/count.ticker"
+	rm -f "$dir/count.ticker".*
 	sh -c "$ra_writer" "$dir/count.ticker" >/dev/null &
 	tick_pid=$!
 }
