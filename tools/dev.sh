@@ -28,13 +28,16 @@ trap 'exit 141' PIPE
 # (compositor/): wlroots 0.15 and what its headers need (libwayland-dev with wayland-scanner,
 # wayland-protocols, libxkbcommon-dev), and the real clients its test runs (tests/test-viscomp.sh):
 # weston's demo clients, foot (with a monospace font: fonts-dejavu-core), grim, and xdotool, which
-# clicks and types into viscomp nested in Xvfb (tests/test-viscomp-input.sh).
+# clicks and types into viscomp nested in Xvfb (tests/test-viscomp-input.sh); the unmodified
+# X applications the real-application test covers (tests/test-realapps.sh): alacritty, which
+# opens EGL at run time without depending on it (libegl1, libegl-mesa0), and i3lock.
 PACKAGES=(gcc meson ninja-build pkg-config libpixman-1-dev libevent-dev libxcb1-dev libxcb-shape0-dev xvfb
 	libxml2-utils
 	scdoc systemd abigail-tools
 	libxcb-xfixes0-dev openbox xcompmgr picom x11-apps xterm x11-utils
 	libwlroots-dev libwayland-dev wayland-protocols libxkbcommon-dev weston foot fonts-dejavu-core grim
-	xdotool)
+	xdotool
+	alacritty libegl1 libegl-mesa0 i3lock)
 
 # Installs the Debian packages given that are missing, asking apt only when something is.
 install_missing() {
