@@ -80,11 +80,19 @@ build() {
 }
 
 # Stops what the demo started and removes its scratch directory (the EXIT trap): the watch first,
-# so that it does not report visd's going; visd removes its socket and lock on SIGTERM.
+# so that it does not report visd's going; visd removes its socket and lock on SIGTERM. A wait
+# for one that died of the signal fails (143), which under set -e would end the trap there,
+# leaving visd and the directory behind: each step goes on whatever the last one returned.
 demo_cleanup() {
-	[ -n "${watch_pid:-}" ] && kill "$watch_pid" 2>/dev/null && wait "$watch_pid" 2>/dev/null
-	[ -n "${visd_pid:-}" ] && kill "$visd_pid" 2>/dev/null && wait "$visd_pid" 2>/dev/null
-	[ -n "${demo_tmp:-}" ] && rm -rf "$demo_tmp"
+	if [ -n "${watch_pid:-}" ] && kill "$watch_pid" 2>/dev/null; then
+		wait "$watch_pid" 2>/dev/null || true
+	fi
+	if [ -n "${visd_pid:-}" ] && kill "$visd_pid" 2>/dev/null; then
+		wait "$visd_pid" 2>/dev/null || true
+	fi
+	if [ -n "${demo_tmp:-}" ]; then
+		rm -rf "$demo_tmp"
+	fi
 	return 0
 }
 
