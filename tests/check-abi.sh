@@ -8,10 +8,10 @@
 # has no debug information to read types from (a release build).
 # At a release, the baseline is renewed from the library released:
 #   abidw --no-corpus-path --no-comp-dir-path --short-locs --headers-dir include/vis \
-#     --drop-private-types --out-file tests/abi/LIB.abi BUILD/.../LIB
-# Usage: check-abi.sh BASELINE.abi LIB.so HEADERS-DIR
+#     --drop-private-types --out-file tests/abi/NAME-SOVERSION-baseline.xml BUILD/.../LIB
+# Usage: check-abi.sh BASELINE.xml LIB.so HEADERS-DIR
 set -u
-base=${1:?usage: check-abi.sh BASELINE.abi LIB.so HEADERS-DIR}
+base=${1:?usage: check-abi.sh BASELINE.xml LIB.so HEADERS-DIR}
 lib=${2:?}
 headers=${3:?}
 if ! command -v abidiff >/dev/null; then
