@@ -46,13 +46,8 @@ fail() {
 	exit 1
 }
 
-. "$(dirname "$0")/progress.sh"
-
-export XDG_RUNTIME_DIR="$dir"
-export VISCOMP_SOCKET="$dir/control.sock"
-here=$(cd "$(dirname "$0")" && pwd)
-LSAN_OPTIONS="suppressions=$here/viscomp-lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
-export LSAN_OPTIONS
+. "$(dirname "$0")/viscomp-env.sh"
+viscomp_env "$dir"
 
 # The next number of a 31-bit LCG, in $r (0 … 2^31 - 1): the same seed, the same run.
 r=$seed

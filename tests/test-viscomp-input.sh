@@ -41,13 +41,8 @@ fail() {
 	exit 1
 }
 
-. "$(dirname "$0")/progress.sh"
-
-export XDG_RUNTIME_DIR="$dir"
-export VISCOMP_SOCKET="$dir/control.sock"
-here=$(cd "$(dirname "$0")" && pwd)
-LSAN_OPTIONS="suppressions=$here/viscomp-lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
-export LSAN_OPTIONS
+. "$(dirname "$0")/viscomp-env.sh"
+viscomp_env "$dir"
 
 exec 3>"$dir/display"
 Xvfb -displayfd 3 -screen 0 1280x800x24 -nolisten tcp -noreset >"$dir/xvfb.log" 2>&1 &

@@ -53,15 +53,8 @@ fail() {
 	exit 1
 }
 
-. "$(dirname "$0")/progress.sh"
-
-export XDG_RUNTIME_DIR="$dir"
-export VISCOMP_SOCKET="$dir/control.sock"
-# The wlroots 0.15 output globals are destroyed on a timer that the display's end never runs:
-# a leak of wlroots' own (wlr_global_destroy_safe), not viscomp's.
-here=$(cd "$(dirname "$0")" && pwd)
-LSAN_OPTIONS="suppressions=$here/viscomp-lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
-export LSAN_OPTIONS
+. "$(dirname "$0")/viscomp-env.sh"
+viscomp_env "$dir"
 
 ctl() {
 	"$viscompctl" "$@"

@@ -1,0 +1,14 @@
+# What the viscomp tests share (sourced; POSIX sh): progress-following waits (progress.sh), and
+# the environment viscomp and its clients run in, under the test's own directory $1: the Wayland
+# sockets, viscompctl's control socket, and LeakSanitizer told of wlroots 0.15's own leak (its
+# output globals are freed on a timer that the display's end never runs: wlr_global_destroy_safe).
+# Needs $0 to be the test script beside it.
+viscomp_here=$(cd "$(dirname "$0")" && pwd)
+. "$viscomp_here/progress.sh"
+
+viscomp_env() {
+	export XDG_RUNTIME_DIR="$1"
+	export VISCOMP_SOCKET="$1/control.sock"
+	LSAN_OPTIONS="suppressions=$viscomp_here/viscomp-lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
+	export LSAN_OPTIONS
+}
