@@ -108,6 +108,12 @@ struct model_surface *model_surface_create(struct model *model, struct wlr_surfa
 	return ms;
 }
 
+/* A pixman box as libvis's rectangle (the boxes here lie well inside 32 bits). */
+static struct vis_rect32 rect_of(const pixman_box32_t *b)
+{
+	return (struct vis_rect32){ b->x1, b->y1, (uint32_t)(b->x2 - b->x1), (uint32_t)(b->y2 - b->y1) };
+}
+
 /* Gives the window the surface's opaque region, when it changed. */
 static int set_opaque(struct model_surface *ms)
 {
@@ -125,14 +131,8 @@ static int set_opaque(struct model_surface *ms)
 		rc = vis_win_set_opaque(ms->win, VIS_OPAQUE_MODE_ALL, NULL, 0);
 	} else {
 		struct vis_rect32 rects[MAX_OPAQUE_RECTS];
-		for (int i = 0; i < n; i++) {
-			rects[i] = (struct vis_rect32){
-				.x = boxes[i].x1,
-				.y = boxes[i].y1,
-				.width = (uint32_t)(boxes[i].x2 - boxes[i].x1),
-				.height = (uint32_t)(boxes[i].y2 - boxes[i].y1),
-			};
-		}
+		for (int i = 0; i < n; i++)
+			rects[i] = rect_of(&boxes[i]);
 		rc = vis_win_set_opaque(ms->win, VIS_OPAQUE_MODE_RECTS, rects, (uint32_t)n);
 	}
 	if (rc < 0) {
@@ -218,14 +218,8 @@ int model_set_shown(struct model *model, const pixman_region32_t *shown)
 		pixman_region32_fini(&outside);
 		return -1;
 	}
-	for (int i = 0; i < n; i++) {
-		rects[i] = (struct vis_rect32){
-			.x = boxes[i].x1,
-			.y = boxes[i].y1,
-			.width = (uint32_t)(boxes[i].x2 - boxes[i].x1),
-			.height = (uint32_t)(boxes[i].y2 - boxes[i].y1),
-		};
-	}
+	for (int i = 0; i < n; i++)
+		rects[i] = rect_of(&boxes[i]);
 	int rc = vis_win_set_shape(model->outside, 1, rects, (uint32_t)n);
 	if (rc < 0) {
 		wlr_log_errno(WLR_ERROR, "vis_win_set_shape (the outside)");

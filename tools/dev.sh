@@ -113,25 +113,26 @@ demo() {
 	local sock=$tmp/visd-0
 	local visctl=$bin/client/visctl/visctl
 	v() { "$visctl" -s "$sock" "$@"; }
+	# Each engine's time on a scene file, a line each.
+	engine_times() {
+		for e in auto gmv gmv-heap region; do
+			printf '   %-9s ' "$e"
+			"$visctl" compute --engine="$e" --time "$1" 2>&1 >/dev/null
+		done
+	}
 
 	"$visctl" gen random 10000 1 >"$tmp/big.scene"
 	echo "== offline: visctl compute on a generated desktop of 10,000 windows; windows by state:"
 	"$visctl" compute "$tmp/big.scene" >"$tmp/big.out"
 	awk '{ n[$2]++ } END { for (s in n) printf "   %-20s %d\n", s, n[s] }' "$tmp/big.out" | sort
 	echo "== the time each engine takes on it (visctl compute --engine=E --time):"
-	for e in auto gmv gmv-heap region; do
-		printf '   %-9s ' "$e"
-		"$visctl" compute --engine="$e" --time "$tmp/big.scene" 2>&1 >/dev/null
-	done
+	engine_times "$tmp/big.scene"
 	echo "   (region, the union of the windows above as X.Org computes it, wins on a desktop: once"
 	echo "   the union covers the screen, as a few maximized windows do, each window below costs"
 	echo "   it almost nothing, while the sweep (gmv, gmv-heap) pays O(n log n) for any stack)"
 	"$visctl" gen grid 1000 1 >"$tmp/grid.scene"
 	echo "== the same on the paper's worst case, a grid of 500 bars over 500 (visctl gen grid 1000 1):"
-	for e in auto gmv gmv-heap region; do
-		printf '   %-9s ' "$e"
-		"$visctl" compute --engine="$e" --time "$tmp/grid.scene" 2>&1 >/dev/null
-	done
+	engine_times "$tmp/grid.scene"
 	echo "   (every bar crosses every other: the union above gains a piece at every crossing and"
 	echo "   region takes quadratic time, where the sweep stays O(n log n); auto runs region until"
 	echo "   a forecast of its remaining work passes the sweep's cost, then hands over to gmv-heap)"
