@@ -118,6 +118,15 @@ void control_command_run(struct server *server, int argc, char **argv, struct co
 			list(server, json, reply);
 		return;
 	}
+	if (strcmp(cmd, "redraw") == 0) {
+		if (argc != 1) {
+			control_reply_printf(reply, "error: usage: redraw\n");
+			return;
+		}
+		server_damage_whole(server);
+		control_reply_printf(reply, "ok\n");
+		return;
+	}
 	int want;
 	if (strcmp(cmd, "move") == 0 || strcmp(cmd, "resize") == 0)
 		want = 4;

@@ -47,6 +47,13 @@ void server_damage_box(struct server *server, int32_t x, int32_t y, int32_t widt
 	}
 }
 
+void server_damage_whole(struct server *server)
+{
+	struct output *output;
+	wl_list_for_each(output, &server->outputs, link)
+		wlr_output_damage_add_whole(output->damage);
+}
+
 void server_schedule_frames(struct server *server, int32_t x, int32_t y, int32_t width,
 			    int32_t height)
 {

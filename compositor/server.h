@@ -68,6 +68,10 @@ uint64_t server_now_ms(void);
 /* Adds the screen box x, y, width × height to every output's damage it meets (layout coordinates). */
 void server_damage_box(struct server *server, int32_t x, int32_t y, int32_t width, int32_t height);
 
+/* Damages every output whole: its next frame is drawn from scratch (viscompctl redraw), what
+ * the tests compare the frames drawn from damage alone with. */
+void server_damage_whole(struct server *server);
+
 /* Asks every output that meets the box for a frame, even with nothing to draw: frame callbacks
  * are answered at output frames (output.c). */
 void server_schedule_frames(struct server *server, int32_t x, int32_t y, int32_t width,

@@ -25,7 +25,8 @@ static const char usage[] =
 	"  resize ID W H   asks the window's client for the size W x H\n"
 	"  raise ID        puts the window on top\n"
 	"  lower ID        puts the window at the bottom\n"
-	"  close ID        asks the window's client to close it\n";
+	"  close ID        asks the window's client to close it\n"
+	"  redraw          draws every output whole at its next frame, not only its damage\n";
 
 /* The socket's path: -s, else the environment's. NULL when there is none. */
 static const char *socket_path(const char *given, char *buf, size_t size)
