@@ -1,15 +1,18 @@
 #!/bin/sh
 # viscomp's pixels: what grim takes of the screen (screencopy) is what the stacking says it is.
-# A headless viscomp (one 640x480 output, pixman) shows six unmodified foot terminals, each a
-# solid colour of its own: the background and the cursor in that colour, no text (foot runs
-# sleep), no decorations (csd.preferred=none; viscomp offers no xdg-decoration), no user config
-# (-c /dev/null). For STEPS steps (default 24) chosen from SEED (default 1, printed), the test
-# moves (over the edges too, and off the output), resizes, raises, lowers and buries windows
-# (one moved inside another's box and put under it) through viscompctl, then:
+# A headless viscomp (pixman) with two outputs, 640x480 and 320x240 side by side (wlroots lays
+# them out left to right, leaving a 320x240 hole under the small one that no output shows), shows
+# six unmodified foot terminals, each a solid colour of its own: the background and the cursor
+# in that colour, no text (foot runs sleep), no decorations (csd.preferred=none; viscomp offers
+# no xdg-decoration), no user config (-c /dev/null). For STEPS steps (default 24) chosen from
+# SEED (default 1, printed), the test moves (across the outputs, over the edges, into the hole,
+# off the outputs), resizes, raises, lowers and buries windows (one moved inside another's box
+# and put under it) through viscompctl, then:
 #   - takes a shot and checks every pixel (viscomp-pixels, in C for speed): the colour of the
 #     topmost window whose box (`viscompctl list --json`, top first) holds it, or the background;
 #     a window with no pixel on top shows none of its colour; each window's libvis state
-#     (list's) is what its pixels on top make it: none, fully-obscured; all, unobscured;
+#     (list's) is what its pixels on top make it: none, fully-obscured; all, unobscured; the
+#     hole and what lies outside the outputs cover what is there, as in viscomp's model;
 #   - forces a full redraw (`viscompctl redraw`), takes a second shot, checks it the same way and
 #     compares the two: the frame viscomp drew from its damage alone equals one drawn whole.
 # A resize waits for the client's commit of the new size (progress-following, tests/progress.sh);
@@ -125,15 +128,52 @@ check() {
 		fail "$1: $(cat "$dir/check.txt")"
 }
 
+# check_step: the shot of the windows as listed now, then the one after a full redraw: both
+# right, and equal.
+check_step() {
+	windows >"$dir/list.txt" || fail "list"
+	echo "$hole" >"$dir/windows.txt"
+	while read -r id x y w h state pid; do
+		eval "echo $id $x $y $w $h \$color_$id $state" >>"$dir/windows.txt"
+	done <"$dir/list.txt"
+	[ "$(wc -l <"$dir/list.txt")" -eq "$nwin" ] || fail "not $nwin windows listed"
+	shot damage
+	check damage
+	ctl redraw || fail "redraw"
+	shot whole
+	check whole
+	"$pixels" same "$dir/damage.ppm" "$dir/whole.ppm" >"$dir/same.txt" ||
+		fail "the frame drawn from damage differs from a full redraw: $(cat "$dir/same.txt")"
+	hidden=$(awk '$6 == "fully-obscured" { printf " %s", $1 }' "$dir/list.txt")
+	echo "step $step: ok; fully obscured:${hidden:- none}"
+}
+
 # The background viscomp clears to, (0.18, 0.20, 0.22) in output.c.
 background=2e3338
 
-"$viscomp" --headless 640x480 --control "$VISCOMP_SOCKET" -v >"$dir/viscomp.log" 2>&1 &
+"$viscomp" --headless 640x480,320x240 --control "$VISCOMP_SOCKET" -v >"$dir/viscomp.log" 2>&1 &
 vpid=$!
 wait_progress "$vpid" grep -qs 'WAYLAND_DISPLAY=' "$dir/viscomp.log" ||
 	fail "viscomp did not start: $progress_why"
 WAYLAND_DISPLAY=$(sed -n 's/.*WAYLAND_DISPLAY=\([^ ]*\).*/\1/p' "$dir/viscomp.log")
 export WAYLAND_DISPLAY
+
+# The layout: the outputs in the order wlroots made them, left to right, 960x480 in all. The
+# hole is under the small one: at 640,240 when the large one came first, at 0,240 when it came
+# second; the empty desktop says which (grim leaves the hole black), then must show the
+# background everywhere else.
+shot empty
+[ "$(sed -n 2p "$dir/empty.ppm")" = "960 480" ] ||
+	fail "the shot is $(sed -n 2p "$dir/empty.ppm"), not 960x480"
+if [ "$(od -An -tx1 -j $((15 + (400 * 960 + 100) * 3)) -N 3 "$dir/empty.ppm" | tr -d ' ')" = \
+	"$background" ]; then
+	hole_x=640
+else
+	hole_x=0
+fi
+hole="0 $hole_x 240 320 240 - outside"
+echo "$hole" >"$dir/windows.txt"
+check empty
 
 # Six windows, each its colour (color_ID), at a random place and size.
 colors="ff0000 00ff00 0000ff ffff00 ff00ff 00ffff"
@@ -150,7 +190,7 @@ for color in $colors; do
 	pick 250 && h=$((30 + n))
 	resize "$id" "$w" "$h"
 	pick 600 && x=$n
-	pick 450 && y=$n
+	pick 220 && y=$n
 	ctl move "$id" "$x" "$y" || fail "move $id"
 done
 # shellcheck disable=SC2086 # the colours, as words
@@ -180,7 +220,9 @@ visible() {
 	[ "$wstate" != fully-obscured ] || fail "window $1 raised and on the output, yet $wstate"
 }
 
-echo "test-viscomp-pixels: seed $seed, $steps steps, $nwin windows on a 640x480 output"
+echo "test-viscomp-pixels: seed $seed, $steps steps, $nwin windows on outputs 640x480 and 320x240, the hole at $hole_x,240"
+step="0: the windows placed"
+check_step
 s=0
 while [ "$s" -lt "$steps" ]; do
 	s=$((s + 1))
@@ -188,7 +230,7 @@ while [ "$s" -lt "$steps" ]; do
 	pick 10
 	case $n in
 	0 | 1 | 2)
-		pick 700 && x=$((n - 100))
+		pick 1000 && x=$((n - 100))
 		pick 540 && y=$((n - 80))
 		step="$s: move $a $x $y"
 		ctl move "$a" "$x" "$y" || fail "move" ;;
@@ -231,31 +273,25 @@ while [ "$s" -lt "$steps" ]; do
 		window "$a"
 		[ "$wstate" = fully-obscured ] || fail "$a inside $b's box and lowered, yet $wstate" ;;
 	9)
-		# Off the output, right or left: covered by what no output shows.
+		# Off the outputs, right or left, or into the hole: covered by what no output
+		# shows.
 		window "$a" || fail "window $a gone"
-		pick 2
-		if [ "$n" -eq 0 ]; then x=640; else x=$((-ww)); fi
-		step="$s: move $a off the output to $x,$wy"
-		ctl move "$a" "$x" "$wy" || fail "move" ;;
+		pick 3
+		if [ "$n" -eq 2 ] && [ "$ww" -le 320 ] && [ "$wh" -le 240 ]; then
+			pick $((320 - ww + 1)) && x=$((hole_x + n))
+			pick $((240 - wh + 1)) && y=$((240 + n))
+		elif [ "$n" -eq 1 ]; then
+			x=$((-ww)) y=$wy
+		else
+			x=960 y=$wy
+		fi
+		step="$s: move $a off the outputs to $x,$y"
+		ctl move "$a" "$x" "$y" || fail "move"
+		window "$a"
+		[ "$wstate" = fully-obscured ] || fail "$a off the outputs, yet $wstate" ;;
 	esac
 
-	windows >"$dir/list.txt" || fail "list"
-	: >"$dir/windows.txt"
-	while read -r id x y w h state pid; do
-		eval "echo $id $x $y $w $h \$color_$id $state" >>"$dir/windows.txt"
-	done <"$dir/list.txt"
-	[ "$(wc -l <"$dir/windows.txt")" -eq "$nwin" ] || fail "not $nwin windows listed"
-
-	# The frame drawn from damage, then one drawn whole: both right, and equal.
-	shot damage
-	check damage
-	ctl redraw || fail "redraw"
-	shot whole
-	check whole
-	"$pixels" same "$dir/damage.ppm" "$dir/whole.ppm" >"$dir/same.txt" ||
-		fail "the frame drawn from damage differs from a full redraw: $(cat "$dir/same.txt")"
-	hidden=$(awk '$6 == "fully-obscured" { printf " %s", $1 }' "$dir/list.txt")
-	echo "step $step: ok; fully obscured:${hidden:- none}"
+	check_step
 done
 
 step=end

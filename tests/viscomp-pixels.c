@@ -4,12 +4,14 @@
  *
  *   viscomp-pixels check SHOT.ppm BACKGROUND
  * reads the windows, top first, from standard input, one a line: ID X Y W H RRGGBB STATE (the
- * window's box on the output, x, y inclusive, x + w, y + h exclusive; its solid colour; the state
+ * window's box in the shot, x, y inclusive, x + w, y + h exclusive; its solid colour; the state
  * viscomp's libvis gave it). Every pixel of the shot must be the colour of the topmost window
  * whose box holds it, or BACKGROUND (RRGGBB) where none does; a window with no pixel on top
  * must show none of its colour; and each window's state must be what its pixels on top make it:
- * fully-obscured for none, unobscured for all of its box, partially-obscured in between (off the
- * output counts as covered, as in viscomp's model).
+ * fully-obscured for none, unobscured for all of its box, partially-obscured in between. What
+ * no output shows is a window too, as in viscomp's model, with "-" for its colour: on top of
+ * all, it covers what lies below it, and its pixels (grim's fill between outputs) are not checked;
+ * the shot's own edges are the outputs' outer ones.
  *
  *   viscomp-pixels same A.ppm B.ppm
  * The two shots must be equal, pixel for pixel.
@@ -37,6 +39,7 @@ struct window {
 	long id;
 	int x, y, width, height;
 	unsigned int color; /* 0xRRGGBB */
+	bool outside; /* what no output shows: colour "-", its pixels unchecked */
 	char state[32];
 	long on_top, shown; /* pixels it is the topmost window at; pixels of its colour */
 };
@@ -110,17 +113,28 @@ static int read_windows(struct window *windows)
 	char line[256];
 	int n = 0;
 	while (fgets(line, sizeof(line), stdin) != NULL) {
+		if (n == MAX_WINDOWS) {
+			fprintf(stderr, "viscomp-pixels: more than %d windows\n", MAX_WINDOWS);
+			return -1;
+		}
 		struct window *w = &windows[n];
 		memset(w, 0, sizeof(*w));
-		if (n == MAX_WINDOWS ||
-		    sscanf(line, "%ld %d %d %d %d %6x %31s", &w->id, &w->x, &w->y, &w->width,
-			   &w->height, &w->color, w->state) != 7 ||
+		char color[8];
+		if (sscanf(line, "%ld %d %d %d %d %7s %31s", &w->id, &w->x, &w->y, &w->width,
+			   &w->height, color, w->state) != 7 ||
 		    w->width <= 0 || w->height <= 0) {
 			fprintf(stderr, "viscomp-pixels: bad window line: %s", line);
 			return -1;
 		}
-		for (int i = 0; i < n; i++) {
-			if (windows[i].color == w->color) {
+		char *end;
+		w->outside = strcmp(color, "-") == 0;
+		w->color = (unsigned int)strtoul(color, &end, 16);
+		if (!w->outside && (strlen(color) != 6 || *end != '\0')) {
+			fprintf(stderr, "viscomp-pixels: bad window line: %s", line);
+			return -1;
+		}
+		for (int i = 0; i < n && !w->outside; i++) {
+			if (!windows[i].outside && windows[i].color == w->color) {
 				fprintf(stderr, "viscomp-pixels: windows %ld and %ld share %06x\n",
 					windows[i].id, w->id, w->color);
 				return -1;
@@ -161,8 +175,10 @@ static int check(const struct shot *shot, uint32_t background)
 			uint32_t got = pixel_at(shot, x, y);
 			if (top != NULL)
 				top->on_top++;
+			if (top != NULL && top->outside)
+				continue;
 			for (int i = 0; i < n; i++)
-				if (windows[i].color == got)
+				if (!windows[i].outside && windows[i].color == got)
 					windows[i].shown++;
 			if (got == want)
 				continue;
@@ -180,6 +196,8 @@ static int check(const struct shot *shot, uint32_t background)
 		printf("... %ld wrong pixels in all\n", wrong);
 	for (int i = 0; i < n; i++) {
 		struct window *w = &windows[i];
+		if (w->outside)
+			continue;
 		const char *want = state_of(w);
 		bool bad_state = strcmp(w->state, want) != 0, hidden_shows = w->on_top == 0 && w->shown;
 		printf("window %ld %d,%d %dx%d %06x: %ld pixels on top, %ld of its colour shown; %s%s%s\n",
