@@ -26,9 +26,10 @@ trap 'exit 141' PIPE
 # picom, xlogo and xeyes (x11-apps), xterm, xprop (x11-utils); abigail-tools: abidiff, for the
 # libraries' ABI against their baselines (tests/check-abi.sh); viscomp, the Wayland compositor
 # (compositor/): wlroots 0.15 and what its headers need (libwayland-dev with wayland-scanner,
-# wayland-protocols, libxkbcommon-dev), and the real clients its test runs (tests/test-viscomp.sh):
-# weston's demo clients, foot (with a monospace font: fonts-dejavu-core), grim, and xdotool, which
-# clicks and types into viscomp nested in Xvfb (tests/test-viscomp-input.sh); the unmodified
+# wayland-protocols, libxkbcommon-dev), and the real clients its tests run (tests/test-viscomp.sh,
+# tests/test-viscomp-pixels.sh): weston's demo clients, foot (with a monospace font:
+# fonts-dejavu-core), grim, and xdotool, which clicks and types into viscomp nested in Xvfb
+# (tests/test-viscomp-input.sh); the unmodified
 # X applications the real-application test covers (tests/test-realapps.sh): alacritty, which
 # opens EGL at run time without depending on it (libegl1, libegl-mesa0), and i3lock.
 PACKAGES=(gcc meson ninja-build pkg-config libpixman-1-dev libevent-dev libxcb1-dev libxcb-shape0-dev xvfb
