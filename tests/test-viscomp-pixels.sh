@@ -17,8 +17,9 @@
 #     compares the two: the frame viscomp drew from its damage alone equals one drawn whole.
 # A resize waits for the client's commit of the new size (progress-following, tests/progress.sh);
 # only a window with a visible pixel is resized, since a hidden one gets no frame callbacks and
-# foot draws on them, and never below 40x30 (foot takes no less than a cell's height). Moves and restacks take effect before viscompctl returns. On a failure the
-# shots are kept in BUILD-DIR/tests/viscomp-pixels-failed/.
+# foot draws on them, and never below 40x30 (foot takes no less than a cell's height). Moves and
+# restacks take effect before viscompctl returns. On a failure the shots are kept in
+# BUILD-DIR/tests/viscomp-pixels-failed/.
 # Usage: test-viscomp-pixels.sh BUILD-DIR. Exits 77 (skipped) where viscomp is not built.
 set -u
 build=${1:?usage: test-viscomp-pixels.sh BUILD-DIR}
@@ -207,7 +208,7 @@ any() {
 }
 
 # visible ID: when no pixel of the window can be seen (it is resized next), raises it, and moves
-# its corner onto the output if that is not enough.
+# its corner onto an output if that is not enough.
 visible() {
 	window "$1" || fail "window $1 gone"
 	[ "$wstate" = fully-obscured ] || return 0
@@ -217,10 +218,11 @@ visible() {
 		ctl move "$1" 300 200 || fail "move $1"
 		window "$1"
 	fi
-	[ "$wstate" != fully-obscured ] || fail "window $1 raised and on the output, yet $wstate"
+	[ "$wstate" != fully-obscured ] || fail "window $1 raised and on an output, yet $wstate"
 }
 
-echo "test-viscomp-pixels: seed $seed, $steps steps, $nwin windows on outputs 640x480 and 320x240, the hole at $hole_x,240"
+echo "test-viscomp-pixels: seed $seed, $steps steps, $nwin windows on outputs 640x480 and" \
+	"320x240, the hole at $hole_x,240"
 step="0: the windows placed"
 check_step
 s=0
