@@ -87,7 +87,9 @@ pick() {
 
 # The windows, top first, one a line: ID X Y W H STATE PID (from list --json).
 windows() {
-	ctl list --json | sed -n 's/.*"id":\([0-9]*\),.*"pid":\([0-9]*\),"x":\(-\{0,1\}[0-9]*\),"y":\(-\{0,1\}[0-9]*\),"width":\([0-9]*\),"height":\([0-9]*\),"state":"\([a-z-]*\)".*/\1 \3 \4 \5 \6 \7 \2/p'
+	num='\(-\{0,1\}[0-9]*\)'
+	re=".*\"id\":$num,.*\"pid\":$num,\"x\":$num,\"y\":$num,\"width\":$num,\"height\":$num"
+	ctl list --json | sed -n "s/$re,\"state\":\"\([a-z-]*\)\".*/\1 \3 \4 \5 \6 \7 \2/p"
 }
 
 # window ID: its line's fields into wx, wy, ww, wh, wstate, wpid; 1 when it is not listed.
