@@ -118,6 +118,18 @@ void control_command_run(struct server *server, int argc, char **argv, struct co
 			list(server, json, reply);
 		return;
 	}
+	if (strcmp(cmd, "stats") == 0) {
+		bool reset = argc == 2 && strcmp(argv[1], "--reset") == 0;
+		if (argc > 2 || (argc == 2 && !reset)) {
+			control_reply_printf(reply, "error: usage: stats [--reset]\n");
+			return;
+		}
+		stats_report(&server->stats, reply);
+		if (reset)
+			stats_reset(&server->stats);
+		control_reply_printf(reply, "ok\n");
+		return;
+	}
 	int want;
 	if (strcmp(cmd, "move") == 0 || strcmp(cmd, "resize") == 0)
 		want = 4;
@@ -139,6 +151,9 @@ void control_command_run(struct server *server, int argc, char **argv, struct co
 		control_reply_printf(reply, "error: no window %s\n", argv[1]);
 		return;
 	}
+	/* The changes whose latency stats.h times: those made at once, in the model. */
+	if (strcmp(cmd, "move") == 0 || strcmp(cmd, "raise") == 0 || strcmp(cmd, "lower") == 0)
+		server->stats.change_ns = stats_now_ns();
 	if (strcmp(cmd, "move") == 0) {
 		/* Within the libvis screen, where a window's pixels can be: no overflow past it. */
 		if (a < -MODEL_SCREEN_SIZE || a > MODEL_SCREEN_SIZE || b < -MODEL_SCREEN_SIZE ||
