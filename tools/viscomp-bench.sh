@@ -23,21 +23,28 @@
 # one spot raised in turn, each raise covering one and uncovering the other, CYCLES times; prints
 # viscompctl stats: how long from the command's arrival to the first frame callback withheld
 # (covered) or sent (uncovered), and what each output frame's libvis work cost.
+#        tools/viscomp-bench.sh --frame [BUILD-DIR] [N...] (default 10 100): N clients where
+# viscomp places them (its cascade), the top one then moved 8 pixels a step for MOVES steps
+# (default 300); prints viscompctl stats' frame line over the moves: libvis's time in each
+# output frame (its update and the repaint sets of the damage), in process.
 # Installs sway when missing (tools/dev.sh install). Prints a table.
 set -u
 cd "$(dirname "$0")/.." || exit 1
-latency=0
-if [ "${1:-}" = --latency ]; then
-	latency=1
+mode=saving
+case ${1:-} in
+--latency | --frame)
+	mode=${1#--}
 	shift
-fi
+	;;
+esac
 build=${1:-build-release}
 shift || true
 sizes=("$@")
-if [ "$latency" = 1 ]; then
+if [ "$mode" = latency ]; then
 	cycles=${1:-200}
+	sizes=()
 elif [ ${#sizes[@]} -eq 0 ]; then
-	sizes=(1 4 16)
+	[ "$mode" = frame ] && sizes=(10 100) || sizes=(1 4 16)
 fi
 seconds=${RUN_SECONDS:-10}
 client=${CLIENT:-weston-presentation-shm}
@@ -54,7 +61,7 @@ done
 for a in "${arrangements[@]}"; do
 	case $a in stacked | tiled) ;; *) echo "viscomp-bench: ARRANGE: stacked or tiled, not $a" >&2; exit 1 ;; esac
 done
-for n in "${sizes[@]}"; do
+[ "$mode" = saving ] && for n in "${sizes[@]}"; do
 	[ $((((n + out_w / tile - 1) / (out_w / tile)) * tile)) -le "$out_h" ] ||
 		{ echo "viscomp-bench: $n windows of ${tile}x$tile do not fit side by side on $output" >&2; exit 1; }
 done
@@ -152,9 +159,10 @@ place() {
 	fi
 }
 
-# run KIND ARRANGE N: starts the compositor KIND with N clients arranged, measures, prints a row.
+# run KIND ARRANGE N R: starts the compositor KIND with N clients arranged, measures, prints a row
+# (R: the repetition).
 run() {
-	local kind=$1 arrange=$2 n=$3 run=$dir/$1-$2-$3 cpid display clients=() i
+	local kind=$1 arrange=$2 n=$3 run=$dir/$1-$2-$3-$4 cpid display clients=() i
 	start "$kind" "$arrange" "$run"
 	for ((i = 0; i < n; i++)); do
 		WAYLAND_DISPLAY=$display "${as_nobody[@]}" "$client" >/dev/null 2>&1 &
@@ -222,21 +230,51 @@ latency() {
 		"$(awk -F': ' '/model name/ { print $2; exit }' /proc/cpuinfo); $(date -u +%F))"
 }
 
-if [ "$latency" = 1 ]; then
+# frame N: N clients as viscomp places them, the top one moved MOVES steps; prints the frame line.
+frame() {
+	local n=$1 run=$dir/frame-$1 cpid display k moves=${MOVES:-300}
+	start viscomp stacked "$run"
+	for ((k = 0; k < n; k++)); do
+		WAYLAND_DISPLAY=$display "${as_nobody[@]}" "$client" >/dev/null 2>&1 &
+		pids+=($!)
+	done
+	wait_for sh -c "[ \$($viscompctl list | wc -l) -eq $n ]" ||
+		{ echo "viscomp-bench: not $n windows" >&2; exit 1; }
+	sleep 2
+	"$viscompctl" stats --reset >/dev/null
+	for ((k = 0; k < moves; k++)); do
+		"$viscompctl" move "$n" $((32 + k % 100 * 8)) $((32 + k % 50 * 8)) >/dev/null
+	done
+	printf '%5d windows, %s\n' "$n" "$("$viscompctl" stats | grep '^frame')"
+	for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done
+	wait 2>/dev/null
+	pids=()
+}
+
+case $mode in
+latency)
 	latency
 	exit 0
-fi
+	;;
+frame)
+	for n in "${sizes[@]}"; do frame "$n"; done
+	echo "($client, top window moved ${MOVES:-300} steps of 8 pixels by viscompctl; libvis's time per" \
+		"output frame in µs; $(nproc) CPUs: $(awk -F': ' '/model name/ { print $2; exit }' /proc/cpuinfo);" \
+		"$(date -u +%F))"
+	exit 0
+	;;
+esac
 printf '%-8s %-8s %3s %8s %10s %13s %13s %17s\n' compositor arrange N covered 'comp ms/s' \
 	'clients ms/s' 'covered ms/s' 'covered commit/s'
 for ((r = 0; r < repeat; r++)); do
 	for n in "${sizes[@]}"; do
 		for arrange in "${arrangements[@]}"; do
 			if [ $((r % 2)) -eq 0 ]; then
-				run viscomp "$arrange" "$n"
-				run sway "$arrange" "$n"
+				run viscomp "$arrange" "$n" "$r"
+				run sway "$arrange" "$n" "$r"
 			else
-				run sway "$arrange" "$n"
-				run viscomp "$arrange" "$n"
+				run sway "$arrange" "$n" "$r"
+				run viscomp "$arrange" "$n" "$r"
 			fi
 		done
 	done
