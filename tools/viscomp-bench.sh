@@ -24,8 +24,8 @@
 # viscompctl stats: how long from the command's arrival to the first frame callback withheld
 # (covered) or sent (uncovered), and what each output frame's libvis work cost.
 #        tools/viscomp-bench.sh --frame [BUILD-DIR] [N...] (default 10 100): N clients where
-# viscomp places them (its cascade), the top one then moved 8 pixels a step for MOVES steps
-# (default 300); prints viscompctl stats' frame line over the moves: libvis's time in each
+# viscomp places them (its cascade), the top one then moved 8 pixels a step, 20 ms apart, for
+# MOVES steps (default 300); prints viscompctl stats' frame line over the moves: libvis's time in each
 # output frame (its update and the repaint sets of the damage), in process.
 # Installs sway when missing (tools/dev.sh install). Prints a table.
 set -u
@@ -244,6 +244,7 @@ frame() {
 	"$viscompctl" stats --reset >/dev/null
 	for ((k = 0; k < moves; k++)); do
 		"$viscompctl" move "$n" $((32 + k % 100 * 8)) $((32 + k % 50 * 8)) >/dev/null
+		sleep 0.02 # about one move a frame
 	done
 	printf '%5d windows, %s\n' "$n" "$("$viscompctl" stats | grep '^frame')"
 	for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done
@@ -258,7 +259,7 @@ latency)
 	;;
 frame)
 	for n in "${sizes[@]}"; do frame "$n"; done
-	echo "($client, top window moved ${MOVES:-300} steps of 8 pixels by viscompctl; libvis's time per" \
+	echo "($client, top window moved ${MOVES:-300} steps of 8 pixels, 20 ms apart, by viscompctl; libvis's time per" \
 		"output frame in µs; $(nproc) CPUs: $(awk -F': ' '/model name/ { print $2; exit }' /proc/cpuinfo);" \
 		"$(date -u +%F))"
 	exit 0
