@@ -105,6 +105,9 @@ static void list(struct server *server, bool json, struct control_reply *reply)
 
 void control_command_run(struct server *server, int argc, char **argv, struct control_reply *reply)
 {
+	/* When the command arrived: a move, raise or lower is timed from it (stats.h); those made
+	 * at once in the model, unlike resize and close, which the client carries out. */
+	uint64_t arrived = stats_now_ns();
 	if (argc == 0) {
 		control_reply_printf(reply, "error: no command\n");
 		return;
@@ -151,9 +154,6 @@ void control_command_run(struct server *server, int argc, char **argv, struct co
 		control_reply_printf(reply, "error: no window %s\n", argv[1]);
 		return;
 	}
-	/* The changes whose latency stats.h times: those made at once, in the model. */
-	if (strcmp(cmd, "move") == 0 || strcmp(cmd, "raise") == 0 || strcmp(cmd, "lower") == 0)
-		server->stats.change_ns = stats_now_ns();
 	if (strcmp(cmd, "move") == 0) {
 		/* Within the libvis screen, where a window's pixels can be: no overflow past it. */
 		if (a < -MODEL_SCREEN_SIZE || a > MODEL_SCREEN_SIZE || b < -MODEL_SCREEN_SIZE ||
@@ -162,6 +162,7 @@ void control_command_run(struct server *server, int argc, char **argv, struct co
 					     MODEL_SCREEN_SIZE, MODEL_SCREEN_SIZE);
 			return;
 		}
+		server->stats.change_ns = arrived;
 		view_move(view, a, b);
 	} else if (strcmp(cmd, "resize") == 0) {
 		if (a < 1 || b < 1 || a > MODEL_SCREEN_SIZE || b > MODEL_SCREEN_SIZE) {
@@ -171,8 +172,10 @@ void control_command_run(struct server *server, int argc, char **argv, struct co
 		}
 		view_resize(view, a, b);
 	} else if (strcmp(cmd, "raise") == 0) {
+		server->stats.change_ns = arrived;
 		view_raise(view);
 	} else if (strcmp(cmd, "lower") == 0) {
+		server->stats.change_ns = arrived;
 		view_lower(view);
 	} else {
 		view_close(view);
