@@ -105,6 +105,9 @@ static void list(struct server *server, bool json, struct control_reply *reply)
 
 void control_command_run(struct server *server, int argc, char **argv, struct control_reply *reply)
 {
+	/* When the command arrived: a move, raise or lower is timed from it (stats.h); those made
+	 * at once in the model, unlike resize and close, which the client carries out. */
+	uint64_t arrived = stats_now_ns();
 	if (argc == 0) {
 		control_reply_printf(reply, "error: no command\n");
 		return;
@@ -124,6 +127,18 @@ void control_command_run(struct server *server, int argc, char **argv, struct co
 			return;
 		}
 		server_damage_whole(server);
+		control_reply_printf(reply, "ok\n");
+		return;
+	}
+	if (strcmp(cmd, "stats") == 0) {
+		bool reset = argc == 2 && strcmp(argv[1], "--reset") == 0;
+		if (argc > 2 || (argc == 2 && !reset)) {
+			control_reply_printf(reply, "error: usage: stats [--reset]\n");
+			return;
+		}
+		stats_report(&server->stats, reply);
+		if (reset)
+			stats_reset(&server->stats);
 		control_reply_printf(reply, "ok\n");
 		return;
 	}
@@ -156,6 +171,7 @@ void control_command_run(struct server *server, int argc, char **argv, struct co
 					     MODEL_SCREEN_SIZE, MODEL_SCREEN_SIZE);
 			return;
 		}
+		server->stats.change_ns = arrived;
 		view_move(view, a, b);
 	} else if (strcmp(cmd, "resize") == 0) {
 		if (a < 1 || b < 1 || a > MODEL_SCREEN_SIZE || b > MODEL_SCREEN_SIZE) {
@@ -165,8 +181,10 @@ void control_command_run(struct server *server, int argc, char **argv, struct co
 		}
 		view_resize(view, a, b);
 	} else if (strcmp(cmd, "raise") == 0) {
+		server->stats.change_ns = arrived;
 		view_raise(view);
 	} else if (strcmp(cmd, "lower") == 0) {
+		server->stats.change_ns = arrived;
 		view_lower(view);
 	} else {
 		view_close(view);

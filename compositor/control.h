@@ -4,8 +4,9 @@
  *
  * A command: one line of at most CONTROL_MAX_LINE bytes, words separated by spaces, ending
  * with a newline (or the end of what the client sends): "list", "list --json", "move ID X Y",
- * "resize ID W H", "raise ID", "lower ID", "close ID", "redraw". The answer: the command's output, lines,
- * then a last line "ok", or "error: REASON". control-command.c runs the commands.
+ * "resize ID W H", "raise ID", "lower ID", "close ID", "redraw", "stats". The answer: the
+ * command's output, lines, then a last line "ok", or "error: REASON". control-command.c runs
+ * the commands.
  */
 #ifndef VISCOMP_CONTROL_H
 #define VISCOMP_CONTROL_H

@@ -240,7 +240,11 @@ int model_update(struct model *model)
 	size_t n;
 	/* visd gets the model's changes at the same pace as libvis: once a frame, in one batch. */
 	mirror_sync(model->server->mirror);
-	if (vis_tree_update(model->tree, &changes, &n) < 0) {
+	struct stats *stats = &model->server->stats;
+	uint64_t t0 = stats_now_ns();
+	int rc = vis_tree_update(model->tree, &changes, &n);
+	model->update_ns = stats_now_ns() - t0;
+	if (rc < 0) {
 		wlr_log_errno(WLR_ERROR, "vis_tree_update");
 		return -1;
 	}
@@ -252,9 +256,15 @@ int model_update(struct model *model)
 			   changes[i].previous == VIS_VISIBILITY_PARTIALLY_OBSCURED;
 		bool is = changes[i].state == VIS_VISIBILITY_UNOBSCURED ||
 			  changes[i].state == VIS_VISIBILITY_PARTIALLY_OBSCURED;
+		if (is != was && stats->change_ns != 0) {
+			ms->flip_ns = stats->change_ns;
+			ms->flip_covered = !is;
+		}
 		/* Its callbacks waited while nothing of it could be seen: answer them now. */
 		if (is && !was)
 			server_schedule_frames(model->server, ms->x, ms->y, ms->width, ms->height);
 	}
+	/* The command's flips are all in this update: later ones are not its. */
+	stats->change_ns = 0;
 	return 0;
 }

@@ -55,6 +55,10 @@ struct model_surface {
 	struct model_surface *stack_ref;
 	bool stack_above;
 	struct mirror_win *mirror; /* its visd window (mirror.c), or NULL */
+	/* A visibility flip a control command made, not yet timed (stats.h): when the command
+	 * arrived (0: none) and whether the surface was covered (else uncovered). */
+	uint64_t flip_ns;
+	bool flip_covered;
 };
 
 struct model {
@@ -64,6 +68,7 @@ struct model {
 	struct vis_rect32 *outside_rects; /* the outside's shape, as last set */
 	size_t n_outside;
 	struct wl_list surfaces; /* model_surface.link */
+	uint64_t update_ns; /* how long the last vis_tree_update() took */
 };
 
 /* The tree's screen: large enough for any layout of outputs; what lies outside them is covered. */
@@ -100,7 +105,8 @@ int model_set_shown(struct model *model, const pixman_region32_t *shown);
 /*
  * Recomputes the states after the changes made since the last update (vis_tree_update()); asks
  * a frame of the outputs showing a surface that has just become visible, so that its pending
- * frame callbacks are answered within that frame. 0, or -1 (logged; tried again next time).
+ * frame callbacks are answered within that frame; marks the surfaces whose visibility the last
+ * move, raise or lower flipped, for stats.h. 0, or -1 (logged; tried again next time).
  */
 int model_update(struct model *model);
 

@@ -86,7 +86,8 @@ void server_outputs_changed(struct server *server)
 
 /* Draws one damaged rectangle (output coordinates): the background, then the repaint set libvis
  * gives for it, bottom to top, each surface clipped to what of it shows there. */
-static void render_rect(struct output *output, const struct wlr_box *box, const struct wlr_box *rect)
+static void render_rect(struct output *output, const struct wlr_box *box, const struct wlr_box *rect,
+			uint64_t *work_ns)
 {
 	struct server *server = output->server;
 	struct wlr_renderer *renderer = server->renderer;
@@ -103,7 +104,10 @@ static void render_rect(struct output *output, const struct wlr_box *box, const 
 	};
 	const struct vis_repaint *repaint;
 	size_t n;
-	if (vis_tree_repaint(server->model.tree, &damage, &repaint, &n) < 0) {
+	uint64_t t0 = stats_now_ns();
+	int rc = vis_tree_repaint(server->model.tree, &damage, &repaint, &n);
+	*work_ns += stats_now_ns() - t0;
+	if (rc < 0) {
 		wlr_log_errno(WLR_ERROR, "vis_tree_repaint");
 		return;
 	}
@@ -138,6 +142,16 @@ static void render_rect(struct output *output, const struct wlr_box *box, const 
 	}
 }
 
+/* The latency of a surface's flip, when a control command made one and its first callback since
+ * is being withheld (covered) or sent (uncovered): stats.h. */
+static void time_flip(struct stats *stats, struct model_surface *ms, bool sent)
+{
+	if (ms->flip_ns == 0 || ms->flip_covered == sent)
+		return;
+	stats_add(ms->flip_covered ? &stats->cover : &stats->uncover, stats_now_ns() - ms->flip_ns);
+	ms->flip_ns = 0;
+}
+
 /* Answers the frame callbacks of the surfaces with a visible pixel on this output; the others
  * keep theirs until they can be seen (model_update()). */
 static void send_frame_done(struct output *output, const struct wlr_box *box)
@@ -148,12 +162,16 @@ static void send_frame_done(struct output *output, const struct wlr_box *box)
 	uint64_t now_ms = server_now_ms();
 	struct model_surface *ms;
 	wl_list_for_each(ms, &server->model.surfaces, link) {
-		if (!ms->mapped || !model_surface_visible(ms))
+		if (!ms->mapped)
 			continue;
 		if (ms->x >= box->x + box->width || box->x >= ms->x + ms->width ||
 		    ms->y >= box->y + box->height || box->y >= ms->y + ms->height)
 			continue;
 		if (wl_list_empty(&ms->surface->current.frame_callback_list))
+			continue;
+		bool visible = model_surface_visible(ms);
+		time_flip(&server->stats, ms, visible);
+		if (!visible)
 			continue;
 		if (ms->view != NULL && ms->view->xdg->surface == ms->surface) {
 			rate_add(&ms->view->frames, now_ms);
@@ -176,6 +194,7 @@ static void handle_frame(struct wl_listener *listener, void *data)
 		return;
 	/* States first: both what to draw and who gets a frame callback follow from them. */
 	model_update(&server->model);
+	uint64_t work_ns = server->model.update_ns;
 
 	bool needs_frame;
 	pixman_region32_t damage;
@@ -192,7 +211,7 @@ static void handle_frame(struct wl_listener *listener, void *data)
 		for (int i = 0; i < n; i++) {
 			struct wlr_box rect = { rects[i].x1, rects[i].y1, rects[i].x2 - rects[i].x1,
 						rects[i].y2 - rects[i].y1 };
-			render_rect(output, &box, &rect);
+			render_rect(output, &box, &rect, &work_ns);
 		}
 		wlr_renderer_scissor(renderer, NULL);
 		wlr_output_render_software_cursors(wlr_output, &damage);
@@ -210,6 +229,7 @@ static void handle_frame(struct wl_listener *listener, void *data)
 		wlr_output_rollback(wlr_output);
 	}
 	pixman_region32_fini(&damage);
+	stats_add(&server->stats.frame, work_ns);
 	send_frame_done(output, &box);
 }
 

@@ -13,6 +13,7 @@
 #include <wayland-server-core.h>
 
 #include "model.h"
+#include "stats.h"
 
 struct control;
 struct mirror;
@@ -31,6 +32,7 @@ struct server {
 	struct wlr_xcursor_manager *cursor_manager;
 
 	struct model model;
+	struct stats stats; /* viscompctl stats */
 	struct control *control;
 	struct mirror *mirror; /* --visd, or NULL */
 

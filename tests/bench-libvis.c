@@ -11,6 +11,11 @@
  * op (libvis's whole op, and its repaint query alone). Not a test: run it from a release build,
  *   build-release/tests/bench-libvis [--kinds K,…] [--sizes N,…] [--moves M] [--seed S]
  * or `meson test -C build-release --benchmark bench-libvis`.
+ *
+ * With --viscomp WxH, libvis's side is viscomp's model (compositor/model.h) of a W×H output: the
+ * scenes generated on that output, in a tree whose screen is the model's 16384×16384, under
+ * the outside window that covers what the output does not show; the damage lies on the output,
+ * as viscomp's does. The region method needs no outside: it keeps the windows on the output.
  */
 #include <pixman.h>
 #include <stdbool.h>
@@ -159,6 +164,11 @@ static void method_finish(struct method *m)
 	pixman_region32_fini(&m->damage);
 }
 
+/* --viscomp WxH: the output's size (0: no viscomp model), and the model's screen
+ * (compositor/model.h's MODEL_SCREEN_SIZE). */
+static int32_t viscomp_w, viscomp_h;
+#define VISCOMP_SCREEN 16384
+
 /* A look's rectangles as libvis takes them: a new array. */
 static struct vis_rect32 *rects32(const struct vis_rect *r, uint32_t n)
 {
@@ -170,10 +180,12 @@ static struct vis_rect32 *rects32(const struct vis_rect *r, uint32_t n)
 	return out;
 }
 
-/* The scene as a libvis tree of mapped top-level windows. */
+/* The scene as a libvis tree of mapped top-level windows; under --viscomp, viscomp's model: a
+ * larger screen, and on top the outside, shaped as what the output does not show. */
 static struct vis_tree *tree_of(const struct vis_scene *s, struct vis_win **wins)
 {
-	struct vis_tree *t = vis_tree_create(s->screen_w, s->screen_h);
+	struct vis_tree *t = viscomp_w ? vis_tree_create(VISCOMP_SCREEN, VISCOMP_SCREEN)
+				       : vis_tree_create(s->screen_w, s->screen_h);
 	if (!t)
 		die("vis_tree_create");
 	for (size_t i = 0; i < s->n; i++) {
@@ -196,6 +208,16 @@ static struct vis_tree *tree_of(const struct vis_scene *s, struct vis_win **wins
 				die("vis_win_set_opaque");
 			free(rs);
 		}
+	}
+	if (viscomp_w) {
+		/* As model_set_shown() makes it: the bands right of and below the output at 0, 0. */
+		struct vis_rect32 outside[2] = {
+			{ viscomp_w, 0, (uint32_t)(VISCOMP_SCREEN - viscomp_w), (uint32_t)viscomp_h },
+			{ 0, viscomp_h, VISCOMP_SCREEN, (uint32_t)(VISCOMP_SCREEN - viscomp_h) },
+		};
+		struct vis_win *o = vis_win_create(t, NULL, 0, 0, VISCOMP_SCREEN, VISCOMP_SCREEN, 0, 0);
+		if (!o || vis_win_map(o) < 0 || vis_win_set_shape(o, 1, outside, 2) < 0)
+			die("the outside window");
 	}
 	const struct vis_change *c;
 	size_t n;
@@ -302,7 +324,7 @@ static void run(enum vis_gen_kind kind, size_t n, size_t moves, uint64_t seed)
 {
 	struct vis_scene s;
 	vis_scene_init(&s);
-	if (vis_gen(&s, kind, n, seed, 0, 0) < 0)
+	if (vis_gen(&s, kind, n, seed, viscomp_w, viscomp_h) < 0)
 		die("vis_gen");
 	struct medians m = run_scene(s, moves, seed);
 	printf("| %s | %zu | %.2f | %.2f | %.2f | %.2f | %.2f |\n", vis_gen_kind_name(kind), n, m.lib,
@@ -404,14 +426,22 @@ int main(int argc, char **argv)
 			only = strtoul(argv[++i], NULL, 10);
 		else if (!strcmp(argv[i], "--live-from") && i + 1 < argc)
 			live_from = strtoul(argv[++i], NULL, 10);
+		else if (!strcmp(argv[i], "--viscomp") && i + 1 < argc) {
+			if (sscanf(argv[++i], "%dx%d", &viscomp_w, &viscomp_h) != 2 || viscomp_w < 1 ||
+			    viscomp_h < 1 || viscomp_w >= VISCOMP_SCREEN || viscomp_h >= VISCOMP_SCREEN)
+				die("--viscomp WxH: an output of 1 … 16383 pixels a side");
+		}
 		else
 			die("usage: bench-libvis [--kinds K,...] [--sizes N,...] [--moves M] [--seed S]\n"
 			    "       bench-libvis --family COUNT [--min-n N] [--max-n N] [--moves M] "
-			    "[--seed S] [--only K]\n       (either also [--live-from N])");
+			    "[--seed S] [--only K]\n       (either also [--live-from N]; the first also "
+			    "[--viscomp WxH])");
 	}
 	if (moves < 1)
 		die("--moves must be at least 1");
 	if (family) {
+		if (viscomp_w)
+			die("--viscomp: not with --family");
 		if (min_n < 1 || max_n < min_n)
 			die("--min-n must be at least 1 and at most --max-n");
 		run_family(family, min_n, max_n, moves, seed, only);

@@ -266,6 +266,25 @@ ctl move "$aid" "$ax" "$ay" || fail "move A back"
 wait_progress "$vpid $apid" a_is unobscured || fail "A back, not unobscured"
 check_draws "back on the output"
 
+# stats: each output frame's libvis time, and the latency of every cover and uncover above
+# (foot moved over A, A lowered, A moved off the output; and back): counted, not timed.
+stat_count() {
+	sed -n "s/^$1 count=\([0-9]*\) median_us=[0-9.]* p99_us=[0-9.]* max_us=[0-9.]*\$/\1/p" \
+		"$dir/stats.txt"
+}
+ctl stats >"$dir/stats.txt" || fail "stats"
+[ "$(wc -l <"$dir/stats.txt")" -eq 3 ] || fail "stats: not 3 lines: $(cat "$dir/stats.txt")"
+[ "$(stat_count frame)" -gt 0 ] 2>/dev/null || fail "stats: no frame: $(cat "$dir/stats.txt")"
+[ "$(stat_count cover)" -ge 3 ] 2>/dev/null || fail "stats: under 3 covers: $(cat "$dir/stats.txt")"
+[ "$(stat_count uncover)" -ge 3 ] 2>/dev/null ||
+	fail "stats: under 3 uncovers: $(cat "$dir/stats.txt")"
+ctl stats --json 2>/dev/null && fail "stats --json succeeded"
+echo "stats: $(tr '\n' ';' <"$dir/stats.txt")"
+ctl stats --reset >/dev/null || fail "stats --reset"
+ctl stats >"$dir/stats.txt" || fail "stats after --reset"
+[ "$(stat_count cover)" -eq 0 ] 2>/dev/null && [ "$(stat_count uncover)" -eq 0 ] 2>/dev/null ||
+	fail "stats: latencies left after --reset: $(cat "$dir/stats.txt")"
+
 # resize: foot takes the size asked (its cells permitting: it may round down).
 foot_size() {
 	w=$(json_field "$fpid" width) h=$(json_field "$fpid" height)

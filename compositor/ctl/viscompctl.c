@@ -26,7 +26,11 @@ static const char usage[] =
 	"  raise ID        puts the window on top\n"
 	"  lower ID        puts the window at the bottom\n"
 	"  close ID        asks the window's client to close it\n"
-	"  redraw          draws every output whole at its next frame, not only its damage\n";
+	"  redraw          draws every output whole at its next frame, not only its damage\n"
+	"  stats [--reset] viscomp's own timings, one line each: frame (libvis's update and\n"
+	"                  repaint sets in an output frame), cover and uncover (from a move,\n"
+	"                  raise or lower to the first frame callback withheld or sent):\n"
+	"                  NAME count=N median_us=M p99_us=P max_us=X; --reset: then from 0\n";
 
 /* The socket's path: -s, else the environment's. NULL when there is none. */
 static const char *socket_path(const char *given, char *buf, size_t size)

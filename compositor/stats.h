@@ -1,0 +1,49 @@
+/*
+ * What viscomp measures of itself, for `viscompctl stats` (the benchmarks read it): the time of
+ * libvis's work in each output frame, and how long after a move, raise or lower a surface it
+ * covered or uncovered had its frame callbacks withheld or answered.
+ *
+ * Each series keeps its last STATS_SAMPLES samples in a ring (the figures are of those) and
+ * counts every sample it was ever given. A latency is timed from the moment the control command
+ * arrived (stats.change_ns, taken once by the next model update that sees the surface's
+ * visibility flip) to the first output frame after it in which the surface had a frame callback
+ * pending and, covered, was not sent it (withheld) or, uncovered, was. Changes made otherwise
+ * (a client's commit, the pointer) are not timed.
+ */
+#ifndef VISCOMP_STATS_H
+#define VISCOMP_STATS_H
+
+#include <stdint.h>
+
+struct control_reply;
+
+#define STATS_SAMPLES 4096
+
+struct stats_series {
+	uint64_t ns[STATS_SAMPLES]; /* ns[k % STATS_SAMPLES]: the k-th sample, in nanoseconds */
+	uint64_t count; /* samples ever added */
+};
+
+struct stats {
+	/* Per output frame: vis_tree_update() and the vis_tree_repaint() calls of its damage. */
+	struct stats_series frame;
+	struct stats_series cover, uncover; /* from the change to the first callback withheld / sent */
+	uint64_t change_ns; /* when the last move, raise or lower arrived; 0 once attributed */
+};
+
+/* CLOCK_MONOTONIC in nanoseconds. */
+uint64_t stats_now_ns(void);
+
+/* Adds a sample. O(1). */
+void stats_add(struct stats_series *series, uint64_t ns);
+
+/* Forgets every sample (a latency being timed goes on). O(1). */
+void stats_reset(struct stats *stats);
+
+/*
+ * Writes one line a series, "NAME count=N median_us=M p99_us=P max_us=X", N every sample ever
+ * added, the others of the last STATS_SAMPLES (0 when none). O(STATS_SAMPLES log STATS_SAMPLES).
+ */
+void stats_report(const struct stats *stats, struct control_reply *reply);
+
+#endif
