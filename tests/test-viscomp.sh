@@ -60,12 +60,6 @@ ctl() {
 	"$viscompctl" "$@"
 }
 
-# json_field PID FIELD: FIELD of the window of process PID in `list --json`, or nothing.
-json_field() {
-	ctl list --json 2>/dev/null | grep "\"pid\":$1," | head -n 1 |
-		sed -n "s/.*\"$2\":\"\{0,1\}\([^,\"}]*\).*/\1/p"
-}
-
 # The window ID of process PID, in $id once listed.
 listed() {
 	id=$(json_field "$1" id)

@@ -1,4 +1,5 @@
-# What the viscomp tests share (sourced; POSIX sh): progress-following waits (progress.sh), and
+# What the viscomp tests share (sourced; POSIX sh): progress-following waits (progress.sh), a
+# field of `viscompctl list --json` (json_field), and
 # the environment viscomp and its clients run in, under the test's own directory $1: the Wayland
 # sockets, viscompctl's control socket, and LeakSanitizer told of wlroots 0.15's own leak (its
 # output globals are freed on a timer that the display's end never runs: wlr_global_destroy_safe).
@@ -11,4 +12,11 @@ viscomp_env() {
 	export VISCOMP_SOCKET="$1/control.sock"
 	LSAN_OPTIONS="suppressions=$viscomp_here/viscomp-lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
 	export LSAN_OPTIONS
+}
+
+# json_field PID FIELD: FIELD of the (first) window of process PID in `$viscompctl list --json`,
+# or nothing.
+json_field() {
+	"$viscompctl" list --json 2>/dev/null | grep "\"pid\":$1," | head -n 1 |
+		sed -n "s/.*\"$2\":\"\{0,1\}\([^,\"}]*\).*/\1/p"
 }
