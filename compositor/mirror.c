@@ -15,6 +15,11 @@
 /* The most opaque rectangles sent for a surface, as model.c gives libvis. */
 #define MAX_OPAQUE_RECTS 256
 
+/* After visd went away: the first attempt to connect again, and the longest wait between two
+ * (each failed attempt doubles the wait up to it). */
+#define RETRY_FIRST_MS 100
+#define RETRY_MAX_MS 5000
+
 /*
  * One model surface's visd window. Lives from the create request until both the surface is gone
  * (ms NULL) and visd's answer has come (id set, or the create failed), since the answer may come
@@ -33,8 +38,13 @@ struct mirror_win {
 
 struct mirror {
 	struct server *server;
-	struct vis_client *client;
+	char *path;                   /* visd's socket */
+	struct vis_client *client;    /* NULL while visd is away */
 	struct wl_event_source *source;
+	struct wl_event_source *retry; /* the timer that connects again while client is NULL */
+	int retry_ms;                 /* the wait before the next attempt */
+	unsigned attempts;            /* failed attempts since the connection ended */
+	struct wl_event_source *idle; /* a sync due at idle (answers came), or NULL */
 	struct wl_list wins;  /* mirror_win.link */
 	uint32_t outside;     /* the outside's visd window */
 	bool outside_dirty;
@@ -42,17 +52,56 @@ struct mirror {
 	size_t n_order, cap_order;
 };
 
-/* Drops the connection after a failure; viscomp goes on without a mirror. */
+static void win_free(struct mirror_win *mw);
+
+/* Forgets what visd had: its windows went with the connection (they are not retained), and
+ * the answers still awaited will never come. The next connection mirrors everything anew. */
+static void forget(struct mirror *mirror)
+{
+	struct mirror_win *mw, *tmp;
+	wl_list_for_each_safe(mw, tmp, &mirror->wins, link) {
+		if (mw->ms != NULL)
+			mw->ms->mirror = NULL;
+		win_free(mw);
+	}
+	free(mirror->order);
+	mirror->order = NULL;
+	mirror->n_order = mirror->cap_order = 0;
+	mirror->outside = 0;
+}
+
+/* Drops the connection after a failure; viscomp goes on without a mirror and tries to connect
+ * again, first after RETRY_FIRST_MS. */
 static void disconnect(struct mirror *mirror, const char *why)
 {
 	if (mirror->client == NULL)
 		return;
-	wlr_log(WLR_ERROR, "visd mirror: %s: %s; going on without it", why,
-		vis_client_error_message(mirror->client));
+	wlr_log(WLR_ERROR, "visd mirror: %s: %s; going on without it, connecting again (every "
+		"%d ms at first, at most every %d ms)", why, vis_client_error_message(mirror->client),
+		RETRY_FIRST_MS, RETRY_MAX_MS);
 	wl_event_source_remove(mirror->source);
 	mirror->source = NULL;
 	vis_client_destroy(mirror->client);
 	mirror->client = NULL;
+	forget(mirror);
+	mirror->retry_ms = RETRY_FIRST_MS;
+	mirror->attempts = 0;
+	wl_event_source_timer_update(mirror->retry, mirror->retry_ms);
+}
+
+/* A sync at idle: for what visd's answers made possible (a created window to map, place and
+ * stack) when no frame would come to send it. */
+static void sync_idle(void *data)
+{
+	struct mirror *mirror = data;
+	mirror->idle = NULL;
+	mirror_sync(mirror);
+}
+
+static void schedule_sync(struct mirror *mirror)
+{
+	if (mirror->idle == NULL)
+		mirror->idle = wl_event_loop_add_idle(mirror->server->loop, sync_idle, mirror);
 }
 
 /* Polls for writing only while the socket has not taken everything. */
@@ -150,8 +199,11 @@ static void created(void *data, const struct vis_error *err, uint32_t window)
 	if (mw->ms == NULL) {
 		vis_client_destroy_window(mirror->client, window);
 		win_free(mw);
+		return;
 	}
-	/* Else what changed while the create was on its way goes at the next sync. */
+	/* What changed while the create was on its way, its mapping and its place in the stack:
+	 * at the next sync, which an idle desktop would not bring. */
+	schedule_sync(mirror);
 }
 
 /* Asks visd for a window for a surface, with the surface as it is now. */
@@ -279,6 +331,68 @@ void mirror_outside_changed(struct mirror *mirror)
 		mirror->outside_dirty = true;
 }
 
+/*
+ * Connects to visd as its manager and creates the outside; the model's surfaces follow at the
+ * next sync. Synchronous: the handshake and the outside's creation wait for visd's answers.
+ * 0, or -1 with the reason logged at level (the first failure of a series is an error, the
+ * others only the verbose log's).
+ */
+static int attach(struct mirror *mirror, enum wlr_log_importance level)
+{
+	struct vis_client *c = vis_client_connect(mirror->path, VIS_ROLE_MANAGER);
+	if (c == NULL || vis_client_error(c) != 0) {
+		wlr_log(level, "visd mirror: cannot connect to %s as the manager: %s", mirror->path,
+			c ? vis_client_error_message(c) : "no memory");
+		vis_client_destroy(c);
+		return -1;
+	}
+	vis_client_set_error_handler(c, handle_error, mirror);
+	uint32_t width, height;
+	vis_client_screen(c, &width, &height);
+	if (vis_client_create_window(c, VIS_WINDOW_ROOT, 0, 0, width, height, 0, VIS_CREATE_MAP,
+				     &mirror->outside) < 0) {
+		wlr_log(level, "visd mirror: cannot create the outside: %s",
+			vis_client_error_message(c));
+		vis_client_destroy(c);
+		return -1;
+	}
+	mirror->source = wl_event_loop_add_fd(mirror->server->loop, vis_client_fd(c),
+					      WL_EVENT_READABLE, handle_fd, mirror);
+	if (mirror->source == NULL) {
+		wlr_log(level, "visd mirror: cannot watch the connection");
+		vis_client_destroy(c);
+		return -1;
+	}
+	mirror->client = c;
+	mirror->outside_dirty = true;
+	wlr_log(WLR_INFO, "visd mirror: connected to %s (screen %ux%u)", mirror->path, width,
+		height);
+	return 0;
+}
+
+/* The reconnection timer: one attempt; on success the whole model goes to the new visd, else
+ * the next attempt waits twice as long (up to RETRY_MAX_MS). */
+static int retry(void *data)
+{
+	struct mirror *mirror = data;
+	if (mirror->client != NULL)
+		return 0;
+	mirror->attempts++;
+	if (attach(mirror, mirror->attempts == 1 ? WLR_ERROR : WLR_INFO) < 0) {
+		mirror->retry_ms = mirror->retry_ms * 2 < RETRY_MAX_MS ? mirror->retry_ms * 2
+								       : RETRY_MAX_MS;
+		/* Logged before the timer is set: the next attempt's line is at least that late. */
+		wlr_log(WLR_INFO, "visd mirror: attempt %u failed; the next in %d ms",
+			mirror->attempts, mirror->retry_ms);
+		wl_event_source_timer_update(mirror->retry, mirror->retry_ms);
+		return 0;
+	}
+	wlr_log(WLR_ERROR, "visd mirror: connected again to %s after %u attempt%s; mirroring "
+		"every window anew", mirror->path, mirror->attempts, mirror->attempts > 1 ? "s" : "");
+	mirror_sync(mirror);
+	return 0;
+}
+
 struct mirror *mirror_create(struct server *server, const char *path)
 {
 	struct mirror *mirror = calloc(1, sizeof(*mirror));
@@ -286,34 +400,12 @@ struct mirror *mirror_create(struct server *server, const char *path)
 		return NULL;
 	mirror->server = server;
 	wl_list_init(&mirror->wins);
-	mirror->client = vis_client_connect(path, VIS_ROLE_MANAGER);
-	if (mirror->client == NULL || vis_client_error(mirror->client) != 0) {
-		wlr_log(WLR_ERROR, "visd mirror: cannot connect to %s as the manager: %s",
-			path, mirror->client ? vis_client_error_message(mirror->client) : "no memory");
-		vis_client_destroy(mirror->client);
-		free(mirror);
+	mirror->path = strdup(path);
+	mirror->retry = wl_event_loop_add_timer(server->loop, retry, mirror);
+	if (mirror->path == NULL || mirror->retry == NULL || attach(mirror, WLR_ERROR) < 0) {
+		mirror_destroy(mirror);
 		return NULL;
 	}
-	vis_client_set_error_handler(mirror->client, handle_error, mirror);
-	uint32_t width, height;
-	vis_client_screen(mirror->client, &width, &height);
-	if (vis_client_create_window(mirror->client, VIS_WINDOW_ROOT, 0, 0, width, height, 0,
-				     VIS_CREATE_MAP, &mirror->outside) < 0) {
-		wlr_log(WLR_ERROR, "visd mirror: cannot create the outside: %s",
-			vis_client_error_message(mirror->client));
-		vis_client_destroy(mirror->client);
-		free(mirror);
-		return NULL;
-	}
-	mirror->outside_dirty = true;
-	mirror->source = wl_event_loop_add_fd(server->loop, vis_client_fd(mirror->client),
-					      WL_EVENT_READABLE, handle_fd, mirror);
-	if (mirror->source == NULL) {
-		vis_client_destroy(mirror->client);
-		free(mirror);
-		return NULL;
-	}
-	wlr_log(WLR_INFO, "visd mirror: connected to %s (screen %ux%u)", path, width, height);
 	return mirror;
 }
 
@@ -323,13 +415,12 @@ void mirror_destroy(struct mirror *mirror)
 		return;
 	if (mirror->source != NULL)
 		wl_event_source_remove(mirror->source);
+	if (mirror->retry != NULL)
+		wl_event_source_remove(mirror->retry);
+	if (mirror->idle != NULL)
+		wl_event_source_remove(mirror->idle);
 	vis_client_destroy(mirror->client);
-	struct mirror_win *mw, *tmp;
-	wl_list_for_each_safe(mw, tmp, &mirror->wins, link) {
-		if (mw->ms != NULL)
-			mw->ms->mirror = NULL;
-		win_free(mw);
-	}
-	free(mirror->order);
+	forget(mirror);
+	free(mirror->path);
 	free(mirror);
 }

@@ -10,7 +10,11 @@
  * the model once a frame (model_update()), in one batch; visd's states then equal libvis'
  * (given a visd screen at least as large as the output layout).
  *
- * When visd goes away or breaks the connection, viscomp logs it and carries on without a mirror.
+ * When visd goes away or breaks the connection, viscomp logs it, carries on without a mirror (the
+ * model, and so the throttling, does not depend on it) and connects again on its own: first
+ * after 100 ms, then each time waiting twice as long, up to 5 s between attempts. Once connected,
+ * it mirrors its whole model anew, as at the start. The handshake is synchronous (libvisclient
+ * has no other): a visd that accepts the connection but never answers would hold viscomp.
  */
 #ifndef VISCOMP_MIRROR_H
 #define VISCOMP_MIRROR_H
@@ -22,7 +26,8 @@ struct mirror_win;
 struct model_surface;
 struct server;
 
-/* Connects to visd at path as its manager and creates the outside. NULL on failure (logged). */
+/* Connects to visd at path as its manager and creates the outside. NULL on failure (logged):
+ * at the start, visd must be there. */
 struct mirror *mirror_create(struct server *server, const char *path);
 
 /* Disconnects: visd drops the windows (they are not retained). NULL: no-op. */
