@@ -5,9 +5,12 @@
 #include <sys/types.h>
 
 #include <wayland-server-core.h>
+#include <wlr/types/wlr_output.h>
+#include <wlr/types/wlr_output_layout.h>
 #include <wlr/types/wlr_xdg_shell.h>
 
 #include "control.h"
+#include "output.h"
 #include "server.h"
 #include "stack.h" /* vis_state_name(): the names visctl states prints */
 #include "view.h"
@@ -103,6 +106,22 @@ static void list(struct server *server, bool json, struct control_reply *reply)
 	control_reply_printf(reply, "ok\n");
 }
 
+/* outputs: each output's place in the layout and the frames drawn on it: what clients' commits
+ * cost the screen (a covered client's should cost nothing). */
+static void outputs(struct server *server, struct control_reply *reply)
+{
+	struct output *output;
+	wl_list_for_each(output, &server->outputs, link) {
+		struct wlr_box *box = wlr_output_layout_get_box(server->layout, output->wlr_output);
+		if (box == NULL)
+			continue;
+		control_reply_printf(reply, "%s %d,%d %dx%d frames=%llu\n", output->wlr_output->name,
+				     box->x, box->y, box->width, box->height,
+				     (unsigned long long)output->frames);
+	}
+	control_reply_printf(reply, "ok\n");
+}
+
 void control_command_run(struct server *server, int argc, char **argv, struct control_reply *reply)
 {
 	/* When the command arrived: a move, raise or lower is timed from it (stats.h); those made
@@ -119,6 +138,13 @@ void control_command_run(struct server *server, int argc, char **argv, struct co
 			control_reply_printf(reply, "error: usage: list [--json]\n");
 		else
 			list(server, json, reply);
+		return;
+	}
+	if (strcmp(cmd, "outputs") == 0) {
+		if (argc > 1)
+			control_reply_printf(reply, "error: usage: outputs\n");
+		else
+			outputs(server, reply);
 		return;
 	}
 	if (strcmp(cmd, "redraw") == 0) {

@@ -27,6 +27,7 @@ static const char usage[] =
 	"  lower ID        puts the window at the bottom\n"
 	"  close ID        asks the window's client to close it\n"
 	"  redraw          draws every output whole at its next frame, not only its damage\n"
+	"  outputs         the outputs: NAME X,Y WxH frames=N (frames drawn since it came)\n"
 	"  stats [--reset] viscomp's own timings, one line each: frame (libvis's update and\n"
 	"                  repaint sets in an output frame), cover and uncover (from a move,\n"
 	"                  raise or lower to the first frame callback withheld or sent):\n"
