@@ -176,8 +176,13 @@ int model_surface_place(struct model_surface *ms, int32_t x, int32_t y, bool map
 		return -1;
 	}
 	ms->x = x, ms->y = y, ms->width = width, ms->height = height;
-	if (set_opaque(ms) < 0)
+	int opaque = set_opaque(ms);
+	if (opaque < 0)
 		return -1;
+	/* Less opaque, it shows what is below; more, it hides it: the screen changes either way
+	 * (view.c adds no damage for a covered surface's commits, which this may uncover). */
+	if (opaque > 0 && ms->mapped)
+		server_damage_box(model->server, x, y, width, height);
 	if (mapped != ms->mapped) {
 		if ((mapped ? vis_win_map(ms->win) : vis_win_unmap(ms->win)) < 0) {
 			wlr_log_errno(WLR_ERROR, "vis_win_map");

@@ -68,6 +68,9 @@ static void restack(struct model_surface *ms, struct model_surface *ref, bool ab
 		return;
 	}
 	ms->stack_ref = ref, ms->stack_above = above;
+	/* What shows there may have changed: a subsurface put above a sibling that hid it. */
+	if (ms->mapped)
+		server_damage_box(ms->model->server, ms->x, ms->y, ms->width, ms->height);
 }
 
 struct sync {
@@ -146,7 +149,13 @@ void view_surface_committed(struct server *server, struct model_surface *ms)
 	rate_add(&view->commits, now);
 	view->commits_total++;
 	view_sync(view);
-	/* What the client drew, where it shows. */
+	/* What the client drew, where it shows. Not at all where no pixel of it could be seen at
+	 * the last update: a covered client drawing at its own rate would have the screen redraw
+	 * its cover at that rate, for nothing. Whatever uncovers it since damages what it
+	 * uncovers (a move, a resize, an unmap, a restack, an opaque region's change: model.c and
+	 * here), and that repaint draws its buffer as it is then. */
+	if (model_surface_state(ms) == VIS_VISIBILITY_FULLY_OBSCURED)
+		return;
 	pixman_region32_t damage;
 	pixman_region32_init(&damage);
 	wlr_surface_get_effective_damage(ms->surface, &damage);

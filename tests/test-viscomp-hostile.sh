@@ -9,7 +9,8 @@
 #   - flood: a client commits as fast as the socket takes it (100,000 a second and more on an
 #     idle machine), never waiting for frame callbacks. Covered by an opaque window, it gets no
 #     frame callback (its count stays put) while it commits FLOOD (default 50,000) times and W
-#     draws on; uncovered, it gets them again;
+#     draws on; nor does it make viscomp render a frame (with W stopped, none while it commits
+#     20,000 times); uncovered, it gets them again;
 #   - surfaces: one client with 1,000 toplevels, moved through viscompctl into a grid 30 wide:
 #     the 660 on the output unobscured, the 30 across its bottom edge partially obscured, the
 #     310 below it fully obscured, in viscompctl's list and in visd; then killed, all go;
@@ -59,6 +60,8 @@ fail() {
 	exit 1
 }
 
+# A wait whose processes stay busy (a client drawing) gives up after 5 minutes, not meson's 10.
+progress_ceiling=${progress_ceiling:-300}
 . "$(dirname "$0")/viscomp-env.sh"
 viscomp_env "$dir"
 
@@ -226,6 +229,21 @@ rate=$(((commits - c0) * 1000 / (ms - ms0 + 1)))
 	fail "flood: the witness got no frame while the flood ran $(($(date +%s) - t0)) s"
 echo "flood: covered, $((commits - c0)) commits in $((ms - ms0)) ms ($rate a second)," \
 	"frame callbacks $f0 -> $frames; the witness got $((w1 - w0)) frames meanwhile"
+# Nor does the screen redraw for it: with W stopped (SIGSTOP), nothing else draws, and the
+# output draws no frame (viscompctl outputs) while the flooder commits 20,000 times (after 20,000 for a frame W
+# may have asked for before it stopped).
+kill -STOP "$wpid"
+output_frames() {
+	ctl outputs | sed -n 's/.* frames=\([0-9]*\)$/\1/p'
+}
+wait_progress "$vpid $hpid" flood_past $((commits + 20000)) || fail "flood: stopped: $progress_why"
+o0=$(output_frames) c0=$commits
+wait_progress "$vpid $hpid" flood_past $((commits + 20000)) || fail "flood: stopped: $progress_why"
+o1=$(output_frames)
+kill -CONT "$wpid"
+[ "$o1" -eq "$o0" ] ||
+	fail "flood: covered, its $((commits - c0)) commits brought $((o1 - o0)) output frames"
+echo "flood: covered, $((commits - c0)) commits with the witness stopped: output frames $o0 -> $o1"
 ctl lower "$cid" || fail "cover: lower"
 flood_frames_past() {
 	report "$dir/flood.out" && [ "$frames" -gt "$1" ]
