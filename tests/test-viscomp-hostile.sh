@@ -19,6 +19,9 @@
 #     window exactly over the toplevel: in viscompctl and in visd the toplevel and
 #     subsurfaces 1–5 are fully obscured, 6–8 partially (not clipped to their parent); 6–8
 #     keep getting frame callbacks, the others get none; uncovered, all draw again.
+#   - churn: 5,000 toplevels created and destroyed as fast as viscomp configures them (one in
+#     four before it does), and as many subsurfaces of a toplevel that stays: what stays is
+#     all that viscompctl and visd hold of it.
 # After each client, viscompctl lists nothing of it and visd holds no window of it; at the end
 # viscomp has the descriptors it had before any client, and exits 0 (under ASan: no report).
 # Waits follow progress (tests/progress.sh). Usage: test-viscomp-hostile.sh BUILD-DIR. Exits 77
@@ -360,6 +363,26 @@ kill_client "$hpid" "subsurfaces"
 hpid=
 kill_client "$cpid" "cover"
 cpid=
+
+# --- churn: 5,000 toplevels created and destroyed as fast as they are configured (one in four
+# before), with a subsurface of the one that stays in the same turns.
+"$hostile" --churn 5000 >"$dir/churn.out" 2>&1 &
+hpid=$!
+wait_progress "$vpid $hpid" grep -q '^churned 5000$' "$dir/churn.out" ||
+	fail "churn: did not finish: $progress_why: $(tail -n 1 "$dir/churn.out")"
+# What stays: its first toplevel in viscompctl; that and the last subsurface in visd.
+churn_left() {
+	[ "$(ctl list 2>/dev/null | grep -c " pid=$hpid ")" -eq 1 ] &&
+		[ "$("$visctl" -s "$dir/visd.sock" --role observer tree 2>/dev/null |
+			grep -c " 2:0x$(printf %x "$hpid")[0-9a-f]\{8\}\$")" -eq 2 ]
+}
+wait_progress "$vpid $dpid" churn_left ||
+	fail "churn: left $(ctl list | grep -c " pid=$hpid ") windows listed, in visd:$("$visctl" -s "$dir/visd.sock" --role observer tree | grep -c .)"
+check_witness "churn"
+kill_client "$hpid" "churn"
+hpid=
+echo "churn: 5000 toplevels and as many subsurfaces created and destroyed; one toplevel and one" \
+	"subsurface left, in viscompctl and visd"
 
 # The end: the witness goes; viscomp holds the descriptors it held before any client.
 kill_client "$wpid" "witness"

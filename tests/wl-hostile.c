@@ -11,6 +11,11 @@
  *   --surfaces N      N toplevels, each with one opaque buffer
  *   --subsurfaces N   a toplevel with a chain of N subsurfaces, each the child of the one
  *                     before (N deep), desynchronized, each drawing at its own frame pace
+ *   --churn N         one toplevel that stays, and N more toplevels created and destroyed as
+ *                     fast as the compositor configures them (8 at a time, each destroyed as
+ *                     soon as it has committed its buffer, or before it was ever configured,
+ *                     one in four), with a subsurface of the first created and destroyed in
+ *                     the same turns; then "churned N" and it stays
  * --size WxH sets the toplevels' size (default 200x200; 32x32 with --surfaces). Subsurface k
  * (1 … N) is SUB_SIZE square at SUB_STEP, SUB_STEP from its parent's corner: with the defaults,
  * 6, 7 and 8 stick out of the toplevel at its bottom-right corner. Every buffer is XRGB8888 with
@@ -45,7 +50,10 @@
 #define MAX_DEPTH 64
 #define MAX_SURFACES 100000
 
-enum mode { PLAIN, NO_ACK, ACK_ONCE, FLOOD, SURFACES, SUBSURFACES };
+enum mode { PLAIN, NO_ACK, ACK_ONCE, FLOOD, SURFACES, SUBSURFACES, CHURN };
+
+/* The toplevels --churn has at once. */
+#define CHURN_SLOTS 8
 
 struct buffer {
 	struct wl_buffer *wl;
@@ -61,7 +69,7 @@ struct surf {
 	struct buffer buffers[2];
 	int n_buffers, next;
 	int32_t width, height;
-	bool acked_once, drawn, animate;
+	bool acked_once, drawn, animate, no_frames;
 	struct wl_callback *frame;
 	uint64_t frames;
 };
@@ -120,7 +128,7 @@ static void draw(struct surf *s)
 	b->busy = true;
 	wl_surface_attach(s->wl, b->wl, 0, 0);
 	wl_surface_damage_buffer(s->wl, 0, 0, s->width, s->height);
-	if (s->frame == NULL) {
+	if (s->frame == NULL && !s->no_frames) {
 		s->frame = wl_surface_frame(s->wl);
 		wl_callback_add_listener(s->frame, &frame_listener, s);
 	}
@@ -336,10 +344,63 @@ static void flood(struct surf *s)
 	}
 }
 
+/* Destroys a surface and its role objects (not its buffers). */
+static void destroy_surface(struct surf *s)
+{
+	if (s->toplevel != NULL)
+		xdg_toplevel_destroy(s->toplevel);
+	if (s->xdg != NULL)
+		xdg_surface_destroy(s->xdg);
+	if (s->sub != NULL)
+		wl_subsurface_destroy(s->sub);
+	wl_surface_destroy(s->wl);
+	memset(s, 0, sizeof(*s));
+}
+
+/* --churn: toplevels (and a subsurface of the first) created and destroyed as fast as they are
+ * configured; the first toplevel's buffer serves them all. */
+static void churn(int rounds)
+{
+	struct surf slots[CHURN_SLOTS], sub = { 0 };
+	memset(slots, 0, sizeof(slots));
+	struct surf *first = &c.surfs[0];
+	int started = 0, done = 0;
+	while (done < rounds) {
+		for (int i = 0; i < CHURN_SLOTS; i++) {
+			struct surf *s = &slots[i];
+			/* One in four goes before its configure comes. */
+			if (s->wl != NULL && (s->drawn || (started + i) % 4 == 0)) {
+				destroy_surface(s);
+				done++;
+			}
+			if (s->wl == NULL && started < rounds) {
+				s->width = s->height = 32;
+				s->n_buffers = 1;
+				s->buffers[0].wl = first->buffers[0].wl;
+				s->no_frames = true;
+				create_surface(s, NULL, c.n_surfs + started);
+				wl_surface_commit(s->wl);
+				started++;
+			}
+		}
+		if (sub.wl != NULL)
+			destroy_surface(&sub);
+		sub.width = sub.height = first->width;
+		sub.n_buffers = 1;
+		sub.buffers[0].wl = first->buffers[0].wl;
+		sub.no_frames = true;
+		create_surface(&sub, first, 0);
+		draw(&sub);
+		if (wl_display_dispatch(c.display) < 0)
+			die_connection();
+	}
+	printf("churned %d\n", rounds);
+}
+
 static void usage(void)
 {
 	fprintf(stderr, "usage: wl-hostile [--no-ack | --ack-once | --flood | --surfaces N |"
-			" --subsurfaces N] [--size WxH]\n");
+			" --subsurfaces N | --churn N] [--size WxH]\n");
 	exit(1);
 }
 
@@ -360,6 +421,8 @@ int main(int argc, char **argv)
 			c.mode = SURFACES, count = atoi(argv[++i]);
 		else if (strcmp(argv[i], "--subsurfaces") == 0 && i + 1 < argc)
 			c.mode = SUBSURFACES, count = atoi(argv[++i]);
+		else if (strcmp(argv[i], "--churn") == 0 && i + 1 < argc)
+			c.mode = CHURN, count = atoi(argv[++i]);
 		else if (strcmp(argv[i], "--size") == 0 && i + 1 < argc &&
 			 sscanf(argv[++i], "%dx%d", &width, &height) == 2 && width > 0 && height > 0)
 			;
@@ -411,10 +474,15 @@ int main(int argc, char **argv)
 	for (int i = 0; i < c.n_toplevels; i++)
 		wl_surface_commit(c.surfs[i].wl);
 
-	while (!c.ready || c.mode != FLOOD) {
+	while (!c.ready) {
 		if (wl_display_dispatch(c.display) < 0)
 			die_connection();
 	}
-	flood(&c.surfs[0]);
-	return 0;
+	if (c.mode == FLOOD)
+		flood(&c.surfs[0]);
+	if (c.mode == CHURN)
+		churn(count);
+	for (;;)
+		if (wl_display_dispatch(c.display) < 0)
+			die_connection();
 }
