@@ -43,7 +43,7 @@ struct mirror {
 	struct wl_event_source *source;
 	struct wl_event_source *retry; /* the timer that connects again while client is NULL */
 	int retry_ms;                 /* the wait before the next attempt */
-	unsigned attempts;            /* failed attempts since the connection ended */
+	unsigned attempts;            /* attempts since the connection ended */
 	struct wl_event_source *idle; /* a sync due at idle (answers came), or NULL */
 	struct wl_list wins;  /* mirror_win.link */
 	uint32_t outside;     /* the outside's visd window */
