@@ -12,10 +12,11 @@
  *   --subsurfaces N   a toplevel with a chain of N subsurfaces, each the child of the one
  *                     before (N deep), desynchronized, each drawing at its own frame pace
  *   --churn N         one toplevel that stays, and N more toplevels created and destroyed as
- *                     fast as the compositor configures them (8 at a time, each destroyed as
- *                     soon as it has committed its buffer, or before it was ever configured,
- *                     one in four), with a subsurface of the first created and destroyed in
- *                     the same turns; then "churned N" and it stays
+ *                     fast as the compositor takes them, 8 at a time: one in four before its
+ *                     configure comes, one in four as soon as it has committed its buffer, the
+ *                     others once a frame callback says the compositor has shown it (or after
+ *                     CHURN_PATIENCE turns, covered); a subsurface of the first created and
+ *                     destroyed in the same turns; then "churned N" and it stays
  * --size WxH sets the toplevels' size (default 200x200; 32x32 with --surfaces). Subsurface k
  * (1 … N) is SUB_SIZE square at SUB_STEP, SUB_STEP from its parent's corner: with the defaults,
  * 6, 7 and 8 stick out of the toplevel at its bottom-right corner. Every buffer is XRGB8888 with
@@ -52,8 +53,9 @@
 
 enum mode { PLAIN, NO_ACK, ACK_ONCE, FLOOD, SURFACES, SUBSURFACES, CHURN };
 
-/* The toplevels --churn has at once. */
+/* The toplevels --churn has at once, and the turns one waits for a frame callback at most. */
 #define CHURN_SLOTS 8
+#define CHURN_PATIENCE 200
 
 struct buffer {
 	struct wl_buffer *wl;
@@ -97,7 +99,7 @@ static uint64_t now_ms(void)
 /* Says how far it got: commits, each surface's frame callbacks answered, the time since ready. */
 static void report(void)
 {
-	if (c.mode == SURFACES)
+	if (c.mode == SURFACES || c.mode == CHURN)
 		return; /* a thousand counts a line helps no one */
 	printf("commits=%llu frames=", (unsigned long long)c.commits);
 	for (int i = 0; i < c.n_surfs; i++)
@@ -362,14 +364,19 @@ static void destroy_surface(struct surf *s)
 static void churn(int rounds)
 {
 	struct surf slots[CHURN_SLOTS], sub = { 0 };
+	int serial[CHURN_SLOTS], turns[CHURN_SLOTS];
 	memset(slots, 0, sizeof(slots));
 	struct surf *first = &c.surfs[0];
 	int started = 0, done = 0;
 	while (done < rounds) {
 		for (int i = 0; i < CHURN_SLOTS; i++) {
 			struct surf *s = &slots[i];
-			/* One in four goes before its configure comes. */
-			if (s->wl != NULL && (s->drawn || (started + i) % 4 == 0)) {
+			int kind = serial[i] % 4;
+			bool go = kind == 0 || (kind == 1 && s->drawn) ||
+				  (s->drawn && (s->frames > 0 || ++turns[i] > CHURN_PATIENCE));
+			if (s->wl != NULL && go) {
+				if (s->frame != NULL)
+					wl_callback_destroy(s->frame);
 				destroy_surface(s);
 				done++;
 			}
@@ -377,10 +384,10 @@ static void churn(int rounds)
 				s->width = s->height = 32;
 				s->n_buffers = 1;
 				s->buffers[0].wl = first->buffers[0].wl;
-				s->no_frames = true;
 				create_surface(s, NULL, c.n_surfs + started);
 				wl_surface_commit(s->wl);
-				started++;
+				serial[i] = started++;
+				turns[i] = 0;
 			}
 		}
 		if (sub.wl != NULL)
