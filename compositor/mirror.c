@@ -77,8 +77,8 @@ static void disconnect(struct mirror *mirror, const char *why)
 	if (mirror->client == NULL)
 		return;
 	wlr_log(WLR_ERROR, "visd mirror: %s: %s; going on without it, connecting again (every "
-		"%d ms at first, at most every %d ms)", why, vis_client_error_message(mirror->client),
-		RETRY_FIRST_MS, RETRY_MAX_MS);
+		"%d ms at first, at most every %d ms)", why,
+		vis_client_error_message(mirror->client), RETRY_FIRST_MS, RETRY_MAX_MS);
 	wl_event_source_remove(mirror->source);
 	mirror->source = NULL;
 	vis_client_destroy(mirror->client);

@@ -234,8 +234,8 @@ rate=$(((commits - c0) * 1000 / (ms - ms0 + 1)))
 echo "flood: covered, $((commits - c0)) commits in $((ms - ms0)) ms ($rate a second)," \
 	"frame callbacks $f0 -> $frames; the witness got $((w1 - w0)) frames meanwhile"
 # Nor does the screen redraw for it: with W stopped (SIGSTOP), nothing else draws, and the
-# output draws no frame (viscompctl outputs) while the flooder commits 20,000 times (after 20,000 for a frame W
-# may have asked for before it stopped).
+# output draws no frame (viscompctl outputs) while the flooder commits 20,000 times (after
+# 20,000 for a frame W may have asked for before it stopped).
 kill -STOP "$wpid"
 output_frames() {
 	ctl outputs | sed -n 's/.* frames=\([0-9]*\)$/\1/p'
@@ -317,6 +317,12 @@ cid=$id
 ctl move "$hid" 100 100 || fail "subsurfaces: move"
 ctl move "$cid" 100 100 || fail "cover: move"
 ctl raise "$cid" || fail "cover: raise"
+# visd's states of the surfaces 0 (the toplevel) … 8.
+sub_visd() {
+	for sid in $(echo "$sids" | tr , ' '); do
+		printf ' %s' "$(visd_state "$hpid" "$sid")"
+	done
+}
 # The expected states of surface 0 (the toplevel) … 8.
 expect_sub() {
 	if [ "$1" -ge 6 ]; then echo partially-obscured; else echo fully-obscured; fi
@@ -330,7 +336,7 @@ sub_states() {
 	done
 }
 wait_progress "$vpid $dpid" sub_states ||
-	fail "subsurfaces: viscompctl says $(json_field "$hpid" state); visd:$(for sid in $(echo "$sids" | tr , ' '); do printf ' %s' "$(visd_state "$hpid" "$sid")"; done)"
+	fail "subsurfaces: viscompctl says $(json_field "$hpid" state); visd:$(sub_visd)"
 # Frame callbacks: 6–8 go on (by 30), 0–5 stop. What was answered before the cover came has
 # arrived once 8 has two more.
 sub_past() {
@@ -352,7 +358,7 @@ for s in 0 1 2 3 4 5; do
 	[ "$f" = "$was" ] || fail "subsurfaces: $s is covered but got frames: $before -> $frames"
 done
 echo "subsurfaces: covered, frames $before -> $frames (toplevel, 1 … 8); states in visd:" \
-	"$(for sid in $(echo "$sids" | tr , ' '); do printf ' %s' "$(visd_state "$hpid" "$sid")"; done)"
+	"$(sub_visd)"
 ctl lower "$cid" || fail "cover: lower"
 for s in 0 1 2 3 4 5; do
 	frame "$s"
@@ -382,7 +388,8 @@ churn_left() {
 			grep -c " 2:0x$(printf %x "$hpid")[0-9a-f]\{8\}\$")" -eq 2 ]
 }
 wait_progress "$vpid $dpid" churn_left ||
-	fail "churn: left $(ctl list | grep -c " pid=$hpid ") windows listed, in visd:$("$visctl" -s "$dir/visd.sock" --role observer tree | grep -c .)"
+	fail "churn: $(ctl list | grep -c " pid=$hpid ") windows listed;" \
+		"visd holds $("$visctl" -s "$dir/visd.sock" --role observer tree | grep -c .)"
 check_witness "churn"
 kill_client "$hpid" "churn"
 hpid=

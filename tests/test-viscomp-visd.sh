@@ -195,8 +195,14 @@ wait_progress "$vpid" attempts 4 || fail "fewer than 4 attempts to connect again
 grep 'visd mirror: attempt [0-9]* failed' "$dir/viscomp.log" |
 	sed -n 's/^\([0-9]*\):\([0-9]*\):\([0-9]*\)\.\([0-9]*\) .* the next in \([0-9]*\) ms$/\1 \2 \3 \4 \5/p' |
 	awk '{ t = (($1 * 60 + $2) * 60 + $3) * 1000 + $4
-	       if (NR > 1 && t - last < wait) { print "attempt " NR " came " t - last " ms after the one before, not " wait; bad = 1 }
-	       if (NR > 1 && $5 < wait) { print "the wait shrank from " wait " to " $5 " ms"; bad = 1 }
+	       if (NR > 1 && t - last < wait) {
+		       print "attempt " NR " came " t - last " ms after the one before, not " wait
+		       bad = 1
+	       }
+	       if (NR > 1 && $5 < wait) {
+		       print "the wait shrank from " wait " to " $5 " ms"
+		       bad = 1
+	       }
 	       last = t; wait = $5 }
 	     END { exit bad }' >"$dir/backoff" || fail "$(cat "$dir/backoff")"
 echo "visd gone: $(grep -c 'visd mirror: attempt [0-9]* failed' "$dir/viscomp.log") attempts so far," \

@@ -268,7 +268,8 @@ static void create_buffers(void)
 		struct surf *s = &c.surfs[i];
 		size_t n = (size_t)s->width * (size_t)s->height;
 		for (int k = 0; k < s->n_buffers; k++) {
-			uint32_t colour = 0xff000000u | ((uint32_t)(i * 0x3b5a7 + k * 0x101010) & 0xffffffu);
+			uint32_t rgb = (uint32_t)(i * 0x3b5a7 + k * 0x101010) & 0xffffffu;
+			uint32_t colour = 0xff000000u | rgb;
 			for (size_t p = 0; p < n; p++)
 				pixels[offset / 4 + p] = colour;
 			s->buffers[k].wl = wl_shm_pool_create_buffer(pool, (int32_t)offset, s->width,
