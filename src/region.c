@@ -105,6 +105,12 @@ static uint64_t ilog2(uint64_t x)
  */
 #define EXTRAPOLATION_MAX 2048
 
+/*
+ * A forecast speaks for the next HORIZON times the windows it was measured on at most, and the
+ * hand-over is taken when the work it forecasts for them alone exceeds the rival's: a sure sign.
+ */
+#define HORIZON 8
+
 struct checkpoint {
 	size_t k;        /* windows walked */
 	size_t added;    /* windows added to the union among them */
@@ -297,7 +303,8 @@ static bool forecast_exceeds(struct forecast *f, pixman_region32_t *above, size_
 		f->base++;
 	if (f->count > 0 && f->at[f->base].k <= k / 2) {
 		b = &f->at[f->base];
-		rest = rest_of_walk(b, &now, (double)(n - k));
+		double h = (double)HORIZON * (double)k;
+		rest = rest_of_walk(b, &now, (double)(n - k) < h ? (double)(n - k) : h);
 	}
 	if (f->rival.sharpen != NULL &&
 	    (rest > (double)f->rival.floor || work > f->rival.floor)) {
