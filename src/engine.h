@@ -84,9 +84,10 @@ int vis_region_compute_against(const struct vis_stack *stack, uint8_t *states,
 int vis_brute_compute(const struct vis_stack *stack, uint8_t *states);
 
 /*
- * The region method while the forecast of its remaining work stays within the gmv-heap sweep's
- * cost, the sweep past that (auto.c). O(n log² n) time in the worst case (the region method gives
- * up by twice the sweep's estimated cost); the region method's time when that is cheaper.
+ * The region method while the forecast of its work over the next 8 times the windows walked stays
+ * within the gmv-heap sweep's cost, the sweep past that (auto.c). O(n log² n) time in the worst
+ * case (the region method gives up by twice the sweep's estimated cost); the region method's time
+ * when that is cheaper.
  */
 int vis_auto_compute(const struct vis_stack *stack, uint8_t *states);
 

@@ -105,15 +105,26 @@ static uint64_t ilog2(uint64_t x)
  */
 #define EXTRAPOLATION_MAX 2048
 
+/*
+ * A forecast speaks for the next HORIZON times the windows it was measured on at most, and the
+ * hand-over is taken when the work it forecasts for them alone exceeds the rival's: a sure sign.
+ */
+#define HORIZON 8
+
 struct checkpoint {
-	size_t k;     /* windows walked */
-	size_t added; /* windows added to the union among them */
-	double r, q;  /* the union's boxes and its uncovered share */
+	size_t k;        /* windows walked */
+	size_t added;    /* windows added to the union among them */
+	double r;        /* the union's boxes */
+	double q, ql;    /* the uncovered share of the union's extents, of the landing area */
+	double area;     /* the union's area */
+	double laid;     /* the areas of the windows added, summed */
 };
 
 struct forecast {
 	const struct vis_stack *stack;
 	struct vis_rival rival; /* the other method's cost, in units of work */
+	const pixman_box32_t *boxes; /* the walk's boxes, if it has its own */
+	pixman_box32_t area;    /* where windows can land (landing_area()), once count > 0 */
 	size_t k_next;          /* the next checkpoint: windows walked, */
 	uint64_t work_next;     /* or work done */
 	size_t count, base;     /* checkpoints so far; the latest at or before half the current k */
@@ -121,20 +132,63 @@ struct forecast {
 	struct checkpoint at[FORECAST_MAX];
 };
 
-/* The part of the union's extents that the union does not cover, in [0, 1]. O(r). */
-static double uncovered(pixman_region32_t *above)
+/*
+ * The area windows can land on, in the walk's coordinates: the screen, or without one the hull of
+ * every window, made at the first forecast (O(n)). A union's own extents would not do: a
+ * cascade's grow with it, so the part of them it leaves uncovered never shrinks however much of
+ * the area it has covered, and its first round, every window added, looks like the grid.
+ */
+static pixman_box32_t landing_area(const struct vis_stack *stack, const pixman_box32_t *boxes)
 {
-	const pixman_box32_t *e = pixman_region32_extents(above);
-	double hull = (double)((int64_t)e->x2 - e->x1) * (double)((int64_t)e->y2 - e->y1);
-	double area = 0;
-	int nb;
-	const pixman_box32_t *b = pixman_region32_rectangles(above, &nb);
+	pixman_box32_t h = { INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN };
+
+	if (stack->has_screen && boxes == NULL)
+		return (pixman_box32_t){ 0, 0, (int32_t)stack->screen_w, (int32_t)stack->screen_h };
+	for (size_t i = 0; i < stack->n; i++) {
+		pixman_box32_t b;
+		if (boxes != NULL) {
+			b = boxes[i];
+		} else {
+			struct vis_box c = vis_stack_clip(stack, i);
+			b = (pixman_box32_t){ (int32_t)c.x1, (int32_t)c.y1, (int32_t)c.x2,
+					      (int32_t)c.y2 };
+		}
+		if (b.x1 >= b.x2 || b.y1 >= b.y2)
+			continue;
+		h.x1 = b.x1 < h.x1 ? b.x1 : h.x1;
+		h.y1 = b.y1 < h.y1 ? b.y1 : h.y1;
+		h.x2 = b.x2 > h.x2 ? b.x2 : h.x2;
+		h.y2 = b.y2 > h.y2 ? b.y2 : h.y2;
+	}
+	return h;
+}
+
+/* A box's area. */
+static double box_area(const pixman_box32_t *b)
+{
+	return (double)((int64_t)b->x2 - b->x1) * (double)((int64_t)b->y2 - b->y1);
+}
+
+/* The part of box e that the union, of the given area inside it, does not cover: in [0, 1]. */
+static double uncovered(double area, const pixman_box32_t *e)
+{
+	double hull = box_area(e);
 
 	if (hull <= 0)
 		return 1;
-	for (int i = 0; i < nb; i++)
-		area += (double)((int64_t)b[i].x2 - b[i].x1) * (double)((int64_t)b[i].y2 - b[i].y1);
 	return area >= hull ? 0 : 1 - area / hull;
+}
+
+/* The union's area. O(r). */
+static double union_area(pixman_region32_t *above)
+{
+	int nb;
+	const pixman_box32_t *b = pixman_region32_rectangles(above, &nb);
+	double area = 0;
+
+	for (int i = 0; i < nb; i++)
+		area += box_area(&b[i]);
+	return area;
 }
 
 /* Σ e^-at over the m windows to come, as an integral: (1 - e^-am) / a, m when a = 0. */
@@ -156,12 +210,25 @@ static double rest_of_walk(const struct checkpoint *b, const struct checkpoint *
 	double rho = now->r > b->r ? (now->r - b->r) / dk : 0;
 	double lambda, grown;
 
-	if (now->q <= 0 || share <= 0)
+	if (now->q <= 0 || now->ql <= 0 || share <= 0)
 		lambda = INFINITY;
 	else if (now->q < b->q)
 		lambda = log(b->q / now->q) / dk;
 	else
 		lambda = 0;
+	/*
+	 * A union also closes when the windows added bring it little new area, (1 - nu) of their
+	 * own: they are landing on it (a cascade's overlapping windows), and once it covers the
+	 * area windows land on, it holds the later ones. Its extents cannot show that, growing with
+	 * it (a cascade's first round, all added, would look like the grid), so the closing is
+	 * measured on the landing area, weighted by 1 - nu: windows that lay new ground (the
+	 * grid's bars) keep it from counting at all.
+	 */
+	double laid = now->laid - b->laid;
+	double nu = laid > 0 ? (now->area - b->area) / laid : 1;
+	nu = nu < 0 ? 0 : nu > 1 ? 1 : nu;
+	if (!isinf(lambda) && now->ql < b->ql && (1 - nu) * log(b->ql / now->ql) / dk > lambda)
+		lambda = (1 - nu) * log(b->ql / now->ql) / dk;
 	/*
 	 * The share added is itself a measure of coverage: had windows been landing on the union
 	 * at rate λ since the top, it would be e^-λk. A union that holds most windows already (a
@@ -202,7 +269,8 @@ static bool many_windows(const struct vis_stack *stack, size_t from, size_t to)
 }
 
 /*
- * A checkpoint after k of n windows, added of them added to the union, work units in all:
+ * A checkpoint after k of n windows, added of them added to the union (laid their areas summed),
+ * work units in all:
  * returns whether the rest is predicted to cost more than the rival, or the work done has passed
  * twice the rival (a forecast can be wrong: this bounds what trusting it can cost), and sets the
  * next checkpoint, no later than that bound. A rival that is only a bound is sharpened once the
@@ -214,23 +282,29 @@ static bool many_windows(const struct vis_stack *stack, size_t from, size_t to)
  * and a late forecast can be a union's passing jump in boxes.
  */
 static bool forecast_exceeds(struct forecast *f, pixman_region32_t *above, size_t k, size_t n,
-			     size_t added, uint64_t work)
+			     size_t added, double laid, uint64_t work)
 {
 	struct checkpoint now = {
 		.k = k,
 		.added = added,
 		.r = (double)pixman_region32_n_rects(above),
-		.q = uncovered(above),
+		.area = union_area(above),
+		.laid = laid,
 	};
 	const struct checkpoint *b = NULL;
 	double rest = 0;
 	bool over = false;
 
+	if (f->count == 0)
+		f->area = landing_area(f->stack, f->boxes);
+	now.q = uncovered(now.area, pixman_region32_extents(above));
+	now.ql = uncovered(now.area, &f->area);
 	while (f->base + 1 < f->count && f->at[f->base + 1].k <= k / 2)
 		f->base++;
 	if (f->count > 0 && f->at[f->base].k <= k / 2) {
 		b = &f->at[f->base];
-		rest = rest_of_walk(b, &now, (double)(n - k));
+		double h = (double)HORIZON * (double)k;
+		rest = rest_of_walk(b, &now, (double)(n - k) < h ? (double)(n - k) : h);
 	}
 	if (f->rival.sharpen != NULL &&
 	    (rest > (double)f->rival.floor || work > f->rival.floor)) {
@@ -274,10 +348,13 @@ static int walk(const struct vis_stack *stack, const pixman_box32_t *boxes, uint
 	pixman_region32_t regions[2], *above = &regions[0], *spare = &regions[1];
 	uint64_t work = 0;
 	size_t added = 0;
+	double laid = 0;
 	int ret = 0;
 
 	pixman_region32_init(above);
 	pixman_region32_init(spare);
+	if (f != NULL)
+		f->boxes = boxes;
 	for (size_t i = stack->n; i-- > 0;) {
 		pixman_box32_t box;
 
@@ -291,7 +368,7 @@ static int walk(const struct vis_stack *stack, const pixman_box32_t *boxes, uint
 			box.y2 = (int32_t)b.y2;
 		}
 		if (f != NULL && (stack->n - 1 - i >= f->k_next || work >= f->work_next) &&
-		    forecast_exceeds(f, above, stack->n - 1 - i, stack->n, added, work)) {
+		    forecast_exceeds(f, above, stack->n - 1 - i, stack->n, added, laid, work)) {
 			ret = 1;
 			break;
 		}
@@ -328,6 +405,7 @@ static int walk(const struct vis_stack *stack, const pixman_box32_t *boxes, uint
 			continue; /* it hides nothing: the union above stays */
 		work += boxes_above;
 		added++;
+		laid += box_area(&box);
 		/* union_rect builds its one-box operand on the stack: no allocation for it. */
 		if (!pixman_region32_union_rect(spare, above, box.x1, box.y1,
 						(unsigned)(box.x2 - box.x1),
