@@ -312,7 +312,7 @@ ctl stats >"$dir/stats.txt" || fail "stats after --reset"
 # none (colors.alpha); weston's toolkit clients (weston-terminal, …) inset theirs by their
 # theme's margin and corner radius, figures of the theme, and only for opaque widgets. Its
 # buffer is A's box grown by the margin on every side, so that its opaque inside can lie
-# exactly over A. foot goes out of the way first.
+# exactly over A. foot goes out of the way first; away from A, S lies over foot alone.
 margin=32
 ctl move "$fid" 290 0 || fail "move foot away"
 "$hostile" --shadow "$margin" --size $((aw + 2 * margin))x$((ah + 2 * margin)) \
@@ -321,7 +321,7 @@ spid=$!
 wait_progress "$vpid $spid" listed "$spid" || fail "the shadowed cover S not listed: $progress_why"
 sid=$id
 ctl raise "$sid" || fail "raise S"
-ctl move "$sid" 700 250 || fail "move S away"
+ctl move "$sid" 600 250 || fail "move S away"
 wait_progress "$vpid $apid" a_is unobscured || fail "A not unobscured beside S"
 
 # The margin alone over A's left 16 columns, the inside over the rest: S's buffer covers A
@@ -349,7 +349,7 @@ uncover_timed() {
 ctl stats --reset >/dev/null || fail "stats --reset"
 c0=$(json_field "$apid" commits_total)
 kill -STOP "$apid"
-ctl move "$sid" 700 250 || { kill -CONT "$apid"; fail "move S away again"; }
+ctl move "$sid" 600 250 || { kill -CONT "$apid"; fail "move S away again"; }
 wait_progress "$vpid" uncover_timed
 timed=$?
 kill -CONT "$apid"
