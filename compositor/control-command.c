@@ -197,7 +197,7 @@ void control_command_run(struct server *server, int argc, char **argv, struct co
 					     MODEL_SCREEN_SIZE, MODEL_SCREEN_SIZE);
 			return;
 		}
-		server->stats.change_ns = arrived;
+		stats_mark_change(&server->stats, arrived);
 		view_move(view, a, b);
 	} else if (strcmp(cmd, "resize") == 0) {
 		if (a < 1 || b < 1 || a > MODEL_SCREEN_SIZE || b > MODEL_SCREEN_SIZE) {
@@ -207,10 +207,10 @@ void control_command_run(struct server *server, int argc, char **argv, struct co
 		}
 		view_resize(view, a, b);
 	} else if (strcmp(cmd, "raise") == 0) {
-		server->stats.change_ns = arrived;
+		stats_mark_change(&server->stats, arrived);
 		view_raise(view);
 	} else if (strcmp(cmd, "lower") == 0) {
-		server->stats.change_ns = arrived;
+		stats_mark_change(&server->stats, arrived);
 		view_lower(view);
 	} else {
 		view_close(view);

@@ -263,6 +263,7 @@ int model_update(struct model *model)
 			  changes[i].state == VIS_VISIBILITY_PARTIALLY_OBSCURED;
 		if (is != was && stats->change_ns != 0) {
 			ms->flip_ns = stats->change_ns;
+			ms->flip_frames = stats->change_frames;
 			ms->flip_covered = !is;
 		}
 		/* Its callbacks waited while nothing of it could be seen: answer them now. */

@@ -56,8 +56,10 @@ struct model_surface {
 	bool stack_above;
 	struct mirror_win *mirror; /* its visd window (mirror.c), or NULL */
 	/* A visibility flip a control command made, not yet timed (stats.h): when the command
-	 * arrived (0: none) and whether the surface was covered (else uncovered). */
+	 * arrived (0: none), the output frames handled then, and whether the surface was covered
+	 * (else uncovered). */
 	uint64_t flip_ns;
+	uint64_t flip_frames;
 	bool flip_covered;
 };
 

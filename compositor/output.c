@@ -148,7 +148,11 @@ static void time_flip(struct stats *stats, struct model_surface *ms, bool sent)
 {
 	if (ms->flip_ns == 0 || ms->flip_covered == sent)
 		return;
-	stats_add(ms->flip_covered ? &stats->cover : &stats->uncover, stats_now_ns() - ms->flip_ns);
+	uint64_t frames = stats->frames - ms->flip_frames;
+	if (frames > UINT32_MAX)
+		frames = UINT32_MAX;
+	stats_add_latency(ms->flip_covered ? &stats->cover : &stats->uncover,
+			  stats_now_ns() - ms->flip_ns, (uint32_t)frames);
 	ms->flip_ns = 0;
 }
 
@@ -192,6 +196,7 @@ static void handle_frame(struct wl_listener *listener, void *data)
 	struct wlr_box box;
 	if (!output_box(output, &box))
 		return;
+	server->stats.frames++; /* this frame is the count's (stats.h) */
 	/* States first: both what to draw and who gets a frame callback follow from them. */
 	model_update(&server->model);
 	uint64_t work_ns = server->model.update_ns;

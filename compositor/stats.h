@@ -8,7 +8,10 @@
  * arrived (stats.change_ns, taken once by the next model update that sees the surface's
  * visibility flip) to the first output frame after it in which the surface had a frame callback
  * pending and, covered, was not sent it (withheld) or, uncovered, was. Changes made otherwise
- * (a client's commit, the pointer) are not timed.
+ * (a client's commit, the pointer) are not timed. Each latency is also counted in output frames:
+ * the frames handled (stats.frames) from the command's arrival to that frame, that frame
+ * included: 1 when it was the first frame after the command. Frames of every output count, so
+ * with several outputs the count is the sum of theirs.
  */
 #ifndef VISCOMP_STATS_H
 #define VISCOMP_STATS_H
@@ -21,6 +24,7 @@ struct control_reply;
 
 struct stats_series {
 	uint64_t ns[STATS_SAMPLES]; /* ns[k % STATS_SAMPLES]: the k-th sample, in nanoseconds */
+	uint32_t frames[STATS_SAMPLES]; /* and in output frames (latencies only; else 0) */
 	uint64_t count; /* samples ever added */
 };
 
@@ -29,6 +33,8 @@ struct stats {
 	struct stats_series frame;
 	struct stats_series cover, uncover; /* from the change to the first callback withheld / sent */
 	uint64_t change_ns; /* when the last move, raise or lower arrived; 0 once attributed */
+	uint64_t frames; /* output frames handled so far, every output's (output.c) */
+	uint64_t change_frames; /* frames when the last move, raise or lower arrived */
 };
 
 /* CLOCK_MONOTONIC in nanoseconds. */
@@ -37,12 +43,20 @@ uint64_t stats_now_ns(void);
 /* Adds a sample. O(1). */
 void stats_add(struct stats_series *series, uint64_t ns);
 
+/* Adds a latency: ns, and the output frames it took (1: the first frame after the change). O(1). */
+void stats_add_latency(struct stats_series *series, uint64_t ns, uint32_t frames);
+
+/* A move, raise or lower arrived at ns: its visibility flips are timed from it. O(1). */
+void stats_mark_change(struct stats *stats, uint64_t ns);
+
 /* Forgets every sample (a latency being timed goes on). O(1). */
 void stats_reset(struct stats *stats);
 
 /*
  * Writes one line a series, "NAME count=N median_us=M p99_us=P max_us=X", N every sample ever
- * added, the others of the last STATS_SAMPLES (0 when none). O(STATS_SAMPLES log STATS_SAMPLES).
+ * added, the others of the last STATS_SAMPLES (0 when none); the latencies' lines (cover,
+ * uncover) end with " max_frames=F", the most output frames of those samples.
+ * O(STATS_SAMPLES log STATS_SAMPLES).
  */
 void stats_report(const struct stats *stats, struct control_reply *reply);
 

@@ -9,6 +9,12 @@
 #     fall to 0, its commits stop, and its process uses no more CPU time (/proc/PID/stat) while
 #     W draws 120 frames;
 #   - uncovered (or raised), A draws again; off the output, it stops as when covered;
+#   - uncovered, A's frame callback is sent within the first two output frames viscomp handles
+#     after the command (viscompctl stats: max_frames of every uncover), even while A is stopped
+#     (SIGSTOP), and A commits again;
+#   - under a cover with a client-side shadow (tests/wl-hostile --shadow: translucent in a margin,
+#     its opaque region the buffer inset by it), A keeps drawing while the margin alone lies over
+#     part of it, though the cover's buffer covers it wholly; under the opaque inside, it stops;
 #   - what grim takes of the screen (screencopy) shows it: foot where it covers A, A where
 #     nothing does, the background where nothing is;
 #   - visd, which viscomp mirrors its windows into, says A's state as viscompctl does each time.
@@ -21,8 +27,9 @@ viscomp=$build/compositor/viscomp
 viscompctl=$build/compositor/ctl/viscompctl
 visd=$build/daemon/visd
 visctl=$build/client/visctl/visctl
+hostile=$build/tests/wl-hostile
 [ -x "$viscomp" ] || { echo "$viscomp not built: skipped"; exit 77; }
-for prog in "$viscompctl" "$visd" "$visctl"; do
+for prog in "$viscompctl" "$visd" "$visctl" "$hostile"; do
 	[ -x "$prog" ] || { echo "$prog not built"; exit 1; }
 done
 for prog in weston-simple-shm foot grim; do
@@ -31,12 +38,13 @@ done
 
 dir=$(mktemp -d "${TMPDIR:-/tmp}/test-viscomp.XXXXXX") || exit 1
 chmod 700 "$dir"
-dpid= vpid= apid= wpid= fpid=
+dpid= vpid= apid= wpid= fpid= spid=
 cleanup() {
-	for pid in $fpid $apid $wpid $vpid $dpid; do
+	[ -z "$apid" ] || kill -CONT "$apid" 2>/dev/null # stopped, it would not end
+	for pid in $spid $fpid $apid $wpid $vpid $dpid; do
 		kill "$pid" 2>/dev/null
 	done
-	for pid in $fpid $apid $wpid $vpid $dpid; do
+	for pid in $spid $fpid $apid $wpid $vpid $dpid; do
 		wait "$pid" 2>/dev/null
 	done
 	rm -rf "$dir"
@@ -207,6 +215,9 @@ check_stopped() {
 		"+$((u1 - u0)) us while W drew 120 frames"
 }
 
+# The latencies from here on are A's alone: the clients' placement above may have covered and
+# uncovered one that had no frame callback pending, whose first callback then waits for it.
+ctl stats --reset >/dev/null || fail "stats --reset before the steps"
 check_draws "uncovered"
 
 ctl move "$fid" $((ax + aw / 2)) $((ay + ah / 2)) || fail "move foot over A's corner"
@@ -262,9 +273,25 @@ check_draws "back on the output"
 
 # stats: each output frame's libvis time, and the latency of every cover and uncover above
 # (foot moved over A, A lowered, A moved off the output; and back): counted, not timed.
+# A line: NAME count=N median_us=M p99_us=P max_us=X, and on cover and uncover max_frames=F.
+stat_head='count=\([0-9]*\) median_us=[0-9.]* p99_us=[0-9.]* max_us=[0-9.]*'
 stat_count() {
-	sed -n "s/^$1 count=\([0-9]*\) median_us=[0-9.]* p99_us=[0-9.]* max_us=[0-9.]*\$/\1/p" \
-		"$dir/stats.txt"
+	sed -n "s/^$1 $stat_head\( max_frames=[0-9]*\)\{0,1\}\$/\1/p" "$dir/stats.txt"
+}
+# The output frames the slowest of the line's latencies took.
+stat_frames() {
+	sed -n "s/^$1 $stat_head max_frames=\([0-9]*\)\$/\2/p" "$dir/stats.txt"
+}
+# Uncovered, A's frame callback went out within the first two output frames viscomp handled
+# after the command (1: the first). Counted in viscomp's frames, which no slow client delays: A
+# was stopped with its callback pending, and viscomp sends it in the first frame whose update
+# sees A visible. (A cover's frames are not checked: the first frame in which A has a callback
+# pending to withhold depends on how fast A answered the last one.)
+check_uncover_frames() {
+	f=$(stat_frames uncover)
+	[ -n "$f" ] && [ "$f" -ge 1 ] && [ "$f" -le 2 ] && return 0
+	lines=$(tr '\n' ';' <"$dir/stats.txt")
+	fail "$1: A's frame callback not within the first 2 output frames after the uncover: $lines"
 }
 ctl stats >"$dir/stats.txt" || fail "stats"
 [ "$(wc -l <"$dir/stats.txt")" -eq 3 ] || fail "stats: not 3 lines: $(cat "$dir/stats.txt")"
@@ -272,12 +299,70 @@ ctl stats >"$dir/stats.txt" || fail "stats"
 [ "$(stat_count cover)" -ge 3 ] 2>/dev/null || fail "stats: under 3 covers: $(cat "$dir/stats.txt")"
 [ "$(stat_count uncover)" -ge 3 ] 2>/dev/null ||
 	fail "stats: under 3 uncovers: $(cat "$dir/stats.txt")"
+check_uncover_frames "stats"
 ctl stats --json 2>/dev/null && fail "stats --json succeeded"
 echo "stats: $(tr '\n' ';' <"$dir/stats.txt")"
 ctl stats --reset >/dev/null || fail "stats --reset"
 ctl stats >"$dir/stats.txt" || fail "stats after --reset"
 [ "$(stat_count cover)" -eq 0 ] 2>/dev/null && [ "$(stat_count uncover)" -eq 0 ] 2>/dev/null ||
 	fail "stats: latencies left after --reset: $(cat "$dir/stats.txt")"
+
+# A cover with a client-side shadow: wl-hostile --shadow, not a real client, because the test
+# must know where the opaque region lies. foot sets its opaque region to the whole window or
+# none (colors.alpha); weston's toolkit clients (weston-terminal, …) inset theirs by their
+# theme's margin and corner radius, figures of the theme, and only for opaque widgets. Its
+# buffer is A's box grown by the margin on every side, so that its opaque inside can lie
+# exactly over A. foot goes out of the way first; away from A, S lies over foot alone.
+margin=32
+ctl move "$fid" 290 0 || fail "move foot away"
+"$hostile" --shadow "$margin" --size $((aw + 2 * margin))x$((ah + 2 * margin)) \
+	>"$dir/shadow.log" 2>&1 &
+spid=$!
+wait_progress "$vpid $spid" listed "$spid" || fail "the shadowed cover S not listed: $progress_why"
+sid=$id
+ctl raise "$sid" || fail "raise S"
+ctl move "$sid" 600 250 || fail "move S away"
+wait_progress "$vpid $apid" a_is unobscured || fail "A not unobscured beside S"
+
+# The margin alone over A's left 16 columns, the inside over the rest: S's buffer covers A
+# wholly, its opaque region does not. A keeps drawing (a compositor that took the buffer for
+# opaque would say A is fully obscured).
+a_covered() {
+	! a_is unobscured
+}
+ctl move "$sid" $((ax - margin + 16)) $((ay - margin)) || fail "move S's margin over A"
+wait_progress "$vpid $apid" a_covered || fail "A not covered by S"
+a_is partially-obscured ||
+	fail "under S's margin: A is $(json_field "$apid" state), not partially-obscured"
+check_draws "under the shadow's margin"
+
+# The inside exactly over A: no pixel of A shows; A stops.
+ctl move "$sid" $((ax - margin)) $((ay - margin)) || fail "move S's inside over A"
+check_stopped "under the shadow's inside"
+
+# Moved away: A's frame callback within two output frames, and A draws again. A is stopped
+# (SIGSTOP) meanwhile, the slowest of clients: sending the callback is viscomp's part alone, so
+# it must come as soon; A's commit just has to follow once A goes on.
+uncover_timed() {
+	"$viscompctl" stats >"$dir/stats.txt" && [ "$(stat_count uncover)" -ge 1 ] 2>/dev/null
+}
+ctl stats --reset >/dev/null || fail "stats --reset"
+c0=$(json_field "$apid" commits_total)
+kill -STOP "$apid"
+ctl move "$sid" 600 250 || { kill -CONT "$apid"; fail "move S away again"; }
+wait_progress "$vpid" uncover_timed
+timed=$?
+kill -CONT "$apid"
+[ "$timed" -eq 0 ] || fail "stats: S moved away, no uncover timed: $(tr '\n' ';' <"$dir/stats.txt")"
+check_uncover_frames "S moved away"
+wait_progress "$vpid $apid" a_commits_past "$c0" ||
+	fail "S moved away: A does not draw: $progress_why"
+echo "S moved away: A's callback within $(stat_frames uncover) output frame(s), A commits again;" \
+	"stats: $(tr '\n' ';' <"$dir/stats.txt")"
+check_draws "S moved away"
+kill "$spid"
+wait "$spid" 2>/dev/null
+spid=
 
 # resize: foot takes the size asked (its cells permitting: it may round down).
 foot_size() {

@@ -17,10 +17,14 @@
  *                     others once a frame callback says the compositor has shown it (or after
  *                     CHURN_PATIENCE turns, covered); a subsurface of the first created and
  *                     destroyed in the same turns; then "churned N" and it stays
+ *   --shadow M        one toplevel drawn once like a window with a client-side shadow: its
+ *                     buffer (ARGB8888) translucent black (alpha 1/4) in a margin M pixels
+ *                     wide, opaque inside, and its opaque region only the inside (the buffer
+ *                     inset by M), as toolkits that draw their own shadow set it
  * --size WxH sets the toplevels' size (default 200x200; 32x32 with --surfaces). Subsurface k
  * (1 … N) is SUB_SIZE square at SUB_STEP, SUB_STEP from its parent's corner: with the defaults,
- * 6, 7 and 8 stick out of the toplevel at its bottom-right corner. Every buffer is XRGB8888 with
- * the whole surface as its opaque region.
+ * 6, 7 and 8 stick out of the toplevel at its bottom-right corner. Every buffer but --shadow's is
+ * XRGB8888 with the whole surface as its opaque region.
  *
  * Output, on stdout, a line at a time:
  *   ready pid=PID surfaces=ID,ID,...   once every surface has its first buffer (the wl_surface
@@ -51,7 +55,7 @@
 #define MAX_DEPTH 64
 #define MAX_SURFACES 100000
 
-enum mode { PLAIN, NO_ACK, ACK_ONCE, FLOOD, SURFACES, SUBSURFACES, CHURN };
+enum mode { PLAIN, NO_ACK, ACK_ONCE, FLOOD, SURFACES, SUBSURFACES, CHURN, SHADOW };
 
 /* The toplevels --churn has at once, and the turns one waits for a frame callback at most. */
 #define CHURN_SLOTS 8
@@ -85,6 +89,7 @@ static struct {
 	struct xdg_wm_base *wm_base;
 	struct surf *surfs;
 	int n_surfs, n_toplevels, drawn;
+	int32_t margin; /* --shadow's */
 	bool ready;
 	uint64_t commits, ready_ms;
 } c;
@@ -245,6 +250,16 @@ static void die_connection(void)
 	exit(1);
 }
 
+/* --shadow's margin: translucent black (premultiplied, alpha 0x40) around the opaque inside. */
+static void draw_shadow(uint32_t *pixels, int32_t width, int32_t height)
+{
+	for (int32_t y = 0; y < height; y++)
+		for (int32_t x = 0; x < width; x++)
+			if (x < c.margin || y < c.margin || x >= width - c.margin ||
+			    y >= height - c.margin)
+				pixels[(size_t)y * (size_t)width + (size_t)x] = 0x40000000u;
+}
+
 /* Every surface's buffers from one shared-memory pool, each surface in a colour of its own. */
 static void create_buffers(void)
 {
@@ -272,9 +287,11 @@ static void create_buffers(void)
 			uint32_t colour = 0xff000000u | rgb;
 			for (size_t p = 0; p < n; p++)
 				pixels[offset / 4 + p] = colour;
+			if (c.margin > 0)
+				draw_shadow(pixels + offset / 4, s->width, s->height);
+			uint32_t format = c.margin > 0 ? WL_SHM_FORMAT_ARGB8888 : WL_SHM_FORMAT_XRGB8888;
 			s->buffers[k].wl = wl_shm_pool_create_buffer(pool, (int32_t)offset, s->width,
-								     s->height, s->width * 4,
-								     WL_SHM_FORMAT_XRGB8888);
+								     s->height, s->width * 4, format);
 			wl_buffer_add_listener(s->buffers[k].wl, &buffer_listener, &s->buffers[k]);
 			offset += n * 4;
 		}
@@ -284,12 +301,13 @@ static void create_buffers(void)
 	close(fd);
 }
 
-/* The surface, its opaque region (all of it), and its role. */
+/* The surface, its opaque region (all of it; --shadow: inside the margin), and its role. */
 static void create_surface(struct surf *s, struct surf *parent, int index)
 {
 	s->wl = wl_compositor_create_surface(c.compositor);
 	struct wl_region *opaque = wl_compositor_create_region(c.compositor);
-	wl_region_add(opaque, 0, 0, s->width, s->height);
+	int32_t m = parent == NULL ? c.margin : 0;
+	wl_region_add(opaque, m, m, s->width - 2 * m, s->height - 2 * m);
 	wl_surface_set_opaque_region(s->wl, opaque);
 	wl_region_destroy(opaque);
 	if (parent != NULL) {
@@ -408,7 +426,7 @@ static void churn(int rounds)
 static void usage(void)
 {
 	fprintf(stderr, "usage: wl-hostile [--no-ack | --ack-once | --flood | --surfaces N |"
-			" --subsurfaces N | --churn N] [--size WxH]\n");
+			" --subsurfaces N | --churn N | --shadow M] [--size WxH]\n");
 	exit(1);
 }
 
@@ -431,6 +449,8 @@ int main(int argc, char **argv)
 			c.mode = SUBSURFACES, count = atoi(argv[++i]);
 		else if (strcmp(argv[i], "--churn") == 0 && i + 1 < argc)
 			c.mode = CHURN, count = atoi(argv[++i]);
+		else if (strcmp(argv[i], "--shadow") == 0 && i + 1 < argc)
+			c.mode = SHADOW, c.margin = atoi(argv[++i]);
 		else if (strcmp(argv[i], "--size") == 0 && i + 1 < argc &&
 			 sscanf(argv[++i], "%dx%d", &width, &height) == 2 && width > 0 && height > 0)
 			;
@@ -441,6 +461,9 @@ int main(int argc, char **argv)
 		usage();
 	if (width == 0)
 		width = height = c.mode == SURFACES ? 32 : 200;
+	/* The shadow leaves an opaque inside. */
+	if (c.mode == SHADOW && (c.margin < 1 || 2 * c.margin >= width || 2 * c.margin >= height))
+		usage();
 
 	c.display = wl_display_connect(NULL);
 	if (c.display == NULL) {
@@ -469,7 +492,7 @@ int main(int argc, char **argv)
 		bool sub = i >= c.n_toplevels;
 		s->width = sub ? SUB_SIZE : width;
 		s->height = sub ? SUB_SIZE : height;
-		s->n_buffers = c.mode == SURFACES || c.mode == PLAIN ? 1 : 2;
+		s->n_buffers = c.mode == SURFACES || c.mode == PLAIN || c.mode == SHADOW ? 1 : 2;
 		s->animate = animate;
 	}
 	create_buffers();

@@ -31,7 +31,8 @@ static const char usage[] =
 	"  stats [--reset] viscomp's own timings, one line each: frame (libvis's update and\n"
 	"                  repaint sets in an output frame), cover and uncover (from a move,\n"
 	"                  raise or lower to the first frame callback withheld or sent):\n"
-	"                  NAME count=N median_us=M p99_us=P max_us=X; --reset: then from 0\n";
+	"                  NAME count=N median_us=M p99_us=P max_us=X, cover and uncover\n"
+	"                  then max_frames=F (output frames); --reset: then from 0\n";
 
 /* The socket's path: -s, else the environment's. NULL when there is none. */
 static const char *socket_path(const char *given, char *buf, size_t size)
