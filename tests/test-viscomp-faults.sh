@@ -61,11 +61,6 @@ pick() {
 	n=$((r / 65536 % $1))
 }
 
-# Whether process $1 has a window in viscompctl's list.
-listed() {
-	"$viscompctl" list 2>/dev/null | grep -q " pid=$1 "
-}
-
 ids() {
 	"$viscompctl" list 2>/dev/null | awk '{ print $1 }'
 }
@@ -84,13 +79,8 @@ all_gone() {
 "$visd" --socket "$dir/visd.sock" --screen 1280x720 2>"$dir/visd.log" &
 dpid=$!
 wait_progress "$dpid" test -S "$dir/visd.sock" || fail "visd did not start: $progress_why"
-"$viscomp" --headless 1280x720 --control "$VISCOMP_SOCKET" --visd "$dir/visd.sock" -v \
-	>"$dir/viscomp.log" 2>&1 &
-vpid=$!
-wait_progress "$vpid" grep -qs 'WAYLAND_DISPLAY=' "$dir/viscomp.log" ||
+viscomp_start --headless 1280x720 --visd "$dir/visd.sock" ||
 	fail "viscomp did not start: $progress_why"
-WAYLAND_DISPLAY=$(sed -n 's/.*WAYLAND_DISPLAY=\([^ ]*\).*/\1/p' "$dir/viscomp.log")
-export WAYLAND_DISPLAY
 
 started=0 killed=0 ops=0 most=0
 round=0

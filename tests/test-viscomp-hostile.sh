@@ -69,18 +69,8 @@ progress_ceiling=${progress_ceiling:-300}
 . "$(dirname "$0")/viscomp-env.sh"
 viscomp_env "$dir"
 
-ctl() {
-	"$viscompctl" "$@"
-}
-
 alive() {
 	kill -0 "$vpid" 2>/dev/null || fail "viscomp died"
-}
-
-# The window ID of process PID, in $id once listed.
-listed() {
-	id=$(json_field "$1" id)
-	[ -n "$id" ]
 }
 
 # Whether viscompctl lists no window of process PID and visd holds none of its surfaces (their
@@ -143,13 +133,8 @@ visd_state() {
 "$visd" --socket "$dir/visd.sock" --screen 1280x720 2>"$dir/visd.log" &
 dpid=$!
 wait_progress "$dpid" test -S "$dir/visd.sock" || fail "visd did not start: $progress_why"
-"$viscomp" --headless 1280x720 --control "$VISCOMP_SOCKET" --visd "$dir/visd.sock" -v \
-	>"$dir/viscomp.log" 2>&1 &
-vpid=$!
-wait_progress "$vpid" grep -qs 'WAYLAND_DISPLAY=' "$dir/viscomp.log" ||
+viscomp_start --headless 1280x720 --visd "$dir/visd.sock" ||
 	fail "viscomp did not start: $progress_why"
-WAYLAND_DISPLAY=$(sed -n 's/.*WAYLAND_DISPLAY=\([^ ]*\).*/\1/p' "$dir/viscomp.log")
-export WAYLAND_DISPLAY
 fds=$(ls /proc/"$vpid"/fd | wc -l)
 
 # The witness, at the right of the output, clear of every other window here.

@@ -53,22 +53,8 @@ DISPLAY=:$(cat "$dir/display")
 export DISPLAY
 unset WAYLAND_DISPLAY # else wlroots would nest in it rather than in X
 
-WLR_RENDERER=pixman "$viscomp" --control "$VISCOMP_SOCKET" -v >"$dir/viscomp.log" 2>&1 &
-vpid=$!
-wait_progress "$vpid" grep -qs 'WAYLAND_DISPLAY=' "$dir/viscomp.log" ||
-	fail "viscomp did not start: $progress_why"
-WAYLAND_DISPLAY=$(sed -n 's/.*WAYLAND_DISPLAY=\([^ ]*\).*/\1/p' "$dir/viscomp.log")
-export WAYLAND_DISPLAY
-
-# json_field PID FIELD: FIELD of the window of process PID in `list --json`, or nothing.
-json_field() {
-	"$viscompctl" list --json 2>/dev/null | grep "\"pid\":$1," | head -n 1 |
-		sed -n "s/.*\"$2\":\"\{0,1\}\([^,\"}]*\).*/\1/p"
-}
-
-listed() {
-	[ -n "$(json_field "$1" id)" ]
-}
+export WLR_RENDERER=pixman # viscomp nested in X draws with pixman
+viscomp_start || fail "viscomp did not start: $progress_why"
 
 # Whether process $1's window is on top (list's first line) and focused.
 on_top() {

@@ -69,10 +69,6 @@ fail() {
 . "$(dirname "$0")/viscomp-env.sh"
 viscomp_env "$dir"
 
-ctl() {
-	"$viscompctl" "$@"
-}
-
 # The next number of a 31-bit LCG, in $r (0 … 2^31 - 1): the same seed, the same run.
 r=$seed
 next() {
@@ -98,12 +94,6 @@ window() {
 	set -- "$1" $(windows | grep "^$1 ")
 	[ $# -eq 8 ] || return 1
 	wx=$3 wy=$4 ww=$5 wh=$6 wstate=$7 wpid=$8
-}
-
-# Whether process $1 has a window listed; its ID into $id.
-listed() {
-	id=$(windows | awk -v pid="$1" '$7 == pid { print $1; exit }')
-	[ -n "$id" ]
 }
 
 # Whether window $1 is $2 x $3 (its client committed that size).
@@ -154,12 +144,7 @@ check_step() {
 # The background viscomp clears to, (0.18, 0.20, 0.22) in output.c.
 background=2e3338
 
-"$viscomp" --headless 640x480,320x240 --control "$VISCOMP_SOCKET" -v >"$dir/viscomp.log" 2>&1 &
-vpid=$!
-wait_progress "$vpid" grep -qs 'WAYLAND_DISPLAY=' "$dir/viscomp.log" ||
-	fail "viscomp did not start: $progress_why"
-WAYLAND_DISPLAY=$(sed -n 's/.*WAYLAND_DISPLAY=\([^ ]*\).*/\1/p' "$dir/viscomp.log")
-export WAYLAND_DISPLAY
+viscomp_start --headless 640x480,320x240 || fail "viscomp did not start: $progress_why"
 
 # The layout: the outputs in the order wlroots made them, left to right, 960x480 in all. The
 # hole is under the small one: at 640,240 when the large one came first, at 0,240 when it came

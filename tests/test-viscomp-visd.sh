@@ -57,16 +57,6 @@ progress_ceiling=${progress_ceiling:-300}
 . "$(dirname "$0")/viscomp-env.sh"
 viscomp_env "$dir"
 
-ctl() {
-	"$viscompctl" "$@"
-}
-
-# The window ID of process PID, in $id once listed.
-listed() {
-	id=$(json_field "$1" id)
-	[ -n "$id" ]
-}
-
 is_state() {
 	[ "$(json_field "$1" state)" = "$2" ]
 }
@@ -141,13 +131,8 @@ start_visd() {
 }
 
 start_visd
-"$viscomp" --headless 1280x720 --control "$VISCOMP_SOCKET" --visd "$dir/visd.sock" -v \
-	>"$dir/viscomp.log" 2>&1 &
-vpid=$!
-wait_progress "$vpid" grep -qs 'WAYLAND_DISPLAY=' "$dir/viscomp.log" ||
+viscomp_start --headless 1280x720 --visd "$dir/visd.sock" ||
 	fail "viscomp did not start: $progress_why"
-WAYLAND_DISPLAY=$(sed -n 's/.*WAYLAND_DISPLAY=\([^ ]*\).*/\1/p' "$dir/viscomp.log")
-export WAYLAND_DISPLAY
 
 weston-simple-shm >"$dir/a.log" 2>&1 &
 apid=$!

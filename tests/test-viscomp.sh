@@ -64,16 +64,6 @@ fail() {
 . "$(dirname "$0")/viscomp-env.sh"
 viscomp_env "$dir"
 
-ctl() {
-	"$viscompctl" "$@"
-}
-
-# The window ID of process PID, in $id once listed.
-listed() {
-	id=$(json_field "$1" id)
-	[ -n "$id" ]
-}
-
 # CPU time (clock ticks) process PID has used.
 cpu() {
 	awk '{ print $14 + $15 }' /proc/"$1"/stat
@@ -147,13 +137,8 @@ a_is() {
 "$visd" --socket "$dir/visd.sock" --screen 1280x720 2>"$dir/visd.log" &
 dpid=$!
 wait_progress "$dpid" test -S "$dir/visd.sock" || fail "visd did not start: $progress_why"
-"$viscomp" --headless 1280x720 --control "$VISCOMP_SOCKET" --visd "$dir/visd.sock" -v \
-	>"$dir/viscomp.log" 2>&1 &
-vpid=$!
-wait_progress "$vpid" grep -qs 'WAYLAND_DISPLAY=' "$dir/viscomp.log" ||
+viscomp_start --headless 1280x720 --visd "$dir/visd.sock" ||
 	fail "viscomp did not start: $progress_why"
-WAYLAND_DISPLAY=$(sed -n 's/.*WAYLAND_DISPLAY=\([^ ]*\).*/\1/p' "$dir/viscomp.log")
-export WAYLAND_DISPLAY
 
 # A first, then W out of its way, then foot beside them, overlapping neither.
 weston-simple-shm >"$dir/a.log" 2>&1 &
