@@ -243,6 +243,8 @@ int server_init(struct server *server, struct event_base *base, const struct ser
 	if (!(server->vis = vis_tree_create(opt->screen_width, opt->screen_height)))
 		return -1;
 	vis_wtree_set_id_key(&server->vis->core, opt->id_key);
+	/* The requests change the core itself (server_damage()): no walks around them keep tallies. */
+	libvis_tally_below(server->vis, 0);
 	if (vis_wtree_live_from(&server->vis->core, opt->live_from) < 0)
 		return -1;
 	server->listener_retry = evtimer_new(base, on_listener_retry, server);

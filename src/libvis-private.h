@@ -12,6 +12,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "bands.h"
 #include "look.h"
 #include "vis/vis.h"
 #include "wtree.h"
@@ -32,6 +33,27 @@ struct vis_win {
 	uint32_t tracked_slot;
 	uint64_t listed; /* the update (tree->serial) whose changes listed it last */
 	pixman_region32_t region;
+	/* While the tree keeps tallies (libvis-tally.c): its own pixels, and those of them seen
+	 * (counted modulo 2^64 as walks take them off and put them back). */
+	uint64_t total, seen;
+	uint64_t touched; /* the update (tree->serial + 1) whose walks listed it in tree->touched */
+};
+
+/* Windows up to which a tree keeps tallies, by default (libvis-tally.c). */
+#define LIBVIS_TALLY_WINDOWS 256
+
+/*
+ * A walk over a damaged area, from the top window down (libvis-tally.c): left is what is left
+ * of the area, scratch its double; saves[d] what was left where a window at nesting d began
+ * (its descendants hide nothing of it). sign: the tallies' walk (−1 before a change, +1 after),
+ * or 0 for a repaint set, n_repaint windows of it so far.
+ */
+struct libvis_walk {
+	struct vis_bands left, scratch;
+	struct vis_bands *saves;
+	size_t cap_saves;
+	int sign;
+	size_t n_repaint;
 };
 
 /*
@@ -62,12 +84,56 @@ struct vis_tree {
 	struct vis_pieces pieces;
 	pixman_box32_t *boxes; /* a window's pieces as pixman's boxes */
 	size_t cap_boxes;
-	pixman_region32_t now, exposed, left, part;
+	pixman_region32_t now, exposed, part;
+	struct libvis_walk walk;
+	/*
+	 * Tallies (libvis-tally.c): while tally is on, each window's seen pixels are kept by walks
+	 * over what each change may alter, and an update takes the states from them. tally_max:
+	 * the windows up to which they are taken up (0: never); broken: a walk failed (no memory),
+	 * the next update goes through the core; changed: the box a change walks, before and after.
+	 */
+	bool tally, tally_broken;
+	size_t tally_max;
+	struct vis_box tally_box;
+	/* The windows whose tallies walks met since the last update, unless restacked: a change
+	 * moved some window in the order or in and out of it (they may then be gone). */
+	struct vis_window **touched;
+	size_t n_touched, cap_touched;
+	bool tally_restacked;
 };
 
 /* Records that win is about to change or has changed (libvis-update.c): the tree is dirty, the
  * live recompute notes it, and its border box joins the damage. */
 void libvis_damage(struct vis_tree *tree, struct vis_win *win);
+
+/*
+ * Walks the box d of the screen (inside it), top window down: sign 0 lists the repaint set
+ * (tree->repaint, tree->qrects; top first), ±1 adds each window's seen pixels there to its tally,
+ * or takes them off. 0, or -1 with ENOMEM. O(windows whose clips meet what is left, times its
+ * boxes).
+ */
+int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign);
+
+/*
+ * The tallies (libvis-tally.c). Around every change, libvis_tally_begin() before it (win: the
+ * window changed; after: the screen box its subtree takes after the change, if shows_after;
+ * restacks: the change moves windows in the order of the viewable ones, or in or out of it),
+ * libvis_tally_end() after it (win NULL once destroyed). libvis_tally_start() takes them up after
+ * an update through the core. libvis_tally_update() is an update from them: 0 with the windows
+ * whose states it changed among *changed[0 … *n) (their old states in old_state), 1 when any
+ * window's may have changed (every state moved to old_state, as a recompute through the core
+ * does), -1 with ENOMEM (nothing changed then). libvis_tally_stop() leaves them to the core.
+ */
+void libvis_tally_begin(struct vis_tree *tree, struct vis_win *win, struct vis_box after,
+			bool shows_after, bool restacks);
+void libvis_tally_end(struct vis_tree *tree, struct vis_win *win);
+int libvis_tally_start(struct vis_tree *tree);
+int libvis_tally_update(struct vis_tree *tree, struct vis_window *const **changed, size_t *n);
+void libvis_tally_stop(struct vis_tree *tree);
+
+/* Sets the windows up to which a tree keeps tallies (0: never, as visd, which changes the core
+ * itself). O(1). */
+void libvis_tally_below(struct vis_tree *tree, size_t windows);
 
 /* Stops tracking win's exposures, forgetting what it showed. O(1). */
 void libvis_untrack(struct vis_win *win);

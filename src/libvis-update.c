@@ -63,7 +63,8 @@ static pixman_box32_t clamp_box(struct vis_box b)
 void libvis_damage(struct vis_tree *tree, struct vis_win *win)
 {
 	tree->dirty = true;
-	vis_wtree_note(&tree->core, win->core);
+	if (!tree->tally) /* the tallies' walks keep the states without notes */
+		vis_wtree_note(&tree->core, win->core);
 	if (tree->damage_all)
 		return;
 	if (tree->n_damage == LIBVIS_DAMAGE_BOXES) {
@@ -222,20 +223,28 @@ VIS_EXPORT int vis_tree_update(struct vis_tree *tree, const struct vis_change **
 	 * recompute nothing may fail but an exposure, which only forgets its baseline. */
 	size_t most = tree->core.count + tree->n_tracked + 1;
 	if (libvis_reserve(&tree->list, &tree->cap_list, most, sizeof *tree->list) < 0 ||
-	    libvis_reserve(&tree->changes, &tree->cap_changes, most,
-			   sizeof *tree->changes) < 0 ||
-	    vis_wtree_update(&tree->core) < 0)
+	    libvis_reserve(&tree->changes, &tree->cap_changes, most, sizeof *tree->changes) < 0)
+		return -1;
+	/* From the tallies while the tree stays small and they are whole; else through the core,
+	 * which recomputes everything once they are left. */
+	if (tree->tally && (tree->tally_broken || tree->core.count > 2 * tree->tally_max))
+		libvis_tally_stop(tree);
+	struct vis_window *const *changed;
+	size_t k, m = 0;
+	int tallied = tree->tally ? libvis_tally_update(tree, &changed, &k) : -1;
+	if (tree->tally && tallied < 0)
+		libvis_tally_stop(tree);
+	if (tallied < 0 && vis_wtree_update(&tree->core) < 0)
 		return -1;
 	tree->dirty = false;
 	tree->serial++;
 	struct damage d = { 0 };
-	struct vis_window *const *changed;
-	size_t k, m = 0;
-	if (vis_wtree_changes(&tree->core, &changed, &k) &&
+	if ((tallied == 0 || (tallied < 0 && vis_wtree_changes(&tree->core, &changed, &k))) &&
 	    libvis_reserve(&tree->list, &tree->cap_list, k + tree->n_tracked,
 			   sizeof *tree->list) == 0) {
 		/*
-		 * A live recompute lists the windows it may have changed (no more than there are);
+		 * A live recompute or the tallies list the windows they may have changed (no more
+		 * than there are);
 		 * the others keep their states and regions, but for tracked windows, whose regions
 		 * count their own descendants as hiding them (X's clip list): maybe_exposed() tells,
 		 * before the sort, so that a desktop of tracked windows is not sorted at each update
@@ -282,6 +291,9 @@ VIS_EXPORT int vis_tree_update(struct vis_tree *tree, const struct vis_change **
 		pixman_region32_fini(&d.region);
 	tree->n_damage = 0;
 	tree->damage_all = false;
+	/* Taken up when small; without memory, the core goes on. */
+	if (!tree->tally && tree->core.count <= tree->tally_max)
+		(void)libvis_tally_start(tree);
 	*changes = tree->changes;
 	*n = tree->n_changes;
 	return 0;

@@ -15,6 +15,26 @@ static int fail(int e)
 	return -1;
 }
 
+/*
+ * The screen box a window of parent (the root for a top-level one) takes at x, y with that inside
+ * and border, as vis_wtree_box() would give it after the change.
+ */
+static struct vis_box box_at(const struct vis_window *parent, int32_t x, int32_t y, int32_t width,
+			     int32_t height, int32_t border)
+{
+	struct vis_box p = parent->parent ? vis_wtree_box(parent) : (struct vis_box){ 0, 0, 0, 0 };
+	int64_t x1 = p.x1 + (parent->parent ? parent->look.border : 0) + x;
+	int64_t y1 = p.y1 + (parent->parent ? parent->look.border : 0) + y;
+	return (struct vis_box){ x1, y1, x1 + width + 2 * (int64_t)border,
+				 y1 + height + 2 * (int64_t)border };
+}
+
+/* The tallies' walk before a change that keeps the window where it is: a restack, or a look. */
+static void in_place_begin(struct vis_win *win, bool restacks)
+{
+	libvis_tally_begin(win->tree, win, (struct vis_box){ 0, 0, 0, 0 }, false, restacks);
+}
+
 VIS_EXPORT struct vis_tree *vis_tree_create(int32_t width, int32_t height)
 {
 	if (width < 1 || height < 1) {
@@ -33,8 +53,10 @@ VIS_EXPORT struct vis_tree *vis_tree_create(int32_t width, int32_t height)
 	tree->damage = damage;
 	pixman_region32_init(&tree->now);
 	pixman_region32_init(&tree->exposed);
-	pixman_region32_init(&tree->left);
 	pixman_region32_init(&tree->part);
+	vis_bands_init(&tree->walk.left);
+	vis_bands_init(&tree->walk.scratch);
+	tree->tally_max = LIBVIS_TALLY_WINDOWS;
 	return tree;
 }
 
@@ -66,8 +88,13 @@ VIS_EXPORT void vis_tree_destroy(struct vis_tree *tree)
 	vis_pieces_finish(&tree->pieces);
 	pixman_region32_fini(&tree->now);
 	pixman_region32_fini(&tree->exposed);
-	pixman_region32_fini(&tree->left);
 	pixman_region32_fini(&tree->part);
+	vis_bands_finish(&tree->walk.left);
+	vis_bands_finish(&tree->walk.scratch);
+	for (size_t i = 0; i < tree->walk.cap_saves; i++)
+		vis_bands_finish(&tree->walk.saves[i]);
+	free(tree->walk.saves);
+	free(tree->touched);
 	free(tree->damage);
 	free(tree->tracked);
 	free(tree->list);
@@ -154,6 +181,7 @@ VIS_EXPORT struct vis_win *vis_win_create(struct vis_tree *tree, struct vis_win 
 	if (flags & VIS_WIN_INPUT_ONLY)
 		vis_wtree_set_input_only(w);
 	libvis_damage(tree, win);
+	libvis_tally_end(tree, win); /* unmapped: only its own pixels to count */
 	return win;
 }
 
@@ -163,7 +191,9 @@ VIS_EXPORT void vis_win_destroy(struct vis_win *win)
 		return;
 	struct vis_tree *tree = win->tree;
 	libvis_damage(tree, win);
+	in_place_begin(win, true);
 	vis_wtree_destroy(&tree->core, win->core, window_gone, NULL);
+	libvis_tally_end(tree, NULL);
 }
 
 /* map and unmap: a change only when the window's flag changes. */
@@ -172,8 +202,12 @@ static int set_mapped(struct vis_win *win, bool mapped)
 	if (!win)
 		return fail(EINVAL);
 	if (win->core->mapped != mapped) {
+		struct vis_window *p = win->core->parent;
+		bool shows = mapped && (!p->parent || vis_wtree_viewable(p));
+		libvis_tally_begin(win->tree, win, vis_wtree_box(win->core), shows, true);
 		win->core->mapped = mapped;
 		libvis_damage(win->tree, win);
+		libvis_tally_end(win->tree, win);
 	}
 	return 0;
 }
@@ -209,6 +243,8 @@ VIS_EXPORT int vis_win_configure(struct vis_win *win, int32_t x, int32_t y, int3
 			return -1;
 	}
 	libvis_damage(win->tree, win); /* where it was */
+	libvis_tally_begin(win->tree, win, box_at(w->parent, x, y, width, height, border),
+			   vis_wtree_viewable(w), false);
 	w->x = x;
 	w->y = y;
 	vis_wtree_set_size(w, width, height, border); /* checked above: cannot fail */
@@ -217,6 +253,7 @@ VIS_EXPORT int vis_win_configure(struct vis_win *win, int32_t x, int32_t y, int3
 	if (reshaped)
 		libvis_forget_shown(win); /* its contents are gone: all of it is exposed */
 	libvis_damage(win->tree, win);
+	libvis_tally_end(win->tree, win);
 	return 0;
 }
 
@@ -232,8 +269,10 @@ VIS_EXPORT int vis_win_raise(struct vis_win *win)
 {
 	if (!win)
 		return fail(EINVAL);
+	in_place_begin(win, true);
 	vis_wtree_raise(win->core);
 	libvis_damage(win->tree, win);
+	libvis_tally_end(win->tree, win);
 	return 0;
 }
 
@@ -241,8 +280,10 @@ VIS_EXPORT int vis_win_lower(struct vis_win *win)
 {
 	if (!win)
 		return fail(EINVAL);
+	in_place_begin(win, true);
 	vis_wtree_lower(win->core);
 	libvis_damage(win->tree, win);
+	libvis_tally_end(win->tree, win);
 	return 0;
 }
 
@@ -251,8 +292,10 @@ VIS_EXPORT int vis_win_restack(struct vis_win *win, struct vis_win *sibling, int
 	if (!win || !sibling || sibling == win || sibling->tree != win->tree ||
 	    sibling->core->parent != win->core->parent)
 		return fail(EINVAL);
+	in_place_begin(win, true);
 	vis_wtree_restack(win->core, sibling->core, above != 0);
 	libvis_damage(win->tree, win);
+	libvis_tally_end(win->tree, win);
 	return 0;
 }
 
@@ -264,8 +307,12 @@ VIS_EXPORT int vis_win_reparent(struct vis_win *win, struct vis_win *parent, int
 	if (vis_wtree_is_ancestor(win->core, p))
 		return fail(EINVAL);
 	libvis_damage(win->tree, win); /* where it was */
-	vis_wtree_reparent(win->core, p, x, y);
+	struct vis_window *w = win->core;
+	libvis_tally_begin(win->tree, win, box_at(p, x, y, w->width, w->height, w->look.border),
+			   w->mapped && (!p->parent || vis_wtree_viewable(p)), true);
+	vis_wtree_reparent(w, p, x, y);
 	libvis_damage(win->tree, win);
+	libvis_tally_end(win->tree, win);
 	return 0;
 }
 
@@ -328,16 +375,19 @@ static int set_look(struct vis_win *win, bool shape, uint32_t mode, const struct
 		free(r);
 		return -1;
 	}
+	in_place_begin(win, false);
 	int rc = shape ? vis_wtree_set_shape(w, mode == 1, r, n)
 		       : vis_wtree_set_opaque(w, (enum vis_opaque)mode, r, n);
 	free(r);
 	if (rc < 0) {
 		vis_look_cut_finish(&cut);
+		libvis_tally_end(win->tree, win); /* nothing changed: the walk puts back what it took */
 		return fail(ENOMEM);
 	}
 	vis_wtree_keep_cut(w, &cut);
 	/* The pixels changed inside the border box: it is the damage, as it was and is. */
 	libvis_damage(win->tree, win);
+	libvis_tally_end(win->tree, win);
 	return 0;
 }
 

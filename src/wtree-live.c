@@ -408,6 +408,16 @@ static void list_state_changes(struct vis_wtree *tree, struct vis_wtree_live *lv
 	lv->changed_all = true;
 }
 
+void vis_wtree_drop_live(struct vis_wtree *tree)
+{
+	tree->stale = true;
+	struct vis_wtree_live *lv = tree->live;
+	if (!lv)
+		return;
+	clear_notes(lv);
+	lv->valid = lv->keeping = false;
+}
+
 void wtree_live_invalidate(struct vis_wtree *tree)
 {
 	if (tree->live && !tree->live->keeping)
@@ -605,21 +615,6 @@ static bool give_keys(const struct vis_wtree *tree, struct vis_window *d)
 	return true;
 }
 
-/* Sets a viewable window's boxes from its parent's, as flattening does (wtree-compute.c). */
-static void place(struct vis_window *w)
-{
-	const struct vis_window *p = w->parent;
-	int64_t b = w->look.border;
-	struct vis_box box = { p->box.x1 + p->look.border + w->x, p->box.y1 + p->look.border + w->y,
-			       0, 0 };
-	box.x2 = box.x1 + w->width + 2 * b;
-	box.y2 = box.y1 + w->height + 2 * b;
-	struct vis_box in = { box.x1 + b, box.y1 + b, box.x2 - b, box.y2 - b };
-	w->box = box;
-	w->clip = vis_box_intersect(box, p->inner);
-	w->inner = vis_box_intersect(in, w->clip);
-}
-
 int wtree_live_gained(struct vis_wtree_live *lv, struct candidate *c, struct vis_box box)
 {
 	if (grow(&lv->gains, &lv->cap_gains, lv->n_gains, sizeof *lv->gains) < 0)
@@ -755,7 +750,7 @@ static int reindex(struct vis_wtree_live *lv, size_t roots)
 					return -1;
 				continue;
 			}
-			place(v);
+			vis_wtree_place(v);
 			/* Its ancestors have a viewable descendant now. */
 			v->live_leaf = true;
 			for (struct vis_window *a = v->parent; a->parent && a->live_leaf; a = a->parent)

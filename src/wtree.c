@@ -471,3 +471,17 @@ bool vis_wtree_viewable(const struct vis_window *window)
 			return false;
 	return true;
 }
+
+void vis_wtree_place(struct vis_window *w)
+{
+	const struct vis_window *p = w->parent;
+	int64_t b = w->look.border;
+	struct vis_box box = { p->box.x1 + p->look.border + w->x, p->box.y1 + p->look.border + w->y,
+			       0, 0 };
+	box.x2 = box.x1 + w->width + 2 * b;
+	box.y2 = box.y1 + w->height + 2 * b;
+	struct vis_box in = { box.x1 + b, box.y1 + b, box.x2 - b, box.y2 - b };
+	w->box = box;
+	w->clip = vis_box_intersect(box, p->inner);
+	w->inner = vis_box_intersect(in, w->clip);
+}

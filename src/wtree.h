@@ -253,6 +253,12 @@ struct vis_window *vis_wtree_next_viewable(const struct vis_wtree *tree,
  */
 struct vis_box vis_wtree_box(const struct vis_window *window);
 
+/*
+ * Sets a viewable window's boxes (box, clip, inner) from its own geometry and its parent's boxes,
+ * which must be set: as a recompute places it. O(1).
+ */
+void vis_wtree_place(struct vis_window *window);
+
 /* Whether the window and all its ancestors are mapped. O(depth). */
 bool vis_wtree_viewable(const struct vis_window *window);
 
@@ -436,6 +442,13 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  * the states come from vis_wtree_compute_damaged() instead, the structures kept up to date.
  */
 int vis_wtree_update(struct vis_wtree *tree);
+
+/*
+ * For a caller that keeps the states itself for a while, changing the tree without notes
+ * (libvis's tallies): drops the live structures and the notes taken, so that the next
+ * vis_wtree_update() recomputes everything. O(notes).
+ */
+void vis_wtree_drop_live(struct vis_wtree *tree);
 
 /*
  * Sets the windows from which vis_wtree_update() goes live (default 64: below, the damaged

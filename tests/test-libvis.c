@@ -7,8 +7,9 @@
  * (libvis-painter.c) over the test's own model of the tree.
  * Bad inputs (test-libvis-bad.c) must fail with errno and change nothing.
  *
- * usage: test-libvis [--trees N] [--seed S] [--live]   (--live: the live engine from the first
- * window; a failure prints the seed and tree to rerun with --seed S --trees 1)
+ * usage: test-libvis [--trees N] [--seed S] [--live | --through | --switch]
+ * (the engine, libvis-live.c: the live engine from the first window, through the core, or tallies
+ * up to a few windows; a failure prints the seed and tree to rerun with --seed S --trees 1)
  */
 #include <errno.h>
 #include <inttypes.h>
@@ -299,7 +300,7 @@ static void change(struct tl *c)
 }
 
 /* One tree: changes, an update and the checks, again and again. */
-static void one_tree(bool live, bool bad)
+static void one_tree(enum tl_engine engine, bool bad)
 {
 	struct tl c = { 0 };
 	c.t.sw = (int32_t)(tl_range(0, 9) ? tl_range(8, 40) : tl_range(1, 8));
@@ -308,8 +309,7 @@ static void one_tree(bool live, bool bad)
 	c.vt = vis_tree_create(c.t.sw, c.t.sh);
 	if (!c.vt)
 		tl_fail("vis_tree_create", c.t.sw, c.t.sh);
-	if (live)
-		tl_go_live(c.vt);
+	tl_engine(c.vt, engine);
 	int32_t sw, sh;
 	must(vis_tree_screen(c.vt, &sw, &sh), "screen");
 	tl_check(sw == c.t.sw && sh == c.t.sh, "screen size");
@@ -335,25 +335,32 @@ int main(int argc, char **argv)
 {
 	long trees = 3000;
 	uint64_t seed = 1;
-	bool live = false;
+	enum tl_engine engine = TL_TALLY;
+	static const char *const names[] = { "", " (live)", " (through the core)",
+					     " (switching)" };
 	for (int i = 1; i < argc; i++) {
 		if (!strcmp(argv[i], "--trees") && i + 1 < argc)
 			trees = strtol(argv[++i], NULL, 10);
 		else if (!strcmp(argv[i], "--seed") && i + 1 < argc)
 			seed = strtoull(argv[++i], NULL, 10);
 		else if (!strcmp(argv[i], "--live"))
-			live = true;
+			engine = TL_LIVE;
+		else if (!strcmp(argv[i], "--through"))
+			engine = TL_THROUGH;
+		else if (!strcmp(argv[i], "--switch"))
+			engine = TL_SWITCH;
 		else {
-			fprintf(stderr, "usage: test-libvis [--trees N] [--seed S] [--live]\n");
+			fprintf(stderr, "usage: test-libvis [--trees N] [--seed S] "
+					"[--live | --through | --switch]\n");
 			return 2;
 		}
 	}
 	for (long k = 0; k < trees; k++) {
 		seed_now = seed + (uint64_t)k;
 		rng_state = seed_now * 0x9e3779b97f4a7c15ull | 1;
-		one_tree(live, k % 8 == 0);
+		one_tree(engine, k % 8 == 0);
 	}
 	printf("test-libvis: %ld trees from seed %" PRIu64 "%s, %lu checks passed\n", trees, seed,
-	       live ? " (live)" : "", checks);
+	       names[engine], checks);
 	return 0;
 }

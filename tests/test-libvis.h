@@ -35,7 +35,10 @@ void tl_update_and_check(struct tl *c);
  * updated. */
 void tl_bad_inputs(struct tl *c);
 
-/* The live engine from the first window on (libvis-live.c, the one hook past the public API). */
-void tl_go_live(struct vis_tree *tree);
+/* The engine a tree's updates take (libvis-live.c): tallies (libvis's default for small trees),
+ * the live engine from the first window, through the core below 64 windows, or tallies up to a
+ * few windows only, past which the core takes over and back. */
+enum tl_engine { TL_TALLY, TL_LIVE, TL_THROUGH, TL_SWITCH };
+void tl_engine(struct vis_tree *tree, enum tl_engine engine);
 
 #endif

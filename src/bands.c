@@ -1,0 +1,234 @@
+/* Banded regions for the walks that take boxes off a damaged area (bands.h). */
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bands.h"
+
+void vis_bands_init(struct vis_bands *r)
+{
+	*r = (struct vis_bands){ 0 };
+}
+
+void vis_bands_finish(struct vis_bands *r)
+{
+	free(r->boxes);
+	*r = (struct vis_bands){ 0 };
+}
+
+/* Room for n boxes. 0, or -1 with ENOMEM. */
+static int reserve(struct vis_bands *r, size_t n)
+{
+	if (n <= r->cap)
+		return 0;
+	size_t want = r->cap ? r->cap : 16;
+	while (want < n)
+		want *= 2;
+	pixman_box32_t *more = want > SIZE_MAX / sizeof *more ? NULL
+							      : realloc(r->boxes, want * sizeof *more);
+	if (!more) {
+		errno = ENOMEM;
+		return -1;
+	}
+	r->boxes = more;
+	r->cap = want;
+	return 0;
+}
+
+int vis_bands_set_box(struct vis_bands *r, pixman_box32_t b)
+{
+	r->n = 0;
+	r->ext = (pixman_box32_t){ 0 };
+	if (b.x1 >= b.x2 || b.y1 >= b.y2)
+		return 0;
+	if (reserve(r, 1) < 0)
+		return -1;
+	r->boxes[0] = r->ext = b;
+	r->n = 1;
+	return 0;
+}
+
+int vis_bands_copy(struct vis_bands *dst, const struct vis_bands *src)
+{
+	dst->n = 0;
+	dst->ext = (pixman_box32_t){ 0 };
+	if (reserve(dst, src->n) < 0)
+		return -1;
+	if (src->n)
+		memcpy(dst->boxes, src->boxes, src->n * sizeof *src->boxes);
+	dst->n = src->n;
+	dst->ext = src->ext;
+	return 0;
+}
+
+/*
+ * The region being written: boxes [last, n) are the band written last, [start, n) the one being
+ * written, which band_end() closes, merging it into the last one when they touch with the same x
+ * edges (pixman's coalescing: without it, every box taken off would leave three bands).
+ */
+struct out {
+	struct vis_bands *r;
+	size_t last;
+};
+
+static void band_end(struct out *o, size_t start)
+{
+	struct vis_bands *r = o->r;
+	if (start == r->n)
+		return;
+	pixman_box32_t *p = r->boxes + o->last, *q = r->boxes + start;
+	size_t m = r->n - start;
+	if (o->last < start && start - o->last == m && p->y2 == q->y1) {
+		size_t i = 0;
+		while (i < m && p[i].x1 == q[i].x1 && p[i].x2 == q[i].x2)
+			i++;
+		if (i == m) {
+			for (i = 0; i < m; i++)
+				p[i].y2 = q->y2;
+			r->n = start;
+			return;
+		}
+	}
+	o->last = start;
+}
+
+/* Writes one box of a band. */
+static void put(struct vis_bands *r, int32_t x1, int32_t y1, int32_t x2, int32_t y2)
+{
+	r->boxes[r->n++] = (pixman_box32_t){ x1, y1, x2, y2 };
+}
+
+/* Writes the band of the m boxes from, between y1 and y2. */
+static void put_band(struct out *o, const pixman_box32_t *from, size_t m, int32_t y1, int32_t y2)
+{
+	size_t start = o->r->n;
+	for (size_t i = 0; i < m; i++)
+		put(o->r, from[i].x1, y1, from[i].x2, y2);
+	band_end(o, start);
+}
+
+/* Writes the band of the m boxes from less the columns x1 … x2, between y1 and y2. */
+static void put_band_less(struct out *o, const pixman_box32_t *from, size_t m, int32_t y1,
+			  int32_t y2, int32_t x1, int32_t x2)
+{
+	size_t start = o->r->n;
+	for (size_t i = 0; i < m; i++) {
+		const pixman_box32_t *f = &from[i];
+		if (f->x2 <= x1 || f->x1 >= x2) {
+			put(o->r, f->x1, y1, f->x2, y2);
+			continue;
+		}
+		if (f->x1 < x1)
+			put(o->r, f->x1, y1, x1, y2);
+		if (f->x2 > x2)
+			put(o->r, x2, y1, f->x2, y2);
+	}
+	band_end(o, start);
+}
+
+/* The index of the band after the one starting at i. */
+static size_t band_after(const struct vis_bands *r, size_t i)
+{
+	size_t j = i;
+	while (j < r->n && r->boxes[j].y1 == r->boxes[i].y1)
+		j++;
+	return j;
+}
+
+int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b)
+{
+	if (!vis_bands_meet(r, b))
+		return 0;
+	/*
+	 * Only the bands b's rows meet change, and the one above and the one below them, which
+	 * may coalesce with what they become: those are written to scratch, and spliced into r
+	 * between the bands above and below, which stay in place.
+	 */
+	size_t from = 0, prev = 0;
+	while (from < r->n && r->boxes[from].y2 <= b.y1) {
+		prev = from;
+		from = band_after(r, from);
+	}
+	from = prev; /* the band above them, or the first */
+	size_t to = from;
+	while (to < r->n && r->boxes[to].y1 < b.y2)
+		to = band_after(r, to);
+	if (to < r->n)
+		to = band_after(r, to); /* and the band below them */
+	/* A band meeting b becomes at most three: the parts above and below b, unchanged, and
+	 * the one beside it, whose boxes but one (which b splits) stay one each. */
+	size_t m = to - from;
+	if (reserve(scratch, 4 * m) < 0 || reserve(r, r->n + 3 * m) < 0)
+		return -1;
+	struct out o = { scratch, 0 };
+	scratch->n = 0;
+	for (size_t i = from, j; i < to; i = j) {
+		const pixman_box32_t *f = &r->boxes[i];
+		int32_t y1 = f->y1, y2 = f->y2;
+		bool meets = false;
+		for (j = i; j < to && r->boxes[j].y1 == y1; j++)
+			meets |= r->boxes[j].x1 < b.x2 && b.x1 < r->boxes[j].x2;
+		size_t k = j - i;
+		if (!meets || y2 <= b.y1 || y1 >= b.y2) {
+			put_band(&o, f, k, y1, y2);
+			continue;
+		}
+		if (y1 < b.y1)
+			put_band(&o, f, k, y1, b.y1);
+		put_band_less(&o, f, k, y1 > b.y1 ? y1 : b.y1, y2 < b.y2 ? y2 : b.y2, b.x1, b.x2);
+		if (y2 > b.y2)
+			put_band(&o, f, k, b.y2, y2);
+	}
+	memmove(r->boxes + from + scratch->n, r->boxes + to, (r->n - to) * sizeof *r->boxes);
+	if (scratch->n)
+		memcpy(r->boxes + from, scratch->boxes, scratch->n * sizeof *r->boxes);
+	r->n = r->n - m + scratch->n;
+	/* The extents: the first and last bands' rows, the bands' ends' columns. */
+	if (!r->n) {
+		r->ext = (pixman_box32_t){ 0 };
+		return 0;
+	}
+	r->ext = (pixman_box32_t){ INT32_MAX, r->boxes[0].y1, INT32_MIN, r->boxes[r->n - 1].y2 };
+	for (size_t i = 0, j; i < r->n; i = j) {
+		j = band_after(r, i);
+		if (r->boxes[i].x1 < r->ext.x1)
+			r->ext.x1 = r->boxes[i].x1;
+		if (r->boxes[j - 1].x2 > r->ext.x2)
+			r->ext.x2 = r->boxes[j - 1].x2;
+	}
+	return 0;
+}
+
+uint64_t vis_bands_area_in(const struct vis_bands *r, pixman_box32_t b)
+{
+	if (!vis_bands_meet(r, b))
+		return 0;
+	uint64_t a = 0;
+	for (size_t i = 0; i < r->n; i++) {
+		const pixman_box32_t *f = &r->boxes[i];
+		if (f->y1 >= b.y2)
+			break;
+		int64_t x1 = f->x1 > b.x1 ? f->x1 : b.x1, x2 = f->x2 < b.x2 ? f->x2 : b.x2;
+		int64_t y1 = f->y1 > b.y1 ? f->y1 : b.y1, y2 = f->y2 < b.y2 ? f->y2 : b.y2;
+		if (x1 < x2 && y1 < y2)
+			a += (uint64_t)(x2 - x1) * (uint64_t)(y2 - y1);
+	}
+	return a;
+}
+
+size_t vis_bands_clip(const struct vis_bands *r, pixman_box32_t b, pixman_box32_t *out)
+{
+	if (!vis_bands_meet(r, b))
+		return 0;
+	size_t k = 0;
+	for (size_t i = 0; i < r->n; i++) {
+		const pixman_box32_t *f = &r->boxes[i];
+		if (f->y1 >= b.y2)
+			break;
+		int32_t x1 = f->x1 > b.x1 ? f->x1 : b.x1, x2 = f->x2 < b.x2 ? f->x2 : b.x2;
+		int32_t y1 = f->y1 > b.y1 ? f->y1 : b.y1, y2 = f->y2 < b.y2 ? f->y2 : b.y2;
+		if (x1 < x2 && y1 < y2)
+			out[k++] = (pixman_box32_t){ x1, y1, x2, y2 };
+	}
+	return k;
+}

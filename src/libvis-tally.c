@@ -1,0 +1,399 @@
+/*
+ * libvis's walks over a damaged area, and the tallies a small tree's states come from.
+ *
+ * A walk goes from the top window down over the windows whose clips meet what is left of the
+ * area, taking each one's opaque pixels off it: what was left where a window was reached is
+ * what it shows there (the repaint set), and, left as it was before the window's descendants
+ * (which hide nothing of it, X's rule), what it sees there (the tallies).
+ *
+ * Tallies: a window's state follows from two counts, its own pixels (total) and those of them it
+ * sees (seen): none seen, fully obscured; all, unobscured; else partially obscured. A change
+ * alters what windows see only inside the boxes its window's subtree takes before and after it
+ * (vis_wtree_compute_damaged()'s argument), so a walk over their hull before the change takes
+ * every window's seen pixels there off its tally and one after it adds those seen then: the tallies
+ * stay exact at the cost of two walks over the change's box, which on a small desktop is less
+ * than the live engine's bookkeeping, and grows with the windows there, not the tree. An update
+ * is then one pass over the windows, their states from their tallies, and the positions and keys
+ * the queries read. Past LIBVIS_TALLY_WINDOWS × 2 windows, the core takes over again.
+ */
+#include <errno.h>
+#include <stdlib.h>
+
+#include "libvis-private.h"
+#include "wtree-live.h"
+
+/* Whether a clip (on the screen, maybe empty) meets what is left. */
+static bool meets_left(const struct libvis_walk *k, struct vis_box c)
+{
+	return !vis_box_empty(c) && vis_bands_meet(&k->left, pbox(c));
+}
+
+/* Whether a window's pixels are its clip, all opaque: no look and no shaped ancestor. */
+static bool plain(const struct vis_window *w)
+{
+	if (w->look.shaped || w->look.opaque != VIS_OPAQUE_ALL)
+		return false;
+	for (const struct vis_window *a = w->parent; a->parent; a = a->parent)
+		if (a->look.shaped)
+			return false;
+	return true;
+}
+
+/* w's pieces inside box c (tree->pieces), as pixman boxes in tree->boxes; their count, or -1. */
+static long pieces_of(struct vis_tree *tree, const struct vis_window *w, struct vis_box c,
+		      size_t *n_opaque)
+{
+	struct vis_pieces *p = &tree->pieces;
+	vis_pieces_reset(p);
+	if (vis_wtree_add_pieces(p, w, c, 0) < 0)
+		return -1;
+	size_t n = p->stack.n;
+	if (libvis_reserve(&tree->boxes, &tree->cap_boxes, n + 1, sizeof *tree->boxes) < 0)
+		return -1;
+	*n_opaque = 0;
+	while (*n_opaque < n && !p->see_through[*n_opaque])
+		(*n_opaque)++;
+	for (size_t i = 0; i < n; i++)
+		tree->boxes[i] = pbox(vis_rect_box(p->rects[i]));
+	return (long)n;
+}
+
+/* Takes boxes[0 … n) off what is left. 0, or -1. */
+static int take_off(struct libvis_walk *k, const pixman_box32_t *boxes, size_t n)
+{
+	for (size_t i = 0; i < n; i++)
+		if (vis_bands_subtract(&k->left, &k->scratch, boxes[i]) < 0)
+			return -1;
+	return 0;
+}
+
+/* Adds to w's tally (or takes off) its pixels in mine, then takes its opaque ones off what is
+ * left. 0, or -1. */
+static int tally(struct vis_tree *tree, const struct vis_window *w, const struct vis_bands *mine)
+{
+	struct libvis_walk *k = &tree->walk;
+	struct vis_win *win = w->data;
+	uint64_t seen = 0;
+	if (plain(w)) {
+		pixman_box32_t c = pbox(w->clip);
+		seen = vis_bands_area_in(mine, c);
+		if (vis_bands_subtract(&k->left, &k->scratch, c) < 0)
+			return -1;
+	} else {
+		/* Pieces are disjoint: their counts add up. */
+		const pixman_box32_t *e = &mine->ext;
+		size_t n_opaque;
+		long n = pieces_of(tree, w,
+				   vis_box_intersect(w->clip, (struct vis_box){ e->x1, e->y1, e->x2,
+										 e->y2 }),
+				   &n_opaque);
+		if (n < 0)
+			return -1;
+		for (long i = 0; i < n; i++)
+			seen += vis_bands_area_in(mine, tree->boxes[i]);
+		if (take_off(k, tree->boxes, n_opaque) < 0)
+			return -1;
+	}
+	win->seen += (uint64_t)(int64_t)k->sign * seen;
+	if (seen && win->touched != tree->serial + 1 && !tree->tally_restacked) {
+		if (libvis_reserve(&tree->touched, &tree->cap_touched, tree->n_touched + 1,
+				   sizeof *tree->touched) < 0)
+			return -1;
+		tree->touched[tree->n_touched++] = (struct vis_window *)w;
+		win->touched = tree->serial + 1;
+	}
+	return 0;
+}
+
+/* Appends boxes[0 … n), moved by -x, -y, to the repaint's rectangles. 0, or -1. */
+static int append_boxes(struct vis_tree *tree, const pixman_box32_t *b, size_t n, int64_t x,
+			int64_t y)
+{
+	if (libvis_reserve(&tree->qrects, &tree->cap_qrects, tree->n_qrects + n,
+			   sizeof *tree->qrects) < 0)
+		return -1;
+	struct vis_rect32 *out = tree->qrects + tree->n_qrects;
+	/* They lie in the window's border box, whose sides fit in 31 bits. */
+	for (size_t i = 0; i < n; i++)
+		out[i] = (struct vis_rect32){ (int32_t)(b[i].x1 - x), (int32_t)(b[i].y1 - y),
+					      (uint32_t)(b[i].x2 - b[i].x1),
+					      (uint32_t)(b[i].y2 - b[i].y1) };
+	tree->n_qrects += n;
+	return 0;
+}
+
+/* Lists w in the repaint set with its pixels in what is left, if any, then takes its opaque
+ * ones off it. 0, or -1. */
+static int draw(struct vis_tree *tree, const struct vis_window *w)
+{
+	struct libvis_walk *k = &tree->walk;
+	int64_t x = w->box.x1 + w->look.border, y = w->box.y1 + w->look.border;
+	size_t at = tree->n_qrects;
+	if (plain(w)) {
+		pixman_box32_t c = pbox(w->clip);
+		if (libvis_reserve(&tree->boxes, &tree->cap_boxes, k->left.n + 1,
+				   sizeof *tree->boxes) < 0 ||
+		    append_boxes(tree, tree->boxes, vis_bands_clip(&k->left, c, tree->boxes), x,
+				 y) < 0 ||
+		    vis_bands_subtract(&k->left, &k->scratch, c) < 0)
+			return -1;
+	} else {
+		const pixman_box32_t *e = &k->left.ext;
+		size_t n_opaque;
+		long n = pieces_of(tree, w,
+				   vis_box_intersect(w->clip, (struct vis_box){ e->x1, e->y1, e->x2,
+										 e->y2 }),
+				   &n_opaque);
+		/* The part of each piece, after the pieces: disjoint, banded once pixman joins them. */
+		size_t m = (size_t)(n < 0 ? 0 : n), parts = m;
+		if (n < 0 || libvis_reserve(&tree->boxes, &tree->cap_boxes, m + m * k->left.n + 1,
+					    sizeof *tree->boxes) < 0)
+			return -1;
+		for (size_t i = 0; i < m; i++)
+			parts += vis_bands_clip(&k->left, tree->boxes[i], tree->boxes + parts);
+		pixman_region32_fini(&tree->part);
+		if (!pixman_region32_init_rects(&tree->part, tree->boxes + m, (int)(parts - m)) ||
+		    libvis_append_rects(&tree->part, x, y, &tree->qrects, &tree->n_qrects,
+					&tree->cap_qrects) < 0 ||
+		    take_off(k, tree->boxes, n_opaque) < 0) {
+			errno = ENOMEM;
+			return -1;
+		}
+	}
+	if (tree->n_qrects == at)
+		return 0;
+	if (libvis_reserve(&tree->repaint, &tree->cap_repaint, k->n_repaint + 1,
+			   sizeof *tree->repaint) < 0)
+		return -1;
+	struct vis_win *win = w->data;
+	tree->repaint[k->n_repaint++] = (struct vis_repaint){
+		.win = win, .data = win->data, .x = x, .y = y,
+		.n_rects = (uint32_t)(tree->n_qrects - at) };
+	return 0;
+}
+
+static int walk_window(struct vis_tree *tree, const struct vis_window *w, size_t level);
+
+/* Walks c and the siblings below it, while something is left. 0, or -1. */
+static int walk_from(struct vis_tree *tree, const struct vis_window *c, size_t level)
+{
+	for (; c && tree->walk.left.n; c = c->below)
+		if (c->mapped && meets_left(&tree->walk, c->clip) &&
+		    walk_window(tree, c, level) < 0)
+			return -1;
+	return 0;
+}
+
+/* Walks a viewable window: its descendants above it first. 0, or -1. */
+static int walk_window(struct vis_tree *tree, const struct vis_window *w, size_t level)
+{
+	struct libvis_walk *k = &tree->walk;
+	const struct vis_window *c = w->top;
+	while (c && !(c->mapped && meets_left(k, c->clip)))
+		c = c->below;
+	bool counts = !w->look.input_only, saved = false;
+	if (c) {
+		/* A tally counts what was left before the descendants took their part. */
+		saved = k->sign && counts;
+		if (saved) {
+			size_t cap = k->cap_saves;
+			if (libvis_reserve(&k->saves, &k->cap_saves, level + 1, sizeof *k->saves) < 0)
+				return -1;
+			for (size_t i = cap; i < k->cap_saves; i++)
+				vis_bands_init(&k->saves[i]);
+			if (vis_bands_copy(&k->saves[level], &k->left) < 0)
+				return -1;
+		}
+		if (walk_from(tree, c, level + saved) < 0)
+			return -1;
+	}
+	if (!counts)
+		return 0;
+	if (!k->sign)
+		return draw(tree, w);
+	return tally(tree, w, saved ? &k->saves[level] : &k->left);
+}
+
+int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign)
+{
+	struct libvis_walk *k = &tree->walk;
+	k->sign = sign;
+	k->n_repaint = 0;
+	d = vis_box_intersect(d, tree->core.root.clip);
+	if (vis_box_empty(d))
+		return vis_bands_set_box(&k->left, (pixman_box32_t){ 0 });
+	if (vis_bands_set_box(&k->left, pbox(d)) < 0)
+		return -1;
+	return walk_from(tree, tree->core.root.top, 0);
+}
+
+void libvis_tally_below(struct vis_tree *tree, size_t windows)
+{
+	tree->tally_max = windows;
+	if (tree->tally && windows == 0)
+		libvis_tally_stop(tree);
+}
+
+/* A window's own pixels: its border box's, or its look's pieces' (none when input-only). 0, or
+ * -1 with ENOMEM (the look cut for its size). */
+static int count_total(struct vis_win *win)
+{
+	const struct vis_window *w = win->core;
+	uint64_t t = 0;
+	if (w->look.input_only) {
+		win->total = 0;
+		return 0;
+	}
+	if (!w->cut) {
+		win->total = (uint64_t)(w->width + 2 * (int64_t)w->look.border) *
+			     (uint64_t)(w->height + 2 * (int64_t)w->look.border);
+		return 0;
+	}
+	const struct vis_look_cut *cut = vis_wtree_cut(w);
+	if (!cut)
+		return -1;
+	for (uint32_t i = 0; i < cut->n; i++)
+		t += (uint64_t)cut->rects[i].w * (uint64_t)cut->rects[i].h;
+	win->total = t;
+	return 0;
+}
+
+/* Puts a viewable window's subtree where it is now (its viewable windows' boxes). O(subtree). */
+static void place_subtree(struct vis_window *top)
+{
+	for (struct vis_window *v = top; v;) {
+		if (!v->mapped) {
+			/* Its subtree is not viewable: past it. */
+			struct vis_window *s = v;
+			while (s != top && !s->above)
+				s = s->parent;
+			v = s == top ? NULL : s->above;
+			continue;
+		}
+		vis_wtree_place(v);
+		v = vis_wtree_next_within(v, top);
+	}
+}
+
+void libvis_tally_begin(struct vis_tree *tree, struct vis_win *win, struct vis_box after,
+			bool shows_after, bool restacks)
+{
+	struct vis_box d = { 0, 0, 0, 0 };
+	if (tree->tally && !tree->tally_broken) {
+		/* Past a change of the order, the update goes over every window. */
+		tree->tally_restacked |= restacks;
+		if (vis_wtree_viewable(win->core))
+			d = vis_wtree_box(win->core);
+		if (shows_after)
+			d = vis_box_hull(d, after);
+		d = vis_box_intersect(d, tree->core.root.clip);
+		if (!vis_box_empty(d) && libvis_walk(tree, d, -1) < 0)
+			tree->tally_broken = true;
+	}
+	tree->tally_box = d;
+}
+
+void libvis_tally_end(struct vis_tree *tree, struct vis_win *win)
+{
+	struct vis_box d = tree->tally_box;
+	tree->tally_box = (struct vis_box){ 0, 0, 0, 0 };
+	if (!tree->tally || tree->tally_broken)
+		return;
+	if (win) {
+		if (count_total(win) < 0) {
+			tree->tally_broken = true;
+			return;
+		}
+		if (vis_wtree_viewable(win->core))
+			place_subtree(win->core);
+	}
+	if (!vis_box_empty(d) && libvis_walk(tree, d, 1) < 0)
+		tree->tally_broken = true;
+}
+
+/* A window's state from its tally. */
+static uint8_t state_of(const struct vis_window *w)
+{
+	const struct vis_win *win = w->data;
+	if (w->look.input_only)
+		return VIS_WTREE_STATE_NONE;
+	if (win->seen == 0)
+		return VIS_FULLY_OBSCURED;
+	return win->seen == win->total ? VIS_UNOBSCURED : VIS_PARTIALLY_OBSCURED;
+}
+
+/*
+ * The pass of an update: the viewable windows in pre-order with their positions and keys (the
+ * queries read them, as after a recompute through the tree), and with states, each window's
+ * moved to old_state first, as a recompute does. 0, or -1 with ENOMEM (nothing changed then).
+ */
+static int pass(struct vis_tree *tree, bool states)
+{
+	struct vis_wtree *core = &tree->core;
+	if (libvis_reserve(&core->order, &core->cap_order, core->count, sizeof *core->order) < 0)
+		return -1;
+	size_t n = 0;
+	for (struct vis_window *w = core->root.bottom; w; w = vis_wtree_next(w)) {
+		/* Pre-order: the parent's key is set before its children's. */
+		bool viewable = w->mapped && (!w->parent->parent || w->parent->key);
+		if (states) {
+			w->old_state = w->state;
+			w->state = viewable ? state_of(w) : VIS_WTREE_STATE_NONE;
+		}
+		if (!viewable) {
+			w->key = 0;
+			continue;
+		}
+		w->key = wtree_key_of(n, core->count);
+		w->pos = n;
+		core->order[n++] = w;
+	}
+	core->n_order = n;
+	return 0;
+}
+
+int libvis_tally_update(struct vis_tree *tree, struct vis_window *const **changed, size_t *n)
+{
+	bool all = tree->tally_restacked;
+	if (all && pass(tree, true) < 0)
+		return -1;
+	/* Else the order and the boxes stand; states change where the walks went. */
+	for (size_t i = 0; !all && i < tree->n_touched; i++) {
+		struct vis_window *w = tree->touched[i];
+		w->old_state = w->state;
+		w->state = state_of(w);
+	}
+	*changed = tree->touched;
+	*n = all ? 0 : tree->n_touched;
+	tree->n_touched = 0;
+	tree->tally_restacked = false;
+	return all;
+}
+
+int libvis_tally_start(struct vis_tree *tree)
+{
+	struct vis_wtree *core = &tree->core;
+	for (struct vis_window *w = core->root.bottom; w; w = vis_wtree_next(w)) {
+		struct vis_win *win = w->data;
+		win->seen = 0;
+		if (count_total(win) < 0)
+			return -1;
+	}
+	/* Every window the walk meets is listed as touched unless restacked says all are. */
+	tree->tally_restacked = true;
+	if (libvis_walk(tree, core->root.clip, 1) < 0 || pass(tree, false) < 0)
+		return -1;
+	/* From now on the changes go without the core's notes. */
+	vis_wtree_drop_live(core);
+	tree->tally = true;
+	tree->tally_broken = tree->tally_restacked = false;
+	tree->n_touched = 0;
+	return 0;
+}
+
+void libvis_tally_stop(struct vis_tree *tree)
+{
+	/* The core recomputes everything at its next update (vis_wtree_drop_live()). */
+	tree->tally = false;
+	tree->tally_broken = false;
+}
