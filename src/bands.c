@@ -126,6 +126,28 @@ static void put_band_less(struct out *o, const pixman_box32_t *from, size_t m, i
 	band_end(o, start);
 }
 
+/* The index of the first box below row y (whose y2 passes it), or n: y2 grows box by box. */
+static size_t first_below(const struct vis_bands *r, int32_t y)
+{
+	size_t lo = 0, hi = r->n;
+	while (lo < hi) {
+		size_t mid = lo + (hi - lo) / 2;
+		if (r->boxes[mid].y2 <= y)
+			lo = mid + 1;
+		else
+			hi = mid;
+	}
+	return lo;
+}
+
+/* The index of the first box of the band holding box i. */
+static size_t band_start(const struct vis_bands *r, size_t i)
+{
+	while (i > 0 && r->boxes[i - 1].y1 == r->boxes[i].y1)
+		i--;
+	return i;
+}
+
 /* The index of the band after the one starting at i. */
 static size_t band_after(const struct vis_bands *r, size_t i)
 {
@@ -144,12 +166,9 @@ int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_bo
 	 * may coalesce with what they become: those are written to scratch, and spliced into r
 	 * between the bands above and below, which stay in place.
 	 */
-	size_t from = 0, prev = 0;
-	while (from < r->n && r->boxes[from].y2 <= b.y1) {
-		prev = from;
-		from = band_after(r, from);
-	}
-	from = prev; /* the band above them, or the first */
+	size_t from = first_below(r, b.y1);
+	if (from > 0) /* the band above them */
+		from = band_start(r, from - 1);
 	size_t to = from;
 	while (to < r->n && r->boxes[to].y1 < b.y2)
 		to = band_after(r, to);
@@ -183,12 +202,18 @@ int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_bo
 	if (scratch->n)
 		memcpy(r->boxes + from, scratch->boxes, scratch->n * sizeof *r->boxes);
 	r->n = r->n - m + scratch->n;
-	/* The extents: the first and last bands' rows, the bands' ends' columns. */
+	/* The extents: the first and last bands' rows; the columns stay unless b took pixels of
+	 * the first or the last column (a box holding one keeps it, as b leaves it alone). */
 	if (!r->n) {
 		r->ext = (pixman_box32_t){ 0 };
 		return 0;
 	}
-	r->ext = (pixman_box32_t){ INT32_MAX, r->boxes[0].y1, INT32_MIN, r->boxes[r->n - 1].y2 };
+	r->ext.y1 = r->boxes[0].y1;
+	r->ext.y2 = r->boxes[r->n - 1].y2;
+	if (b.x1 > r->ext.x1 && b.x2 < r->ext.x2)
+		return 0;
+	r->ext.x1 = INT32_MAX;
+	r->ext.x2 = INT32_MIN;
 	for (size_t i = 0, j; i < r->n; i = j) {
 		j = band_after(r, i);
 		if (r->boxes[i].x1 < r->ext.x1)
@@ -204,7 +229,7 @@ uint64_t vis_bands_area_in(const struct vis_bands *r, pixman_box32_t b)
 	if (!vis_bands_meet(r, b))
 		return 0;
 	uint64_t a = 0;
-	for (size_t i = 0; i < r->n; i++) {
+	for (size_t i = first_below(r, b.y1); i < r->n; i++) {
 		const pixman_box32_t *f = &r->boxes[i];
 		if (f->y1 >= b.y2)
 			break;
@@ -221,7 +246,7 @@ size_t vis_bands_clip(const struct vis_bands *r, pixman_box32_t b, pixman_box32_
 	if (!vis_bands_meet(r, b))
 		return 0;
 	size_t k = 0;
-	for (size_t i = 0; i < r->n; i++) {
+	for (size_t i = first_below(r, b.y1); i < r->n; i++) {
 		const pixman_box32_t *f = &r->boxes[i];
 		if (f->y1 >= b.y2)
 			break;

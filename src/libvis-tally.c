@@ -75,9 +75,10 @@ static int tally(struct vis_tree *tree, const struct vis_window *w, const struct
 	struct vis_win *win = w->data;
 	uint64_t seen = 0;
 	if (plain(w)) {
+		/* What is left lies in mine: nothing seen there, nothing to take off. */
 		pixman_box32_t c = pbox(w->clip);
 		seen = vis_bands_area_in(mine, c);
-		if (vis_bands_subtract(&k->left, &k->scratch, c) < 0)
+		if (seen && vis_bands_subtract(&k->left, &k->scratch, c) < 0)
 			return -1;
 	} else {
 		/* Pieces are disjoint: their counts add up. */
@@ -132,10 +133,11 @@ static int draw(struct vis_tree *tree, const struct vis_window *w)
 	if (plain(w)) {
 		pixman_box32_t c = pbox(w->clip);
 		if (libvis_reserve(&tree->boxes, &tree->cap_boxes, k->left.n + 1,
-				   sizeof *tree->boxes) < 0 ||
-		    append_boxes(tree, tree->boxes, vis_bands_clip(&k->left, c, tree->boxes), x,
-				 y) < 0 ||
-		    vis_bands_subtract(&k->left, &k->scratch, c) < 0)
+				   sizeof *tree->boxes) < 0)
+			return -1;
+		size_t m = vis_bands_clip(&k->left, c, tree->boxes);
+		if (m && (append_boxes(tree, tree->boxes, m, x, y) < 0 ||
+			  vis_bands_subtract(&k->left, &k->scratch, c) < 0))
 			return -1;
 	} else {
 		const pixman_box32_t *e = &k->left.ext;
