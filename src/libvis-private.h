@@ -43,17 +43,29 @@ struct vis_win {
 #define LIBVIS_TALLY_WINDOWS 256
 
 /*
+ * A repaint set as a walk lists it, top window first: wins[0 … n), each with the next n_rects of
+ * rects[0 … n_rects) (their rects pointers are set when handed out, and data: the window's
+ * user pointer may change while a set is kept).
+ */
+struct libvis_set {
+	struct vis_repaint *wins;
+	size_t n, cap;
+	struct vis_rect32 *rects;
+	size_t n_rects, cap_rects;
+};
+
+/*
  * A walk over a damaged area, from the top window down (libvis-tally.c): left is what is left
  * of the area, scratch its double; saves[d] what was left where a window at nesting d began
  * (its descendants hide nothing of it). sign: the tallies' walk (−1 before a change, +1 after),
- * or 0 for a repaint set, n_repaint windows of it so far.
+ * or 0; out: the repaint set it lists, or NULL.
  */
 struct libvis_walk {
 	struct vis_bands left, scratch;
 	struct vis_bands *saves;
 	size_t cap_saves;
 	int sign;
-	size_t n_repaint;
+	struct libvis_set *out;
 };
 
 /*
@@ -79,11 +91,12 @@ struct vis_tree {
 	/* The queries' arrays and scratch. */
 	struct vis_rect32 *qrects;
 	size_t n_qrects, cap_qrects;
-	struct vis_repaint *repaint;
-	size_t cap_repaint;
+	struct libvis_set shown; /* the last repaint query's */
 	struct vis_pieces pieces;
 	pixman_box32_t *boxes; /* a window's pieces as pixman's boxes */
 	size_t cap_boxes;
+	pixman_box32_t *parts; /* what of them a walk finds left */
+	size_t cap_parts;
 	pixman_region32_t now, exposed, part;
 	struct libvis_walk walk;
 	/*
@@ -95,6 +108,10 @@ struct vis_tree {
 	bool tally, tally_broken;
 	size_t tally_max;
 	struct vis_box tally_box;
+	/* The repaint set of kept_box, listed by the walk after the last change (kept_ok). */
+	struct libvis_set kept;
+	struct vis_box kept_box;
+	bool kept_ok;
 	/* The windows whose tallies walks met since the last update, unless restacked: a change
 	 * moved some window in the order or in and out of it (they may then be gone). */
 	struct vis_window **touched;
@@ -107,12 +124,11 @@ struct vis_tree {
 void libvis_damage(struct vis_tree *tree, struct vis_win *win);
 
 /*
- * Walks the box d of the screen (inside it), top window down: sign 0 lists the repaint set
- * (tree->repaint, tree->qrects; top first), ±1 adds each window's seen pixels there to its tally,
- * or takes them off. 0, or -1 with ENOMEM. O(windows whose clips meet what is left, times its
- * boxes).
+ * Walks the box d of the screen (inside it), top window down: sign ±1 adds each window's seen
+ * pixels there to its tally, or takes them off; out, if not NULL, gets the repaint set of d.
+ * 0, or -1 with ENOMEM. O(windows whose clips meet what is left, times its boxes).
  */
-int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign);
+int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign, struct libvis_set *out);
 
 /*
  * The tallies (libvis-tally.c). Around every change, libvis_tally_begin() before it (win: the

@@ -28,15 +28,19 @@ static bool meets_left(const struct libvis_walk *k, struct vis_box c)
 	return !vis_box_empty(c) && vis_bands_meet(&k->left, pbox(c));
 }
 
-/* Whether a window's pixels are its clip, all opaque: no look and no shaped ancestor. */
-static bool plain(const struct vis_window *w)
+/* What a window's pixels are, for a walk: its clip, all opaque (a plain window, or one with a
+ * border alone); its clip, opaque where its cut's opaque pieces are (a see-through look without a
+ * shape); or its pieces (a shape of its own or of an ancestor, which clips it). */
+enum pixels { CLIP, CLIP_SEE_THROUGH, PIECES };
+
+static enum pixels pixels_of(const struct vis_window *w)
 {
-	if (w->look.shaped || w->look.opaque != VIS_OPAQUE_ALL)
-		return false;
 	for (const struct vis_window *a = w->parent; a->parent; a = a->parent)
 		if (a->look.shaped)
-			return false;
-	return true;
+			return PIECES;
+	if (w->look.shaped)
+		return PIECES;
+	return w->look.opaque == VIS_OPAQUE_ALL ? CLIP : CLIP_SEE_THROUGH;
 }
 
 /* w's pieces inside box c (tree->pieces), as pixman boxes in tree->boxes; their count, or -1. */
@@ -67,35 +71,11 @@ static int take_off(struct libvis_walk *k, const pixman_box32_t *boxes, size_t n
 	return 0;
 }
 
-/* Adds to w's tally (or takes off) its pixels in mine, then takes its opaque ones off what is
- * left. 0, or -1. */
-static int tally(struct vis_tree *tree, const struct vis_window *w, const struct vis_bands *mine)
+/* Adds seen pixels of w to its tally (or takes them off), listing it as touched. 0, or -1. */
+static int count(struct vis_tree *tree, const struct vis_window *w, uint64_t seen)
 {
-	struct libvis_walk *k = &tree->walk;
 	struct vis_win *win = w->data;
-	uint64_t seen = 0;
-	if (plain(w)) {
-		/* What is left lies in mine: nothing seen there, nothing to take off. */
-		pixman_box32_t c = pbox(w->clip);
-		seen = vis_bands_area_in(mine, c);
-		if (seen && vis_bands_subtract(&k->left, &k->scratch, c) < 0)
-			return -1;
-	} else {
-		/* Pieces are disjoint: their counts add up. */
-		const pixman_box32_t *e = &mine->ext;
-		size_t n_opaque;
-		long n = pieces_of(tree, w,
-				   vis_box_intersect(w->clip, (struct vis_box){ e->x1, e->y1, e->x2,
-										 e->y2 }),
-				   &n_opaque);
-		if (n < 0)
-			return -1;
-		for (long i = 0; i < n; i++)
-			seen += vis_bands_area_in(mine, tree->boxes[i]);
-		if (take_off(k, tree->boxes, n_opaque) < 0)
-			return -1;
-	}
-	win->seen += (uint64_t)(int64_t)k->sign * seen;
+	win->seen += (uint64_t)(int64_t)tree->walk.sign * seen;
 	if (seen && win->touched != tree->serial + 1 && !tree->tally_restacked) {
 		if (libvis_reserve(&tree->touched, &tree->cap_touched, tree->n_touched + 1,
 				   sizeof *tree->touched) < 0)
@@ -106,72 +86,135 @@ static int tally(struct vis_tree *tree, const struct vis_window *w, const struct
 	return 0;
 }
 
-/* Appends boxes[0 … n), moved by -x, -y, to the repaint's rectangles. 0, or -1. */
-static int append_boxes(struct vis_tree *tree, const pixman_box32_t *b, size_t n, int64_t x,
+/* Appends boxes[0 … n), moved by -x, -y, to a set's rectangles. 0, or -1. */
+static int append_boxes(struct libvis_set *set, const pixman_box32_t *b, size_t n, int64_t x,
 			int64_t y)
 {
-	if (libvis_reserve(&tree->qrects, &tree->cap_qrects, tree->n_qrects + n,
-			   sizeof *tree->qrects) < 0)
+	if (libvis_reserve(&set->rects, &set->cap_rects, set->n_rects + n, sizeof *set->rects) < 0)
 		return -1;
-	struct vis_rect32 *out = tree->qrects + tree->n_qrects;
+	struct vis_rect32 *out = set->rects + set->n_rects;
 	/* They lie in the window's border box, whose sides fit in 31 bits. */
 	for (size_t i = 0; i < n; i++)
 		out[i] = (struct vis_rect32){ (int32_t)(b[i].x1 - x), (int32_t)(b[i].y1 - y),
 					      (uint32_t)(b[i].x2 - b[i].x1),
 					      (uint32_t)(b[i].y2 - b[i].y1) };
-	tree->n_qrects += n;
+	set->n_rects += n;
 	return 0;
 }
 
-/* Lists w in the repaint set with its pixels in what is left, if any, then takes its opaque
- * ones off it. 0, or -1. */
-static int draw(struct vis_tree *tree, const struct vis_window *w)
+/*
+ * Lists w in the walk's set with its pixels, the disjoint boxes px[0 … n), in what is left, if
+ * any: the boxes it shows (0 when none), or -1.
+ */
+static long draw(struct vis_tree *tree, const struct vis_window *w, const pixman_box32_t *px,
+		 size_t n)
 {
 	struct libvis_walk *k = &tree->walk;
+	struct libvis_set *set = k->out;
 	int64_t x = w->box.x1 + w->look.border, y = w->box.y1 + w->look.border;
-	size_t at = tree->n_qrects;
-	if (plain(w)) {
-		pixman_box32_t c = pbox(w->clip);
-		if (libvis_reserve(&tree->boxes, &tree->cap_boxes, k->left.n + 1,
-				   sizeof *tree->boxes) < 0)
-			return -1;
-		size_t m = vis_bands_clip(&k->left, c, tree->boxes);
-		if (m && (append_boxes(tree, tree->boxes, m, x, y) < 0 ||
-			  vis_bands_subtract(&k->left, &k->scratch, c) < 0))
+	size_t at = set->n_rects, parts = 0;
+	if (libvis_reserve(&tree->parts, &tree->cap_parts, n * k->left.n + 1,
+			   sizeof *tree->parts) < 0)
+		return -1;
+	for (size_t i = 0; i < n; i++)
+		parts += vis_bands_clip(&k->left, px[i], tree->parts + parts);
+	if (!parts)
+		return 0;
+	/* One box's part is banded; several boxes' parts are once pixman joins them. */
+	if (n == 1) {
+		if (append_boxes(set, tree->parts, parts, x, y) < 0)
 			return -1;
 	} else {
-		const pixman_box32_t *e = &k->left.ext;
-		size_t n_opaque;
-		long n = pieces_of(tree, w,
-				   vis_box_intersect(w->clip, (struct vis_box){ e->x1, e->y1, e->x2,
-										 e->y2 }),
-				   &n_opaque);
-		/* The part of each piece, after the pieces: disjoint, banded once pixman joins them. */
-		size_t m = (size_t)(n < 0 ? 0 : n), parts = m;
-		if (n < 0 || libvis_reserve(&tree->boxes, &tree->cap_boxes, m + m * k->left.n + 1,
-					    sizeof *tree->boxes) < 0)
-			return -1;
-		for (size_t i = 0; i < m; i++)
-			parts += vis_bands_clip(&k->left, tree->boxes[i], tree->boxes + parts);
 		pixman_region32_fini(&tree->part);
-		if (!pixman_region32_init_rects(&tree->part, tree->boxes + m, (int)(parts - m)) ||
-		    libvis_append_rects(&tree->part, x, y, &tree->qrects, &tree->n_qrects,
-					&tree->cap_qrects) < 0 ||
-		    take_off(k, tree->boxes, n_opaque) < 0) {
+		if (!pixman_region32_init_rects(&tree->part, tree->parts, (int)parts) ||
+		    libvis_append_rects(&tree->part, x, y, &set->rects, &set->n_rects,
+					&set->cap_rects) < 0) {
 			errno = ENOMEM;
 			return -1;
 		}
 	}
-	if (tree->n_qrects == at)
-		return 0;
-	if (libvis_reserve(&tree->repaint, &tree->cap_repaint, k->n_repaint + 1,
-			   sizeof *tree->repaint) < 0)
+	if (libvis_reserve(&set->wins, &set->cap, set->n + 1, sizeof *set->wins) < 0)
 		return -1;
 	struct vis_win *win = w->data;
-	tree->repaint[k->n_repaint++] = (struct vis_repaint){
-		.win = win, .data = win->data, .x = x, .y = y,
-		.n_rects = (uint32_t)(tree->n_qrects - at) };
-	return 0;
+	set->wins[set->n++] = (struct vis_repaint){ .win = win, .x = x, .y = y,
+						    .n_rects = (uint32_t)(set->n_rects - at) };
+	return (long)parts;
+}
+
+/*
+ * The opaque pieces of a see-through window without a shape inside box c, from its cut (none
+ * without one: opaque nowhere), into tree->boxes[1 …]: their count, or -1.
+ */
+static long opaque_cut(struct vis_tree *tree, const struct vis_window *w, struct vis_box c)
+{
+	if (!w->cut)
+		return 0;
+	const struct vis_look_cut *cut = vis_wtree_cut(w);
+	if (!cut || libvis_reserve(&tree->boxes, &tree->cap_boxes, (size_t)cut->n_opaque + 1,
+				   sizeof *tree->boxes) < 0)
+		return -1;
+	size_t n = 0;
+	for (uint32_t i = 0; i < cut->n_opaque; i++) {
+		struct vis_rect r = cut->rects[i];
+		struct vis_box b = vis_box_intersect(
+			(struct vis_box){ w->box.x1 + r.x, w->box.y1 + r.y, w->box.x1 + r.x + r.w,
+					  w->box.y1 + r.y + r.h },
+			c);
+		if (!vis_box_empty(b))
+			tree->boxes[1 + n++] = pbox(b);
+	}
+	return (long)n;
+}
+
+/*
+ * A walk's visit of a viewable window with pixels: its tally (mine: what was left where it
+ * began), its part of the set being listed (what is left now), then its opaque pixels off what
+ * is left. 0, or -1.
+ */
+static int visit(struct vis_tree *tree, const struct vis_window *w, const struct vis_bands *mine)
+{
+	struct libvis_walk *k = &tree->walk;
+	enum pixels kind = pixels_of(w);
+	const pixman_box32_t *e = &mine->ext;
+	struct vis_box c = vis_box_intersect(w->clip,
+					     (struct vis_box){ e->x1, e->y1, e->x2, e->y2 });
+	/* Its pixels px[0 … n), its opaque ones op[0 … n_opaque). */
+	size_t n = 1, n_opaque = 1;
+	const pixman_box32_t *px, *op;
+	if (kind == PIECES) {
+		long m = pieces_of(tree, w, c, &n_opaque);
+		if (m < 0)
+			return -1;
+		n = (size_t)m;
+		px = op = tree->boxes;
+	} else {
+		long m = kind == CLIP ? 1 : opaque_cut(tree, w, c);
+		if (m < 0 || libvis_reserve(&tree->boxes, &tree->cap_boxes, 1,
+					    sizeof *tree->boxes) < 0)
+			return -1;
+		tree->boxes[0] = pbox(w->clip);
+		px = tree->boxes;
+		op = kind == CLIP ? tree->boxes : tree->boxes + 1;
+		n_opaque = (size_t)m;
+	}
+	/* What is left lies in mine: a clip that meets nothing of either takes nothing off. */
+	bool meets = kind != CLIP;
+	if (k->sign) {
+		/* Pieces are disjoint: their counts add up. */
+		uint64_t seen = 0;
+		for (size_t i = 0; i < n; i++)
+			seen += vis_bands_area_in(mine, px[i]);
+		if (count(tree, w, seen) < 0)
+			return -1;
+		meets |= seen != 0;
+	}
+	if (k->out) {
+		long parts = draw(tree, w, px, n);
+		if (parts < 0)
+			return -1;
+		meets = parts > 0 || kind != CLIP;
+	}
+	return meets ? take_off(k, op, n_opaque) : 0;
 }
 
 static int walk_window(struct vis_tree *tree, const struct vis_window *w, size_t level);
@@ -209,18 +252,16 @@ static int walk_window(struct vis_tree *tree, const struct vis_window *w, size_t
 		if (walk_from(tree, c, level + saved) < 0)
 			return -1;
 	}
-	if (!counts)
-		return 0;
-	if (!k->sign)
-		return draw(tree, w);
-	return tally(tree, w, saved ? &k->saves[level] : &k->left);
+	return counts ? visit(tree, w, saved ? &k->saves[level] : &k->left) : 0;
 }
 
-int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign)
+int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign, struct libvis_set *out)
 {
 	struct libvis_walk *k = &tree->walk;
 	k->sign = sign;
-	k->n_repaint = 0;
+	k->out = out;
+	if (out)
+		out->n = out->n_rects = 0;
 	d = vis_box_intersect(d, tree->core.root.clip);
 	if (vis_box_empty(d))
 		return vis_bands_set_box(&k->left, (pixman_box32_t){ 0 });
@@ -289,10 +330,11 @@ void libvis_tally_begin(struct vis_tree *tree, struct vis_win *win, struct vis_b
 		if (shows_after)
 			d = vis_box_hull(d, after);
 		d = vis_box_intersect(d, tree->core.root.clip);
-		if (!vis_box_empty(d) && libvis_walk(tree, d, -1) < 0)
+		if (!vis_box_empty(d) && libvis_walk(tree, d, -1, NULL) < 0)
 			tree->tally_broken = true;
 	}
 	tree->tally_box = d;
+	tree->kept_ok = false;
 }
 
 void libvis_tally_end(struct vis_tree *tree, struct vis_win *win)
@@ -309,8 +351,16 @@ void libvis_tally_end(struct vis_tree *tree, struct vis_win *win)
 		if (vis_wtree_viewable(win->core))
 			place_subtree(win->core);
 	}
-	if (!vis_box_empty(d) && libvis_walk(tree, d, 1) < 0)
+	/* What each window shows in d now is the repaint set of any damage inside it, until the
+	 * next change: a frame's damage is mostly that of its changes. */
+	if (vis_box_empty(d))
+		return;
+	if (libvis_walk(tree, d, 1, &tree->kept) < 0) {
 		tree->tally_broken = true;
+		return;
+	}
+	tree->kept_ok = true;
+	tree->kept_box = d;
 }
 
 /* A window's state from its tally. */
@@ -383,7 +433,8 @@ int libvis_tally_start(struct vis_tree *tree)
 	}
 	/* Every window the walk meets is listed as touched unless restacked says all are. */
 	tree->tally_restacked = true;
-	if (libvis_walk(tree, core->root.clip, 1) < 0 || pass(tree, false) < 0)
+	tree->kept_ok = false;
+	if (libvis_walk(tree, core->root.clip, 1, NULL) < 0 || pass(tree, false) < 0)
 		return -1;
 	/* From now on the changes go without the core's notes. */
 	vis_wtree_drop_live(core);
@@ -395,6 +446,7 @@ int libvis_tally_start(struct vis_tree *tree)
 
 void libvis_tally_stop(struct vis_tree *tree)
 {
+	tree->kept_ok = false;
 	/* The core recomputes everything at its next update (vis_wtree_drop_live()). */
 	tree->tally = false;
 	tree->tally_broken = false;

@@ -101,8 +101,12 @@ VIS_EXPORT void vis_tree_destroy(struct vis_tree *tree)
 	free(tree->changes);
 	free(tree->rects);
 	free(tree->qrects);
-	free(tree->repaint);
+	free(tree->shown.wins);
+	free(tree->shown.rects);
+	free(tree->kept.wins);
+	free(tree->kept.rects);
 	free(tree->boxes);
+	free(tree->parts);
 	free(tree);
 }
 

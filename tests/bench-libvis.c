@@ -209,6 +209,9 @@ static struct vis_rect32 *rects32(const struct vis_rect *r, uint32_t n)
 	return out;
 }
 
+/* The windows up to which libvis keeps tallies (--tally-below; 0: never), or SIZE_MAX: its own. */
+static size_t tally_below = SIZE_MAX;
+
 /* The scene as a libvis tree of mapped top-level windows; under --viscomp, viscomp's model: a
  * larger screen, and on top the outside, shaped as what the output does not show. */
 static struct vis_tree *tree_of(const struct vis_scene *s, struct vis_win **wins)
@@ -217,6 +220,8 @@ static struct vis_tree *tree_of(const struct vis_scene *s, struct vis_win **wins
 				       : vis_tree_create(s->screen_w, s->screen_h);
 	if (!t)
 		die("vis_tree_create");
+	if (tally_below != SIZE_MAX)
+		libvis_tally_below(t, tally_below);
 	for (size_t i = 0; i < s->n; i++) {
 		const struct vis_look *l = s->looks ? &s->looks[i] : NULL;
 		struct vis_rect r = s->rects[i];
@@ -456,6 +461,8 @@ int main(int argc, char **argv)
 			only = strtoul(argv[++i], NULL, 10);
 		else if (!strcmp(argv[i], "--live-from") && i + 1 < argc)
 			live_from = strtoul(argv[++i], NULL, 10);
+		else if (!strcmp(argv[i], "--tally-below") && i + 1 < argc)
+			tally_below = strtoul(argv[++i], NULL, 10);
 		else if (!strcmp(argv[i], "--viscomp") && i + 1 < argc) {
 			if (sscanf(argv[++i], "%dx%d", &viscomp_w, &viscomp_h) != 2 || viscomp_w < 1 ||
 			    viscomp_h < 1 || viscomp_w >= VISCOMP_SCREEN || viscomp_h >= VISCOMP_SCREEN)
@@ -464,7 +471,7 @@ int main(int argc, char **argv)
 		else
 			die("usage: bench-libvis [--kinds K,...] [--sizes N,...] [--moves M] [--seed S]\n"
 			    "       bench-libvis --family COUNT [--min-n N] [--max-n N] [--moves M] "
-			    "[--seed S] [--only K]\n       (either also [--live-from N]; the first also "
+			    "[--seed S] [--only K]\n       (either also [--live-from N] [--tally-below N]; the first also "
 			    "[--viscomp WxH])");
 	}
 	if (moves < 1)

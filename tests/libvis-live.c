@@ -2,7 +2,8 @@
  * test-libvis's one hook past <vis/vis.h>: which engine a tree's updates take. The test's trees
  * are small, so libvis keeps tallies for them (libvis-tally.c); so that they also exercise the
  * core, an update can go through it instead, with the live engine from the first window, or
- * with tallies kept only up to a few windows, so that trees go in and out of them.
+ * with tallies kept only up to a few windows, so that trees go in and out of them; and the box
+ * whose repaint set a tree keeps, for damage that it serves.
  */
 #include "libvis-private.h"
 #include "test-libvis.h"
@@ -15,4 +16,17 @@ void tl_engine(struct vis_tree *tree, enum tl_engine engine)
 		libvis_tally_below(tree, 0);
 	if (engine == TL_SWITCH)
 		libvis_tally_below(tree, (size_t)tl_range(1, 12));
+}
+
+void tl_kept_damage(struct vis_tree *tree, struct vis_rect32 *d)
+{
+	if (!tree->kept_ok)
+		return;
+	struct vis_box b = tree->kept_box;
+	int64_t x1 = tl_range(b.x1, b.x2 - 1), y1 = tl_range(b.y1, b.y2 - 1);
+	int64_t x2 = tl_range(0, 1) ? b.x2 : tl_range(x1 + 1, b.x2);
+	int64_t y2 = tl_range(0, 1) ? b.y2 : tl_range(y1 + 1, b.y2);
+	if (tl_range(0, 1))
+		x1 = b.x1, y1 = b.y1;
+	*d = (struct vis_rect32){ (int32_t)x1, (int32_t)y1, (uint32_t)(x2 - x1), (uint32_t)(y2 - y1) };
 }

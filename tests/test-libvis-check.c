@@ -107,6 +107,8 @@ static void check_repaint(struct tl *c, const struct pm_paint *p)
 				(uint32_t)tl_range(1, t->sw + 8), (uint32_t)tl_range(1, t->sh + 8) };
 	if (tl_range(0, 9) == 0)
 		d = (struct vis_rect32){ INT32_MIN, INT32_MIN, INT32_MAX, INT32_MAX };
+	else if (tl_range(0, 1) == 0)
+		tl_kept_damage(c->vt, &d); /* inside the last change's box, often: a frame's damage */
 	const struct vis_repaint *out;
 	size_t n;
 	if (vis_tree_repaint(c->vt, &d, &out, &n) < 0)

@@ -41,4 +41,8 @@ void tl_bad_inputs(struct tl *c);
 enum tl_engine { TL_TALLY, TL_LIVE, TL_THROUGH, TL_SWITCH };
 void tl_engine(struct vis_tree *tree, enum tl_engine engine);
 
+/* A box at random inside the one whose repaint set the tree keeps from its last change, into *d
+ * (libvis-live.c; with none kept, *d stays). */
+void tl_kept_damage(struct vis_tree *tree, struct vis_rect32 *d);
+
 #endif
