@@ -157,6 +157,21 @@ static size_t band_after(const struct vis_bands *r, size_t i)
 	return j;
 }
 
+/* Sets the extents' columns, from the first and the last box of each band. */
+static void columns(struct vis_bands *r)
+{
+	r->ext.x1 = INT32_MAX;
+	r->ext.x2 = INT32_MIN;
+	for (size_t i = 0, j; i < r->n; i = j) {
+		j = band_after(r, i);
+		if (r->boxes[i].x1 < r->ext.x1)
+			r->ext.x1 = r->boxes[i].x1;
+		if (r->boxes[j - 1].x2 > r->ext.x2)
+			r->ext.x2 = r->boxes[j - 1].x2;
+	}
+}
+
+
 int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b)
 {
 	if (!vis_bands_meet(r, b))
@@ -212,14 +227,35 @@ int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_bo
 	r->ext.y2 = r->boxes[r->n - 1].y2;
 	if (b.x1 > r->ext.x1 && b.x2 < r->ext.x2)
 		return 0;
-	r->ext.x1 = INT32_MAX;
-	r->ext.x2 = INT32_MIN;
-	for (size_t i = 0, j; i < r->n; i = j) {
-		j = band_after(r, i);
-		if (r->boxes[i].x1 < r->ext.x1)
-			r->ext.x1 = r->boxes[i].x1;
-		if (r->boxes[j - 1].x2 > r->ext.x2)
-			r->ext.x2 = r->boxes[j - 1].x2;
+	columns(r);
+	return 0;
+}
+
+int vis_bands_intersect(struct vis_bands *dst, const struct vis_bands *src, pixman_box32_t b)
+{
+	dst->n = 0;
+	dst->ext = (pixman_box32_t){ 0 };
+	if (!vis_bands_meet(src, b))
+		return 0;
+	if (reserve(dst, src->n) < 0)
+		return -1;
+	struct out o = { dst, 0 };
+	for (size_t i = first_below(src, b.y1); i < src->n && src->boxes[i].y1 < b.y2;) {
+		int32_t y1 = src->boxes[i].y1 > b.y1 ? src->boxes[i].y1 : b.y1;
+		int32_t y2 = src->boxes[i].y2 < b.y2 ? src->boxes[i].y2 : b.y2;
+		size_t start = dst->n;
+		for (int32_t band = src->boxes[i].y1; i < src->n && src->boxes[i].y1 == band; i++) {
+			int32_t x1 = src->boxes[i].x1 > b.x1 ? src->boxes[i].x1 : b.x1;
+			int32_t x2 = src->boxes[i].x2 < b.x2 ? src->boxes[i].x2 : b.x2;
+			if (x1 < x2)
+				put(dst, x1, y1, x2, y2);
+		}
+		band_end(&o, start);
+	}
+	if (dst->n) {
+		dst->ext.y1 = dst->boxes[0].y1;
+		dst->ext.y2 = dst->boxes[dst->n - 1].y2;
+		columns(dst);
 	}
 	return 0;
 }

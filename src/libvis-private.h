@@ -66,6 +66,7 @@ struct libvis_walk {
 	size_t cap_saves;
 	int sign;
 	struct libvis_set *out;
+	const struct vis_window *stop; /* a top-level window the walk stops at, or NULL */
 };
 
 /*
@@ -112,6 +113,12 @@ struct vis_tree {
 	struct libvis_set kept;
 	struct vis_box kept_box;
 	bool kept_ok;
+	/* A window moving alone (libvis_tally_begin_move()): it, its clip and the pixels it saw
+	 * before, and what the windows above it leave of the change's box. */
+	struct vis_window *moved;
+	struct vis_box moved_from;
+	uint64_t moved_seen;
+	struct vis_bands above;
 	/* The windows whose tallies walks met since the last update, unless restacked: a change
 	 * moved some window in the order or in and out of it (they may then be gone). */
 	struct vis_window **touched;
@@ -133,7 +140,8 @@ int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign, struct libvis
 /*
  * The tallies (libvis-tally.c). Around every change, libvis_tally_begin() before it (win: the
  * window changed; after: the screen box its subtree takes after the change, if shows_after;
- * restacks: the change moves windows in the order of the viewable ones, or in or out of it),
+ * restacks: the change moves windows in the order of the viewable ones, or in or out of it; or
+ * libvis_tally_begin_move() for a change of place or size alone, after: its new box),
  * libvis_tally_end() after it (win NULL once destroyed). libvis_tally_start() takes them up after
  * an update through the core. libvis_tally_update() is an update from them: 0 with the windows
  * whose states it changed among *changed[0 … *n) (their old states in old_state), 1 when any
@@ -142,6 +150,7 @@ int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign, struct libvis
  */
 void libvis_tally_begin(struct vis_tree *tree, struct vis_win *win, struct vis_box after,
 			bool shows_after, bool restacks);
+void libvis_tally_begin_move(struct vis_tree *tree, struct vis_win *win, struct vis_box after);
 void libvis_tally_end(struct vis_tree *tree, struct vis_win *win);
 int libvis_tally_start(struct vis_tree *tree);
 int libvis_tally_update(struct vis_tree *tree, struct vis_window *const **changed, size_t *n);

@@ -71,12 +71,11 @@ static int take_off(struct libvis_walk *k, const pixman_box32_t *boxes, size_t n
 	return 0;
 }
 
-/* Adds seen pixels of w to its tally (or takes them off), listing it as touched. 0, or -1. */
-static int count(struct vis_tree *tree, const struct vis_window *w, uint64_t seen)
+/* Lists w as touched by the walks since the last update, once. 0, or -1. */
+static int touch(struct vis_tree *tree, const struct vis_window *w)
 {
 	struct vis_win *win = w->data;
-	win->seen += (uint64_t)(int64_t)tree->walk.sign * seen;
-	if (seen && win->touched != tree->serial + 1 && !tree->tally_restacked) {
+	if (win->touched != tree->serial + 1 && !tree->tally_restacked) {
 		if (libvis_reserve(&tree->touched, &tree->cap_touched, tree->n_touched + 1,
 				   sizeof *tree->touched) < 0)
 			return -1;
@@ -84,6 +83,14 @@ static int count(struct vis_tree *tree, const struct vis_window *w, uint64_t see
 		win->touched = tree->serial + 1;
 	}
 	return 0;
+}
+
+/* Adds seen pixels of w to its tally (or takes them off). 0, or -1. */
+static int count(struct vis_tree *tree, const struct vis_window *w, uint64_t seen)
+{
+	struct vis_win *win = w->data;
+	win->seen += (uint64_t)(int64_t)tree->walk.sign * seen;
+	return seen ? touch(tree, w) : 0;
 }
 
 /* Appends boxes[0 … n), moved by -x, -y, to a set's rectangles. 0, or -1. */
@@ -222,7 +229,7 @@ static int walk_window(struct vis_tree *tree, const struct vis_window *w, size_t
 /* Walks c and the siblings below it, while something is left. 0, or -1. */
 static int walk_from(struct vis_tree *tree, const struct vis_window *c, size_t level)
 {
-	for (; c && tree->walk.left.n; c = c->below)
+	for (; c && c != tree->walk.stop && tree->walk.left.n; c = c->below)
 		if (c->mapped && meets_left(&tree->walk, c->clip) &&
 		    walk_window(tree, c, level) < 0)
 			return -1;
@@ -255,11 +262,23 @@ static int walk_window(struct vis_tree *tree, const struct vis_window *w, size_t
 	return counts ? visit(tree, w, saved ? &k->saves[level] : &k->left) : 0;
 }
 
-int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign, struct libvis_set *out)
+/* Walks what k->left holds, from the top-level window start down to stop (not walked; NULL:
+ * all), with sign, listing into out. 0, or -1. */
+static int walk_left(struct vis_tree *tree, const struct vis_window *start,
+		     const struct vis_window *stop, int sign, struct libvis_set *out)
 {
 	struct libvis_walk *k = &tree->walk;
 	k->sign = sign;
 	k->out = out;
+	k->stop = stop;
+	return walk_from(tree, start, 0);
+}
+
+/* libvis_walk() stopping at the top-level window stop (NULL: none). */
+static int walk_to(struct vis_tree *tree, struct vis_box d, int sign, struct libvis_set *out,
+		   const struct vis_window *stop)
+{
+	struct libvis_walk *k = &tree->walk;
 	if (out)
 		out->n = out->n_rects = 0;
 	d = vis_box_intersect(d, tree->core.root.clip);
@@ -267,7 +286,12 @@ int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign, struct libvis
 		return vis_bands_set_box(&k->left, (pixman_box32_t){ 0 });
 	if (vis_bands_set_box(&k->left, pbox(d)) < 0)
 		return -1;
-	return walk_from(tree, tree->core.root.top, 0);
+	return walk_left(tree, tree->core.root.top, stop, sign, out);
+}
+
+int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign, struct libvis_set *out)
+{
+	return walk_to(tree, d, sign, out, NULL);
 }
 
 void libvis_tally_below(struct vis_tree *tree, size_t windows)
@@ -337,12 +361,99 @@ void libvis_tally_begin(struct vis_tree *tree, struct vis_win *win, struct vis_b
 	tree->kept_ok = false;
 }
 
+/*
+ * Whether a change of w's place or size alone takes the moved window's way: a top-level window
+ * whose pixels are its clip, all opaque, with no viewable child.
+ */
+static bool moves_alone(const struct vis_window *w)
+{
+	if (w->parent->parent || !w->mapped || w->look.input_only || pixels_of(w) != CLIP)
+		return false;
+	for (const struct vis_window *c = w->top; c; c = c->below)
+		if (c->mapped)
+			return false;
+	return true;
+}
+
+/*
+ * A window that moves alone (moves_alone()) changes what the windows below it see only where it
+ * was and is not (they gain it) and where it is and was not (they lose it), and nothing of what
+ * the windows above it see: one walk down to it before the change, over the hull d of its boxes,
+ * keeps what they leave of d (tree->above) and lists their part of its repaint set; after it,
+ * the moved window's own count comes from that, the windows below list the rest of the set, and
+ * two walks over those two strips alone correct their tallies. A drag costs one walk over d and
+ * the strips, where any other change costs two walks over its box.
+ */
+void libvis_tally_begin_move(struct vis_tree *tree, struct vis_win *win, struct vis_box after)
+{
+	struct vis_window *w = win->core;
+	if (!tree->tally || tree->tally_broken || !moves_alone(w)) {
+		libvis_tally_begin(tree, win, after, vis_wtree_viewable(w), false);
+		return;
+	}
+	struct vis_box d = vis_box_intersect(vis_box_hull(w->box, after), tree->core.root.clip);
+	tree->kept_ok = false;
+	tree->tally_box = d;
+	if (vis_box_empty(d))
+		return;
+	struct libvis_walk *k = &tree->walk;
+	if (walk_to(tree, d, 0, &tree->kept, w) < 0 || vis_bands_copy(&tree->above, &k->left) < 0) {
+		tree->tally_broken = true;
+		return;
+	}
+	tree->moved = w;
+	tree->moved_from = w->clip;
+	tree->moved_seen =
+		vis_box_empty(w->clip) ? 0 : vis_bands_area_in(&tree->above, pbox(w->clip));
+}
+
+/* The rest of a window's move alone (libvis_tally_begin_move()) over d. 0, or -1. */
+static int end_move(struct vis_tree *tree, struct vis_window *w, struct vis_box d)
+{
+	struct libvis_walk *k = &tree->walk;
+	struct vis_win *win = w->data;
+	vis_wtree_place(w);
+	pixman_box32_t a = pbox(tree->moved_from), b = pbox(w->clip);
+	bool was = !vis_box_empty(tree->moved_from), is = !vis_box_empty(w->clip);
+	uint64_t now = is ? vis_bands_area_in(&tree->above, b) : 0;
+	win->seen += now - tree->moved_seen;
+	if ((now || tree->moved_seen) && touch(tree, w) < 0)
+		return -1;
+	/* Its part of the repaint set, and the windows' below it. */
+	if (vis_bands_copy(&k->left, &tree->above) < 0)
+		return -1;
+	k->out = &tree->kept;
+	if (is && (draw(tree, w, &b, 1) < 0 || vis_bands_subtract(&k->left, &k->scratch, b) < 0))
+		return -1;
+	if (walk_left(tree, w->below, NULL, 0, &tree->kept) < 0)
+		return -1;
+	/* The windows below gain what it left, and lose what it took. */
+	if (was && (vis_bands_intersect(&k->left, &tree->above, a) < 0 ||
+		    (is && vis_bands_subtract(&k->left, &k->scratch, b) < 0) ||
+		    walk_left(tree, w->below, NULL, 1, NULL) < 0))
+		return -1;
+	if (is && (vis_bands_intersect(&k->left, &tree->above, b) < 0 ||
+		   (was && vis_bands_subtract(&k->left, &k->scratch, a) < 0) ||
+		   walk_left(tree, w->below, NULL, -1, NULL) < 0))
+		return -1;
+	tree->kept_ok = true;
+	tree->kept_box = d;
+	return 0;
+}
+
 void libvis_tally_end(struct vis_tree *tree, struct vis_win *win)
 {
 	struct vis_box d = tree->tally_box;
+	struct vis_window *moved = tree->moved;
 	tree->tally_box = (struct vis_box){ 0, 0, 0, 0 };
+	tree->moved = NULL;
 	if (!tree->tally || tree->tally_broken)
 		return;
+	if (moved) {
+		if (count_total(win) < 0 || end_move(tree, moved, d) < 0)
+			tree->tally_broken = true;
+		return;
+	}
 	if (win) {
 		if (count_total(win) < 0) {
 			tree->tally_broken = true;

@@ -56,6 +56,7 @@ VIS_EXPORT struct vis_tree *vis_tree_create(int32_t width, int32_t height)
 	pixman_region32_init(&tree->part);
 	vis_bands_init(&tree->walk.left);
 	vis_bands_init(&tree->walk.scratch);
+	vis_bands_init(&tree->above);
 	tree->tally_max = LIBVIS_TALLY_WINDOWS;
 	return tree;
 }
@@ -91,6 +92,7 @@ VIS_EXPORT void vis_tree_destroy(struct vis_tree *tree)
 	pixman_region32_fini(&tree->part);
 	vis_bands_finish(&tree->walk.left);
 	vis_bands_finish(&tree->walk.scratch);
+	vis_bands_finish(&tree->above);
 	for (size_t i = 0; i < tree->walk.cap_saves; i++)
 		vis_bands_finish(&tree->walk.saves[i]);
 	free(tree->walk.saves);
@@ -247,8 +249,7 @@ VIS_EXPORT int vis_win_configure(struct vis_win *win, int32_t x, int32_t y, int3
 			return -1;
 	}
 	libvis_damage(win->tree, win); /* where it was */
-	libvis_tally_begin(win->tree, win, box_at(w->parent, x, y, width, height, border),
-			   vis_wtree_viewable(w), false);
+	libvis_tally_begin_move(win->tree, win, box_at(w->parent, x, y, width, height, border));
 	w->x = x;
 	w->y = y;
 	vis_wtree_set_size(w, width, height, border); /* checked above: cannot fail */

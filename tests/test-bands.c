@@ -2,8 +2,8 @@
  * Unit tests of the banded regions (src/bands.h) against pixman's: boxes taken off a box one after
  * another, on small grids where they share edges, cover each other exactly and take all that is
  * left, and near the 32-bit limits; after each, the same pixels as pixman's region, the
- * invariants (bands sorted, disjoint, coalesced; exact extents), and the areas and clips of random
- * boxes.
+ * invariants (bands sorted, disjoint, coalesced; exact extents), and the areas, clips and
+ * intersections of random boxes.
  */
 #include <stdbool.h>
 #include <stdio.h>
@@ -134,6 +134,15 @@ static void run(struct vis_rng *rng, int64_t origin, int64_t side, int64_t step,
 		}
 		CHECK(vis_bands_copy(&copy, &r) == 0);
 		CHECK(copy.n == r.n && same_pixels(&copy, &p));
+		/* The region inside another box, as a region of its own. */
+		CHECK(vis_bands_intersect(&copy, &r, c) == 0);
+		CHECK(well_formed(&copy));
+		pixman_region32_t pi;
+		pixman_region32_init_rect(&pi, c.x1, c.y1, (unsigned)(c.x2 - c.x1),
+					  (unsigned)(c.y2 - c.y1));
+		pixman_region32_intersect(&pi, &pi, &p);
+		CHECK(same_pixels(&copy, &pi));
+		pixman_region32_fini(&pi);
 	}
 	free(out);
 	pixman_region32_fini(&p);
