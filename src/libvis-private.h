@@ -36,11 +36,11 @@ struct vis_win {
 	/* While the tree keeps tallies (libvis-tally.c): its own pixels, and those of them seen
 	 * (counted modulo 2^64 as walks take them off and put them back). */
 	uint64_t total, seen;
-	uint64_t touched; /* the update (tree->serial + 1) whose walks listed it in tree->touched */
+	uint32_t touched_slot; /* 1 + its index in tree->touched, or 0 */
 };
 
 /* Windows up to which a tree keeps tallies, by default (libvis-tally.c). */
-#define LIBVIS_TALLY_WINDOWS 256
+#define LIBVIS_TALLY_WINDOWS 1024
 
 /*
  * A repaint set as a walk lists it, top window first: wins[0 … n), each with the next n_rects of
@@ -119,11 +119,13 @@ struct vis_tree {
 	struct vis_box moved_from;
 	uint64_t moved_seen;
 	struct vis_bands above;
-	/* The windows whose tallies walks met since the last update, unless restacked: a change
-	 * moved some window in the order or in and out of it (they may then be gone). */
+	/* The windows whose states may have changed since the last update (their tallies met by
+	 * walks, or their subtree's viewability changed); restacked: some change moved windows in
+	 * the order or in and out of it (restacks: the change under way), so that the update
+	 * numbers them again. */
 	struct vis_window **touched;
 	size_t n_touched, cap_touched;
-	bool tally_restacked;
+	bool tally_restacked, tally_restacks;
 };
 
 /* Records that win is about to change or has changed (libvis-update.c): the tree is dirty, the
@@ -131,11 +133,29 @@ struct vis_tree {
 void libvis_damage(struct vis_tree *tree, struct vis_win *win);
 
 /*
- * Walks the box d of the screen (inside it), top window down: sign ±1 adds each window's seen
+ * The walks (libvis-walk.c). libvis_walk() walks the box d of the screen (inside it), top window
+ * down to the top-level window stop (not walked; NULL: all): sign ±1 adds each window's seen
  * pixels there to its tally, or takes them off; out, if not NULL, gets the repaint set of d.
- * 0, or -1 with ENOMEM. O(windows whose clips meet what is left, times its boxes).
+ * libvis_walk_left() walks what tree->walk.left holds from the top-level window start down
+ * (out is not emptied first). 0, or -1 with ENOMEM. O(windows whose clips meet what is left,
+ * times its boxes).
  */
-int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign, struct libvis_set *out);
+int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign, struct libvis_set *out,
+		const struct vis_window *stop);
+int libvis_walk_left(struct vis_tree *tree, const struct vis_window *start,
+		     const struct vis_window *stop, int sign, struct libvis_set *out);
+
+/* Lists w in the walk's set (tree->walk.out) with what is left of the screen box b. 0, or -1. */
+int libvis_draw_box(struct vis_tree *tree, const struct vis_window *w, struct vis_box b);
+
+/* Lists w among the windows whose states the next update looks at, once. 0, or -1 (ENOMEM). */
+int libvis_touch(struct vis_tree *tree, struct vis_window *w);
+
+/* What a window's pixels are, for a walk: its clip, all opaque (a plain window, or one with a
+ * border alone); its clip, opaque where its cut's opaque pieces are (a see-through look without a
+ * shape); or its pieces (a shape of its own or of an ancestor, which clips it). O(depth). */
+enum libvis_pixels { LIBVIS_CLIP, LIBVIS_CLIP_SEE_THROUGH, LIBVIS_PIECES };
+enum libvis_pixels libvis_pixels_of(const struct vis_window *w);
 
 /*
  * The tallies (libvis-tally.c). Around every change, libvis_tally_begin() before it (win: the
@@ -144,9 +164,9 @@ int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign, struct libvis
  * libvis_tally_begin_move() for a change of place or size alone, after: its new box),
  * libvis_tally_end() after it (win NULL once destroyed). libvis_tally_start() takes them up after
  * an update through the core. libvis_tally_update() is an update from them: 0 with the windows
- * whose states it changed among *changed[0 … *n) (their old states in old_state), 1 when any
- * window's may have changed (every state moved to old_state, as a recompute through the core
- * does), -1 with ENOMEM (nothing changed then). libvis_tally_stop() leaves them to the core.
+ * whose states it changed among *changed[0 … *n) (their old states in old_state), or -1 with
+ * ENOMEM (nothing changed then). libvis_tally_forget() drops a window destroyed from their
+ * lists. libvis_tally_stop() leaves them to the core.
  */
 void libvis_tally_begin(struct vis_tree *tree, struct vis_win *win, struct vis_box after,
 			bool shows_after, bool restacks);
@@ -154,6 +174,7 @@ void libvis_tally_begin_move(struct vis_tree *tree, struct vis_win *win, struct 
 void libvis_tally_end(struct vis_tree *tree, struct vis_win *win);
 int libvis_tally_start(struct vis_tree *tree);
 int libvis_tally_update(struct vis_tree *tree, struct vis_window *const **changed, size_t *n);
+void libvis_tally_forget(struct vis_tree *tree, struct vis_win *win);
 void libvis_tally_stop(struct vis_tree *tree);
 
 /* Sets the windows up to which a tree keeps tallies (0: never, as visd, which changes the core

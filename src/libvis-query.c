@@ -87,7 +87,7 @@ VIS_EXPORT int vis_tree_repaint(struct vis_tree *tree, const struct vis_rect32 *
 		if (from_kept(tree, q) < 0)
 			return -1;
 	} else {
-		if (libvis_walk(tree, q, 0, set) < 0)
+		if (libvis_walk(tree, q, 0, set, NULL) < 0)
 			return -1;
 		/* Top first; bottom to top is the other way round. */
 		for (size_t i = 0; i < set->n / 2; i++) {

@@ -67,6 +67,7 @@ void libvis_forget(struct vis_window *w)
 	if (!win)
 		return;
 	libvis_untrack(win);
+	libvis_tally_forget(win->tree, win);
 	pixman_region32_fini(&win->region);
 	free(win);
 	w->data = NULL;

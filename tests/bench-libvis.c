@@ -266,6 +266,31 @@ struct medians {
 	double lib99, reg99; /* the 99th percentiles */
 };
 
+/* The share of changes, in percent, that raise a window instead of moving it (--raises). */
+static uint64_t raises;
+
+/* Puts the window at i on top of the scene's and the region method's stacks (libvis's is raised
+ * in the timed turn); returns its new index. */
+static size_t on_top(struct vis_scene *s, struct method *m, struct vis_win **wins, size_t i)
+{
+	size_t n = s->n, last = n - 1;
+#define ROTATE(arr)                                                                     \
+	do {                                                                            \
+		__typeof__((arr)[0]) t = (arr)[i];                                      \
+		memmove(&(arr)[i], &(arr)[i + 1], (last - i) * sizeof (arr)[0]);        \
+		(arr)[last] = t;                                                        \
+	} while (0)
+	ROTATE(s->rects);
+	if (s->looks)
+		ROTATE(s->looks);
+	ROTATE(m->own);
+	ROTATE(m->opaque);
+	ROTATE(m->visible);
+	ROTATE(wins);
+#undef ROTATE
+	return last;
+}
+
 /* The windows below which libvis updates through the tree (--live-from), or SIZE_MAX: its own. */
 static size_t live_from = SIZE_MAX;
 
@@ -291,6 +316,13 @@ static struct medians run_scene(struct vis_scene s, size_t moves, uint64_t seed)
 	for (size_t k = 0; k < moves; k++) {
 		size_t i = vis_rng_below(&rng, n);
 		int32_t dx = (int32_t)vis_rng_range(&rng, -64, 64), dy = (int32_t)vis_rng_range(&rng, -64, 64);
+		bool raise = vis_rng_below(&rng, 100) < raises;
+		if (raise) {
+			/* On top, in place: the arrays keep stacking order (a compositor's lists
+			 * move a node in O(1); this is outside the timing). */
+			i = on_top(&s, &m, wins, i);
+			dx = dy = 0;
+		}
 		struct vis_rect *r = &s.rects[i];
 		int64_t b = s.looks ? s.looks[i].border : 0, w = r->w + 2 * b, h = r->h + 2 * b;
 		if ((int64_t)r->x + dx < INT32_MIN / 2 || (int64_t)r->x + dx > INT32_MAX / 2)
@@ -320,7 +352,7 @@ static struct medians run_scene(struct vis_scene s, size_t moves, uint64_t seed)
 			int which = (int)((k + (size_t)turn) % 3);
 			double t0 = bench_now_us();
 			if (which == 0) {
-				if (vis_win_move(wins[i], r->x, r->y) < 0 ||
+				if ((raise ? vis_win_raise(wins[i]) : vis_win_move(wins[i], r->x, r->y)) < 0 ||
 				    vis_tree_update(t, &c, &nc) < 0)
 					die("libvis failed");
 				double t1 = bench_now_us();
@@ -463,6 +495,8 @@ int main(int argc, char **argv)
 			live_from = strtoul(argv[++i], NULL, 10);
 		else if (!strcmp(argv[i], "--tally-below") && i + 1 < argc)
 			tally_below = strtoul(argv[++i], NULL, 10);
+		else if (!strcmp(argv[i], "--raises") && i + 1 < argc)
+			raises = strtoul(argv[++i], NULL, 10);
 		else if (!strcmp(argv[i], "--viscomp") && i + 1 < argc) {
 			if (sscanf(argv[++i], "%dx%d", &viscomp_w, &viscomp_h) != 2 || viscomp_w < 1 ||
 			    viscomp_h < 1 || viscomp_w >= VISCOMP_SCREEN || viscomp_h >= VISCOMP_SCREEN)
@@ -471,7 +505,7 @@ int main(int argc, char **argv)
 		else
 			die("usage: bench-libvis [--kinds K,...] [--sizes N,...] [--moves M] [--seed S]\n"
 			    "       bench-libvis --family COUNT [--min-n N] [--max-n N] [--moves M] "
-			    "[--seed S] [--only K]\n       (either also [--live-from N] [--tally-below N]; the first also "
+			    "[--seed S] [--only K]\n       (either also [--live-from N] [--tally-below N] [--raises PERCENT]; the first also "
 			    "[--viscomp WxH])");
 	}
 	if (moves < 1)

@@ -1,0 +1,278 @@
+/*
+ * libvis's walks over a damaged area: the repaint set, and the tallies a small tree's states come
+ * from (libvis-tally.c).
+ *
+ * A walk goes from the top window down over the windows whose clips meet what is left of the
+ * area, taking each one's opaque pixels off it: what was left where a window was reached is
+ * what it shows there (the repaint set), and, left as it was before the window's descendants
+ * (which hide nothing of it, X's rule), what it sees there (the tallies).
+ */
+#include <errno.h>
+#include <stdlib.h>
+
+#include "libvis-private.h"
+#include "wtree-live.h"
+
+/* Whether a clip (on the screen, maybe empty) meets what is left. */
+static bool meets_left(const struct libvis_walk *k, struct vis_box c)
+{
+	return !vis_box_empty(c) && vis_bands_meet(&k->left, pbox(c));
+}
+
+enum libvis_pixels libvis_pixels_of(const struct vis_window *w)
+{
+	for (const struct vis_window *a = w->parent; a->parent; a = a->parent)
+		if (a->look.shaped)
+			return LIBVIS_PIECES;
+	if (w->look.shaped)
+		return LIBVIS_PIECES;
+	return w->look.opaque == VIS_OPAQUE_ALL ? LIBVIS_CLIP : LIBVIS_CLIP_SEE_THROUGH;
+}
+
+/* w's pieces inside box c (tree->pieces), as pixman boxes in tree->boxes; their count, or -1. */
+static long pieces_of(struct vis_tree *tree, const struct vis_window *w, struct vis_box c,
+		      size_t *n_opaque)
+{
+	struct vis_pieces *p = &tree->pieces;
+	vis_pieces_reset(p);
+	if (vis_wtree_add_pieces(p, w, c, 0) < 0)
+		return -1;
+	size_t n = p->stack.n;
+	if (libvis_reserve(&tree->boxes, &tree->cap_boxes, n + 1, sizeof *tree->boxes) < 0)
+		return -1;
+	*n_opaque = 0;
+	while (*n_opaque < n && !p->see_through[*n_opaque])
+		(*n_opaque)++;
+	for (size_t i = 0; i < n; i++)
+		tree->boxes[i] = pbox(vis_rect_box(p->rects[i]));
+	return (long)n;
+}
+
+/* Takes boxes[0 … n) off what is left. 0, or -1. */
+static int take_off(struct libvis_walk *k, const pixman_box32_t *boxes, size_t n)
+{
+	for (size_t i = 0; i < n; i++)
+		if (vis_bands_subtract(&k->left, &k->scratch, boxes[i]) < 0)
+			return -1;
+	return 0;
+}
+
+int libvis_touch(struct vis_tree *tree, struct vis_window *w)
+{
+	struct vis_win *win = w->data;
+	if (win->touched_slot)
+		return 0;
+	if (libvis_reserve(&tree->touched, &tree->cap_touched, tree->n_touched + 1,
+			   sizeof *tree->touched) < 0)
+		return -1;
+	tree->touched[tree->n_touched++] = w;
+	win->touched_slot = (uint32_t)tree->n_touched;
+	return 0;
+}
+
+/* Adds seen pixels of w to its tally (or takes them off). 0, or -1. */
+static int count(struct vis_tree *tree, const struct vis_window *w, uint64_t seen)
+{
+	struct vis_win *win = w->data;
+	win->seen += (uint64_t)(int64_t)tree->walk.sign * seen;
+	return seen ? libvis_touch(tree, (struct vis_window *)w) : 0;
+}
+
+/* Appends boxes[0 … n), moved by -x, -y, to a set's rectangles. 0, or -1. */
+static int append_boxes(struct libvis_set *set, const pixman_box32_t *b, size_t n, int64_t x,
+			int64_t y)
+{
+	if (libvis_reserve(&set->rects, &set->cap_rects, set->n_rects + n, sizeof *set->rects) < 0)
+		return -1;
+	struct vis_rect32 *out = set->rects + set->n_rects;
+	/* They lie in the window's border box, whose sides fit in 31 bits. */
+	for (size_t i = 0; i < n; i++)
+		out[i] = (struct vis_rect32){ (int32_t)(b[i].x1 - x), (int32_t)(b[i].y1 - y),
+					      (uint32_t)(b[i].x2 - b[i].x1),
+					      (uint32_t)(b[i].y2 - b[i].y1) };
+	set->n_rects += n;
+	return 0;
+}
+
+/*
+ * Lists w in the walk's set with its pixels, the disjoint boxes px[0 … n), in what is left, if
+ * any: the boxes it shows (0 when none), or -1.
+ */
+static long draw(struct vis_tree *tree, const struct vis_window *w, const pixman_box32_t *px,
+		 size_t n)
+{
+	struct libvis_walk *k = &tree->walk;
+	struct libvis_set *set = k->out;
+	int64_t x = w->box.x1 + w->look.border, y = w->box.y1 + w->look.border;
+	size_t at = set->n_rects, parts = 0;
+	if (libvis_reserve(&tree->parts, &tree->cap_parts, n * k->left.n + 1,
+			   sizeof *tree->parts) < 0)
+		return -1;
+	for (size_t i = 0; i < n; i++)
+		parts += vis_bands_clip(&k->left, px[i], tree->parts + parts);
+	if (!parts)
+		return 0;
+	/* One box's part is banded; several boxes' parts are once pixman joins them. */
+	if (n == 1) {
+		if (append_boxes(set, tree->parts, parts, x, y) < 0)
+			return -1;
+	} else {
+		pixman_region32_fini(&tree->part);
+		if (!pixman_region32_init_rects(&tree->part, tree->parts, (int)parts) ||
+		    libvis_append_rects(&tree->part, x, y, &set->rects, &set->n_rects,
+					&set->cap_rects) < 0) {
+			errno = ENOMEM;
+			return -1;
+		}
+	}
+	if (libvis_reserve(&set->wins, &set->cap, set->n + 1, sizeof *set->wins) < 0)
+		return -1;
+	struct vis_win *win = w->data;
+	set->wins[set->n++] = (struct vis_repaint){ .win = win, .x = x, .y = y,
+						    .n_rects = (uint32_t)(set->n_rects - at) };
+	return (long)parts;
+}
+
+/*
+ * The opaque pieces of a see-through window without a shape inside box c, from its cut (none
+ * without one: opaque nowhere), into tree->boxes[1 …]: their count, or -1.
+ */
+static long opaque_cut(struct vis_tree *tree, const struct vis_window *w, struct vis_box c)
+{
+	if (!w->cut)
+		return 0;
+	const struct vis_look_cut *cut = vis_wtree_cut(w);
+	if (!cut || libvis_reserve(&tree->boxes, &tree->cap_boxes, (size_t)cut->n_opaque + 1,
+				   sizeof *tree->boxes) < 0)
+		return -1;
+	size_t n = 0;
+	for (uint32_t i = 0; i < cut->n_opaque; i++) {
+		struct vis_rect r = cut->rects[i];
+		struct vis_box b = vis_box_intersect(
+			(struct vis_box){ w->box.x1 + r.x, w->box.y1 + r.y, w->box.x1 + r.x + r.w,
+					  w->box.y1 + r.y + r.h },
+			c);
+		if (!vis_box_empty(b))
+			tree->boxes[1 + n++] = pbox(b);
+	}
+	return (long)n;
+}
+
+/*
+ * A walk's visit of a viewable window with pixels: its tally (mine: what was left where it
+ * began), its part of the set being listed (what is left now), then its opaque pixels off what
+ * is left. 0, or -1.
+ */
+static int visit(struct vis_tree *tree, const struct vis_window *w, const struct vis_bands *mine)
+{
+	struct libvis_walk *k = &tree->walk;
+	enum libvis_pixels kind = libvis_pixels_of(w);
+	const pixman_box32_t *e = &mine->ext;
+	struct vis_box c = vis_box_intersect(w->clip,
+					     (struct vis_box){ e->x1, e->y1, e->x2, e->y2 });
+	/* Its pixels px[0 … n), its opaque ones op[0 … n_opaque). */
+	size_t n = 1, n_opaque = 1;
+	const pixman_box32_t *px, *op;
+	if (kind == LIBVIS_PIECES) {
+		long m = pieces_of(tree, w, c, &n_opaque);
+		if (m < 0)
+			return -1;
+		n = (size_t)m;
+		px = op = tree->boxes;
+	} else {
+		long m = kind == LIBVIS_CLIP ? 1 : opaque_cut(tree, w, c);
+		if (m < 0 || libvis_reserve(&tree->boxes, &tree->cap_boxes, 1,
+					    sizeof *tree->boxes) < 0)
+			return -1;
+		tree->boxes[0] = pbox(w->clip);
+		px = tree->boxes;
+		op = kind == LIBVIS_CLIP ? tree->boxes : tree->boxes + 1;
+		n_opaque = (size_t)m;
+	}
+	/* What is left lies in mine: a clip that meets nothing of either takes nothing off. */
+	bool meets = kind != LIBVIS_CLIP;
+	if (k->sign) {
+		/* Pieces are disjoint: their counts add up. */
+		uint64_t seen = 0;
+		for (size_t i = 0; i < n; i++)
+			seen += vis_bands_area_in(mine, px[i]);
+		if (count(tree, w, seen) < 0)
+			return -1;
+		meets |= seen != 0;
+	}
+	if (k->out) {
+		long parts = draw(tree, w, px, n);
+		if (parts < 0)
+			return -1;
+		meets = parts > 0 || kind != LIBVIS_CLIP;
+	}
+	return meets ? take_off(k, op, n_opaque) : 0;
+}
+
+static int walk_window(struct vis_tree *tree, const struct vis_window *w, size_t level);
+
+/* Walks c and the siblings below it, while something is left. 0, or -1. */
+static int walk_from(struct vis_tree *tree, const struct vis_window *c, size_t level)
+{
+	for (; c && c != tree->walk.stop && tree->walk.left.n; c = c->below)
+		if (c->mapped && meets_left(&tree->walk, c->clip) &&
+		    walk_window(tree, c, level) < 0)
+			return -1;
+	return 0;
+}
+
+/* Walks a viewable window: its descendants above it first. 0, or -1. */
+static int walk_window(struct vis_tree *tree, const struct vis_window *w, size_t level)
+{
+	struct libvis_walk *k = &tree->walk;
+	const struct vis_window *c = w->top;
+	while (c && !(c->mapped && meets_left(k, c->clip)))
+		c = c->below;
+	bool counts = !w->look.input_only, saved = false;
+	if (c) {
+		/* A tally counts what was left before the descendants took their part. */
+		saved = k->sign && counts;
+		if (saved) {
+			size_t cap = k->cap_saves;
+			if (libvis_reserve(&k->saves, &k->cap_saves, level + 1, sizeof *k->saves) < 0)
+				return -1;
+			for (size_t i = cap; i < k->cap_saves; i++)
+				vis_bands_init(&k->saves[i]);
+			if (vis_bands_copy(&k->saves[level], &k->left) < 0)
+				return -1;
+		}
+		if (walk_from(tree, c, level + saved) < 0)
+			return -1;
+	}
+	return counts ? visit(tree, w, saved ? &k->saves[level] : &k->left) : 0;
+}
+
+int libvis_walk_left(struct vis_tree *tree, const struct vis_window *start,
+		     const struct vis_window *stop, int sign, struct libvis_set *out)
+{
+	struct libvis_walk *k = &tree->walk;
+	k->sign = sign;
+	k->out = out;
+	k->stop = stop;
+	return walk_from(tree, start, 0);
+}
+
+int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign, struct libvis_set *out,
+		const struct vis_window *stop)
+{
+	struct libvis_walk *k = &tree->walk;
+	if (out)
+		out->n = out->n_rects = 0;
+	d = vis_box_intersect(d, tree->core.root.clip);
+	if (vis_box_empty(d))
+		return vis_bands_set_box(&k->left, (pixman_box32_t){ 0 });
+	if (vis_bands_set_box(&k->left, pbox(d)) < 0)
+		return -1;
+	return libvis_walk_left(tree, tree->core.root.top, stop, sign, out);
+}
+
+int libvis_draw_box(struct vis_tree *tree, const struct vis_window *w, struct vis_box b)
+{
+	pixman_box32_t px = pbox(b);
+	return draw(tree, w, &px, 1) < 0 ? -1 : 0;
+}
