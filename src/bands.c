@@ -172,10 +172,45 @@ static void columns(struct vis_bands *r)
 }
 
 
+/* vis_bands_subtract() of a region of one box, which b meets and does not cover: at most three
+ * bands, the middle one of at most two boxes. 0, or -1. */
+static int box_less(struct vis_bands *r, pixman_box32_t b)
+{
+	if (reserve(r, 4) < 0)
+		return -1;
+	pixman_box32_t a = r->boxes[0];
+	int32_t y1 = a.y1 > b.y1 ? a.y1 : b.y1, y2 = a.y2 < b.y2 ? a.y2 : b.y2;
+	r->n = 0;
+	if (a.y1 < b.y1)
+		put(r, a.x1, a.y1, a.x2, b.y1);
+	if (a.x1 < b.x1)
+		put(r, a.x1, y1, b.x1, y2);
+	if (b.x2 < a.x2)
+		put(r, b.x2, y1, a.x2, y2);
+	if (b.y2 < a.y2)
+		put(r, a.x1, b.y2, a.x2, a.y2);
+	/* The rows above and below keep all columns, the middle ones lose some: the extents are
+	 * a's but where b takes whole rows or columns. */
+	r->ext = (pixman_box32_t){ r->boxes[0].x1, r->boxes[0].y1, r->boxes[0].x2,
+				   r->boxes[r->n - 1].y2 };
+	for (size_t i = 1; i < r->n; i++) {
+		r->ext.x1 = r->boxes[i].x1 < r->ext.x1 ? r->boxes[i].x1 : r->ext.x1;
+		r->ext.x2 = r->boxes[i].x2 > r->ext.x2 ? r->boxes[i].x2 : r->ext.x2;
+	}
+	return 0;
+}
+
 int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b)
 {
 	if (!vis_bands_meet(r, b))
 		return 0;
+	if (b.x1 <= r->ext.x1 && b.y1 <= r->ext.y1 && r->ext.x2 <= b.x2 && r->ext.y2 <= b.y2) {
+		r->n = 0; /* b covers it all: the common end of a walk */
+		r->ext = (pixman_box32_t){ 0 };
+		return 0;
+	}
+	if (r->n == 1)
+		return box_less(r, b);
 	/*
 	 * Only the bands b's rows meet change, and the one above and the one below them, which
 	 * may coalesce with what they become: those are written to scratch, and spliced into r

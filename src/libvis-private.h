@@ -209,7 +209,13 @@ int libvis_append_rects(pixman_region32_t *region, int64_t dx, int64_t dy,
 /*
  * Makes room for count elements of size size in the array whose pointer is at arr (a T **, any
  * T), *cap of them now, doubling it at least. 0, or -1 with ENOMEM or EOVERFLOW (it stays then).
+ * Inline for the walks, which ask at every window; libvis_grow() grows.
  */
-int libvis_reserve(void *arr, size_t *cap, size_t count, size_t size);
+int libvis_grow(void *arr, size_t *cap, size_t count, size_t size);
+
+static inline int libvis_reserve(void *arr, size_t *cap, size_t count, size_t size)
+{
+	return count <= *cap ? 0 : libvis_grow(arr, cap, count, size);
+}
 
 #endif

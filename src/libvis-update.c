@@ -9,10 +9,8 @@
 
 #include "libvis-private.h"
 
-int libvis_reserve(void *arr, size_t *cap, size_t count, size_t size)
+int libvis_grow(void *arr, size_t *cap, size_t count, size_t size)
 {
-	if (count <= *cap)
-		return 0;
 	size_t want = *cap ? *cap : 16;
 	while (want < count)
 		want = want > SIZE_MAX / 2 ? count : 2 * want;
@@ -65,7 +63,9 @@ void libvis_damage(struct vis_tree *tree, struct vis_win *win)
 	tree->dirty = true;
 	if (!tree->tally) /* the tallies' walks keep the states without notes */
 		vis_wtree_note(&tree->core, win->core);
-	if (tree->damage_all)
+	/* Only exposures read the damage, and only of windows tracked before the change (one
+	 * tracked since starts from nothing). */
+	if (tree->damage_all || !tree->n_tracked)
 		return;
 	if (tree->n_damage == LIBVIS_DAMAGE_BOXES) {
 		tree->damage_all = true;
@@ -208,6 +208,22 @@ static int by_stacking(const void *a, const void *b)
 	return x < y ? -1 : x > y;
 }
 
+/* Sorts windows by stacking: a frame's few by insertion, the rest by qsort(). */
+static void sort_by_stacking(struct vis_win **list, size_t m)
+{
+	if (m > 16) {
+		qsort(list, m, sizeof *list, by_stacking);
+		return;
+	}
+	for (size_t i = 1; i < m; i++) {
+		struct vis_win *w = list[i];
+		size_t j = i;
+		for (; j > 0 && by_stacking(&list[j - 1], &w) > 0; j--)
+			list[j] = list[j - 1];
+		list[j] = w;
+	}
+}
+
 VIS_EXPORT int vis_tree_update(struct vis_tree *tree, const struct vis_change **changes, size_t *n)
 {
 	if (!tree || !changes || !n) {
@@ -262,7 +278,7 @@ VIS_EXPORT int vis_tree_update(struct vis_tree *tree, const struct vis_change **
 				tree->list[m++] = win;
 		}
 		/* In stacking order, those no longer viewable first, each once. */
-		qsort(tree->list, m, sizeof *tree->list, by_stacking);
+		sort_by_stacking(tree->list, m);
 		for (size_t i = 0; i < m; i++)
 			look_at(tree, tree->list[i], tree->list[i]->listed == tree->serial, &d);
 	} else {
