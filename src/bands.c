@@ -266,15 +266,12 @@ int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_bo
 	return 0;
 }
 
-int vis_bands_intersect(struct vis_bands *dst, const struct vis_bands *src, pixman_box32_t b)
+/* Writes src ∩ b to dst's boxes, which have room for src->n (b meets src), and sets its
+ * extents. */
+static void clip_into(struct vis_bands *dst, const struct vis_bands *src, pixman_box32_t b)
 {
-	dst->n = 0;
-	dst->ext = (pixman_box32_t){ 0 };
-	if (!vis_bands_meet(src, b))
-		return 0;
-	if (reserve(dst, src->n) < 0)
-		return -1;
 	struct out o = { dst, 0 };
+	dst->n = 0;
 	for (size_t i = first_below(src, b.y1); i < src->n && src->boxes[i].y1 < b.y2;) {
 		int32_t y1 = src->boxes[i].y1 > b.y1 ? src->boxes[i].y1 : b.y1;
 		int32_t y2 = src->boxes[i].y2 < b.y2 ? src->boxes[i].y2 : b.y2;
@@ -287,11 +284,23 @@ int vis_bands_intersect(struct vis_bands *dst, const struct vis_bands *src, pixm
 		}
 		band_end(&o, start);
 	}
+	dst->ext = (pixman_box32_t){ 0 };
 	if (dst->n) {
 		dst->ext.y1 = dst->boxes[0].y1;
 		dst->ext.y2 = dst->boxes[dst->n - 1].y2;
 		columns(dst);
 	}
+}
+
+int vis_bands_intersect(struct vis_bands *dst, const struct vis_bands *src, pixman_box32_t b)
+{
+	dst->n = 0;
+	dst->ext = (pixman_box32_t){ 0 };
+	if (!vis_bands_meet(src, b))
+		return 0;
+	if (reserve(dst, src->n) < 0)
+		return -1;
+	clip_into(dst, src, b);
 	return 0;
 }
 
@@ -316,15 +325,7 @@ size_t vis_bands_clip(const struct vis_bands *r, pixman_box32_t b, pixman_box32_
 {
 	if (!vis_bands_meet(r, b))
 		return 0;
-	size_t k = 0;
-	for (size_t i = first_below(r, b.y1); i < r->n; i++) {
-		const pixman_box32_t *f = &r->boxes[i];
-		if (f->y1 >= b.y2)
-			break;
-		int32_t x1 = f->x1 > b.x1 ? f->x1 : b.x1, x2 = f->x2 < b.x2 ? f->x2 : b.x2;
-		int32_t y1 = f->y1 > b.y1 ? f->y1 : b.y1, y2 = f->y2 < b.y2 ? f->y2 : b.y2;
-		if (x1 < x2 && y1 < y2)
-			out[k++] = (pixman_box32_t){ x1, y1, x2, y2 };
-	}
-	return k;
+	struct vis_bands view = { out, 0, r->n, { 0 } };
+	clip_into(&view, r, b);
+	return view.n;
 }

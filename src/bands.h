@@ -56,8 +56,8 @@ int vis_bands_intersect(struct vis_bands *dst, const struct vis_bands *src, pixm
 uint64_t vis_bands_area_in(const struct vis_bands *r, pixman_box32_t b);
 
 /*
- * Writes the boxes of r ∩ b to out, y-x banded (not coalesced), and returns how many: at most
- * r->n. O(n).
+ * Writes the boxes of r ∩ b to out, y-x banded and coalesced as a region's, and returns how many:
+ * at most r->n. O(n).
  */
 size_t vis_bands_clip(const struct vis_bands *r, pixman_box32_t b, pixman_box32_t *out);
 

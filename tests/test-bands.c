@@ -125,6 +125,15 @@ static void run(struct vis_rng *rng, int64_t origin, int64_t side, int64_t step,
 			size_t k = vis_bands_clip(&r, c, out);
 			CHECK(k <= r.n);
 			struct vis_bands clipped = { out, k, k, { 0 } };
+			vis_bands_copy(&copy, &clipped); /* with the extents well_formed() wants */
+			copy.ext = (pixman_box32_t){ 0 };
+			if (k) {
+				pixman_region32_t e;
+				pixman_region32_init_rects(&e, out, (int)k);
+				copy.ext = *pixman_region32_extents(&e);
+				pixman_region32_fini(&e);
+			}
+			CHECK(well_formed(&copy));
 			pixman_region32_t pc;
 			pixman_region32_init_rect(&pc, c.x1, c.y1, (unsigned)(c.x2 - c.x1),
 						  (unsigned)(c.y2 - c.y1));

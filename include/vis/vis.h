@@ -30,11 +30,21 @@
  * top-left corner, so that its border lies at negative coordinates and past width, height.
  * Damage is in screen coordinates. Every rectangle covers x ≤ px < x + width, y ≤ py < y + height.
  *
- * Changes accumulate: creating, destroying, mapping, moving, restacking, reparenting a window or
- * changing its look only records where the tree changed. vis_tree_update() recomputes, at a cost
- * that follows the change rather than the tree (visd's live engine), and lists what
- * the change did. Queries answer for the last update: a window's state, its visible region and
- * the repaint set of a damaged box.
+ * Changes accumulate: vis_tree_update() recomputes once for all the changes made since the last
+ * one, at a cost that follows the changes rather than the tree, and lists what they did. Queries
+ * answer for the last update: a window's state, its visible region and the repaint set of a
+ * damaged box.
+ *
+ * Two ways keep the states, chosen by the tree's size. Up to 1,024 windows (and until it passes
+ * 2,048), each window keeps a tally of its own pixels it sees: a change walks the windows over the
+ * box it alters, from the top down, before and after itself, taking off and adding back what each
+ * sees there, so that each change costs W, its walks over the windows whose clips meet what is
+ * left of that box (a plain top-level window moved or resized walks down to itself once, and
+ * below itself over the strips it left and took only), and an update only gives the windows
+ * those walks met their states. The walk after the last change also lists the repaint set of its
+ * box, which answers vis_tree_repaint() for any damage inside it until the next change: most
+ * frames' damage. Past that size, changes only record where the tree changed (W is nothing), and
+ * vis_tree_update() runs visd's live engine.
  */
 #ifndef VIS_VIS_H
 #define VIS_VIS_H
@@ -88,11 +98,11 @@ VIS_EXPORT struct vis_win *vis_win_create(struct vis_tree *tree, struct vis_win 
 					  uint32_t flags);
 
 /* Destroys a window and its descendants (their user pointers are the caller's); what they
- * covered shows at the next update. NULL: no-op. O(size of the subtree). */
+ * covered shows at the next update. NULL: no-op. O(size of the subtree) + W. */
 VIS_EXPORT void vis_win_destroy(struct vis_win *win);
 
 /* Maps or unmaps a window: it can be seen while it and all its ancestors are mapped (viewable).
- * 0, or -1 with EINVAL. O(1). */
+ * 0, or -1 with EINVAL. O(size of the subtree) + W. */
 VIS_EXPORT int vis_win_map(struct vis_win *win);
 VIS_EXPORT int vis_win_unmap(struct vis_win *win);
 
@@ -102,28 +112,29 @@ VIS_EXPORT int vis_win_unmap(struct vis_win *win);
  * cut into pieces again for a new size (EOVERFLOW when they would leave the 32-bit plane). A new
  * size or border forgets what the window showed: its whole visible region counts as newly
  * exposed at the next update (X's ForgetGravity). 0, or -1 with EINVAL, EOVERFLOW or ENOMEM.
- * O(1), or O(k log k) for a look of k rectangles cut again.
+ * O(1), or O(k log k) for a look of k rectangles cut again; + O(size of the subtree) + W.
  */
 VIS_EXPORT int vis_win_configure(struct vis_win *win, int32_t x, int32_t y, int32_t width,
 				 int32_t height, int32_t border);
 
-/* vis_win_configure() keeping the size and border. 0, or -1 with EINVAL. O(1). */
+/* vis_win_configure() keeping the size and border. 0, or -1 with EINVAL. As it costs. */
 VIS_EXPORT int vis_win_move(struct vis_win *win, int32_t x, int32_t y);
 
-/* Puts a window on top of (raise) or below (lower) all its siblings. 0, or -1 with EINVAL. O(1). */
+/* Puts a window on top of (raise) or below (lower) all its siblings. 0, or -1 with EINVAL.
+ * O(1) + W. */
 VIS_EXPORT int vis_win_raise(struct vis_win *win);
 VIS_EXPORT int vis_win_lower(struct vis_win *win);
 
 /*
  * Puts a window just above (above ≠ 0) or just below sibling, another child of its parent.
- * 0, or -1 with EINVAL. O(1).
+ * 0, or -1 with EINVAL. O(1) + W.
  */
 VIS_EXPORT int vis_win_restack(struct vis_win *win, struct vis_win *sibling, int above);
 
 /*
  * Moves a window and its subtree under parent (NULL: the screen) at x, y, on top of its new
  * siblings; parent must not be the window or one of its descendants. 0, or -1 with EINVAL.
- * O(size of the subtree).
+ * O(size of the subtree) + W.
  */
 VIS_EXPORT int vis_win_reparent(struct vis_win *win, struct vis_win *parent, int32_t x, int32_t y);
 
@@ -133,7 +144,7 @@ VIS_EXPORT int vis_win_reparent(struct vis_win *win, struct vis_win *parent, int
  * allowed; n = 0: no pixels); with shaped 0 (n must be 0), its whole border box again. As in X,
  * a shape also clips the window's descendants. 0, or -1 with EINVAL (an input-only window,
  * rects NULL with n > 0, a size out of range), E2BIG (n > VIS_LOOK_MAX_RECTS), EOVERFLOW or
- * ENOMEM. O(k log k) for the look's k rectangles.
+ * ENOMEM. O(k log k) for the look's k rectangles, + W.
  */
 VIS_EXPORT int vis_win_set_shape(struct vis_win *win, int shaped, const struct vis_rect32 *rects,
 				 uint32_t n);
@@ -196,12 +207,14 @@ struct vis_change {
  * vis_tree_destroy(), and reused from one update to the next (no allocation per change once they
  * have grown); an entry's window must not be used once destroyed. With no change since the last
  * update, *n is 0 and nothing is recomputed. 0, or -1 with EINVAL or ENOMEM (the states stay as
- * they were, the changes pending: the next update tries again). Cost: from 64 windows, while no
- * viewable window lies inside a shaped window, the live recompute, whose cost
- * follows the windows the change can affect, not the tree; else a recompute limited to the
- * damage, O(n log n) at worst for n windows (pieces, for windows with looks). Plus, for each
- * tracked window the change may have touched, its visible region (vis_win_visible_region()'s
- * cost and scratch memory, which the list itself does not need).
+ * they were, the changes pending: the next update tries again). Cost, with tallies (up to 1,024
+ * windows, see above): O(k log k) for the k windows the changes' walks met, and O(n) more after
+ * a change of the stacking order or of what is viewable, to number the windows again. Past
+ * that, the live recompute, whose cost follows the windows the changes can affect, not the tree,
+ * while no viewable window lies inside a shaped window; else a recompute limited to the damage,
+ * O(n log n) at worst for n windows (pieces, for windows with looks). Plus, for each tracked
+ * window the change may have touched, its visible region (vis_win_visible_region()'s cost and
+ * scratch memory, which the list itself does not need).
  */
 VIS_EXPORT int vis_tree_update(struct vis_tree *tree, const struct vis_change **changes, size_t *n);
 
@@ -244,9 +257,10 @@ struct vis_repaint {
  * exactly as the screen shows it: every pixel of it is drawn by the window that shows it on top
  * (opaque there) and by the translucent ones above it, and by no other. In *out[0 … *n): the
  * tree's array, valid until the next query or change of the tree. 0, or -1 with EINVAL, EAGAIN
- * (changes since the last update) or ENOMEM. Cost: the region method inside the damage, from
- * the top down, over the windows that meet it until opaque ones have covered it (O(k · r) for
- * k windows visited and r rectangles of what is left).
+ * (changes since the last update) or ENOMEM. Cost: inside the box of the last change of a tree
+ * with tallies, O(r) for the r rectangles listed for that box; else the region method inside the
+ * damage, from the top down, over the windows that meet it until opaque ones have covered it
+ * (O(k · r) for k windows visited and r rectangles of what is left).
  */
 VIS_EXPORT int vis_tree_repaint(struct vis_tree *tree, const struct vis_rect32 *damage,
 				const struct vis_repaint **out, size_t *n);
