@@ -67,6 +67,8 @@ struct libvis_walk {
 	int sign;
 	struct libvis_set *out;
 	const struct vis_window *stop; /* a top-level window the walk stops at, or NULL */
+	bool within; /* tallies count only inside the box in (for one walk) */
+	pixman_box32_t in;
 };
 
 /*
@@ -137,7 +139,8 @@ void libvis_damage(struct vis_tree *tree, struct vis_win *win);
  * down to the top-level window stop (not walked; NULL: all): sign ±1 adds each window's seen
  * pixels there to its tally, or takes them off; out, if not NULL, gets the repaint set of d.
  * libvis_walk_left() walks what tree->walk.left holds from the top-level window start down
- * (out is not emptied first). 0, or -1 with ENOMEM. O(windows whose clips meet what is left,
+ * (out is not emptied first; with tree->walk.within set, the tallies count only inside
+ * tree->walk.in). 0, or -1 with ENOMEM. O(windows whose clips meet what is left,
  * times its boxes).
  */
 int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign, struct libvis_set *out,

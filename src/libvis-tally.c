@@ -106,9 +106,10 @@ static bool moves_alone(const struct vis_window *w)
  * was and is not (they gain it) and where it is and was not (they lose it), and nothing of what
  * the windows above it see: one walk down to it before the change, over the hull d of its boxes,
  * keeps what they leave of d (tree->above) and lists their part of its repaint set; after it,
- * the moved window's own count comes from that, the windows below list the rest of the set, and
- * two walks over those two strips alone correct their tallies. A drag costs one walk over d and
- * the strips, where any other change costs two walks over its box.
+ * the moved window's own count comes from that, and the windows below list the rest of the set,
+ * what each shows where the window was being what it gains; a walk over the strip the window
+ * took corrects their tallies for what they lose. A drag costs one walk over d and the strip,
+ * where any other change costs two walks over its box.
  */
 void libvis_tally_begin_move(struct vis_tree *tree, struct vis_win *win, struct vis_box after)
 {
@@ -151,13 +152,12 @@ static int end_move(struct vis_tree *tree, struct vis_window *w, struct vis_box 
 	k->out = &tree->kept;
 	if (is && (libvis_draw_box(tree, w, w->clip) < 0 || vis_bands_subtract(&k->left, &k->scratch, b) < 0))
 		return -1;
-	if (libvis_walk_left(tree, w->below, NULL, 0, &tree->kept) < 0)
+	/* The windows below: what they show now, where it was is what they gain. */
+	k->within = true;
+	k->in = a;
+	if (libvis_walk_left(tree, w->below, NULL, was, &tree->kept) < 0)
 		return -1;
-	/* The windows below gain what it left, and lose what it took. */
-	if (was && (vis_bands_intersect(&k->left, &tree->above, a) < 0 ||
-		    (is && vis_bands_subtract(&k->left, &k->scratch, b) < 0) ||
-		    libvis_walk_left(tree, w->below, NULL, 1, NULL) < 0))
-		return -1;
+	/* And they lose what it took. */
 	if (is && (vis_bands_intersect(&k->left, &tree->above, b) < 0 ||
 		   (was && vis_bands_subtract(&k->left, &k->scratch, a) < 0) ||
 		   libvis_walk_left(tree, w->below, NULL, -1, NULL) < 0))

@@ -194,8 +194,18 @@ static int visit(struct vis_tree *tree, const struct vis_window *w, const struct
 	if (k->sign) {
 		/* Pieces are disjoint: their counts add up. */
 		uint64_t seen = 0;
-		for (size_t i = 0; i < n; i++)
-			seen += vis_bands_area_in(mine, px[i]);
+		for (size_t i = 0; i < n; i++) {
+			pixman_box32_t in = px[i];
+			if (k->within) {
+				in.x1 = in.x1 > k->in.x1 ? in.x1 : k->in.x1;
+				in.y1 = in.y1 > k->in.y1 ? in.y1 : k->in.y1;
+				in.x2 = in.x2 < k->in.x2 ? in.x2 : k->in.x2;
+				in.y2 = in.y2 < k->in.y2 ? in.y2 : k->in.y2;
+				if (in.x1 >= in.x2 || in.y1 >= in.y2)
+					continue;
+			}
+			seen += vis_bands_area_in(mine, in);
+		}
 		if (count(tree, w, seen) < 0)
 			return -1;
 		meets |= seen != 0;
@@ -254,7 +264,9 @@ int libvis_walk_left(struct vis_tree *tree, const struct vis_window *start,
 	k->sign = sign;
 	k->out = out;
 	k->stop = stop;
-	return walk_from(tree, start, 0);
+	int rc = walk_from(tree, start, 0);
+	k->within = false;
+	return rc;
 }
 
 int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign, struct libvis_set *out,
