@@ -267,8 +267,9 @@ int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_bo
 }
 
 /* Writes src ∩ b to dst's boxes, which have room for src->n (b meets src), and sets its
- * extents. */
-static void clip_into(struct vis_bands *dst, const struct vis_bands *src, pixman_box32_t b)
+ * extents if ext. */
+static void clip_into(struct vis_bands *dst, const struct vis_bands *src, pixman_box32_t b,
+		      bool ext)
 {
 	struct out o = { dst, 0 };
 	dst->n = 0;
@@ -285,7 +286,7 @@ static void clip_into(struct vis_bands *dst, const struct vis_bands *src, pixman
 		band_end(&o, start);
 	}
 	dst->ext = (pixman_box32_t){ 0 };
-	if (dst->n) {
+	if (ext && dst->n) {
 		dst->ext.y1 = dst->boxes[0].y1;
 		dst->ext.y2 = dst->boxes[dst->n - 1].y2;
 		columns(dst);
@@ -300,7 +301,7 @@ int vis_bands_intersect(struct vis_bands *dst, const struct vis_bands *src, pixm
 		return 0;
 	if (reserve(dst, src->n) < 0)
 		return -1;
-	clip_into(dst, src, b);
+	clip_into(dst, src, b, true);
 	return 0;
 }
 
@@ -326,6 +327,6 @@ size_t vis_bands_clip(const struct vis_bands *r, pixman_box32_t b, pixman_box32_
 	if (!vis_bands_meet(r, b))
 		return 0;
 	struct vis_bands view = { out, 0, r->n, { 0 } };
-	clip_into(&view, r, b);
+	clip_into(&view, r, b, false);
 	return view.n;
 }

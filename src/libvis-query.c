@@ -41,6 +41,15 @@ static int from_kept(struct vis_tree *tree, struct vis_box q)
 	    libvis_reserve(&set->rects, &set->cap_rects, kept->n_rects, sizeof *set->rects) < 0)
 		return -1;
 	size_t end = kept->n_rects;
+	if (vis_box_equal(q, tree->kept_box)) {
+		/* The whole box: the parts as listed, which stay until the next change. */
+		for (size_t i = kept->n; i-- > 0;) {
+			end -= kept->wins[i].n_rects;
+			set->wins[set->n] = kept->wins[i];
+			set->wins[set->n++].rects = kept->rects + end;
+		}
+		return 0;
+	}
 	for (size_t i = kept->n; i-- > 0;) {
 		const struct vis_repaint *e = &kept->wins[i];
 		end -= e->n_rects;
