@@ -67,8 +67,8 @@ struct libvis_walk {
 	int sign;
 	struct libvis_set *out;
 	const struct vis_window *stop; /* a top-level window the walk stops at, or NULL */
-	bool within; /* tallies count only inside the box in (for one walk) */
-	pixman_box32_t in;
+	const pixman_box32_t *in; /* if not NULL, tallies count only inside in[0 … n_in) */
+	size_t n_in;
 };
 
 /*
@@ -121,6 +121,8 @@ struct vis_tree {
 	struct vis_box moved_from;
 	uint64_t moved_seen;
 	struct vis_bands above;
+	pixman_box32_t *opaque_was, *opaque_is; /* its opaque pixels before and after */
+	size_t n_opaque_was, cap_opaque_was, n_opaque_is, cap_opaque_is;
 	/* The windows whose states may have changed since the last update (their tallies met by
 	 * walks, or their subtree's viewability changed); restacked: some change moved windows in
 	 * the order or in and out of it (restacks: the change under way), so that the update
@@ -139,8 +141,8 @@ void libvis_damage(struct vis_tree *tree, struct vis_win *win);
  * down to the top-level window stop (not walked; NULL: all): sign ±1 adds each window's seen
  * pixels there to its tally, or takes them off; out, if not NULL, gets the repaint set of d.
  * libvis_walk_left() walks what tree->walk.left holds from the top-level window start down
- * (out is not emptied first; with tree->walk.within set, the tallies count only inside
- * tree->walk.in). 0, or -1 with ENOMEM. O(windows whose clips meet what is left,
+ * (out is not emptied first; with tree->walk.in set, the tallies count only inside its
+ * disjoint boxes, for this walk). 0, or -1 with ENOMEM. O(windows whose clips meet what is left,
  * times its boxes).
  */
 int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign, struct libvis_set *out,
@@ -150,6 +152,14 @@ int libvis_walk_left(struct vis_tree *tree, const struct vis_window *start,
 
 /* Lists w in the walk's set (tree->walk.out) with what is left of the screen box b. 0, or -1. */
 int libvis_draw_box(struct vis_tree *tree, const struct vis_window *w, struct vis_box b);
+
+/*
+ * The opaque pixels of a viewable window whose pixels are its clip (not LIBVIS_PIECES): its clip,
+ * or its cut's opaque pieces in it, as disjoint boxes in *out[0 … n) (the tree's scratch, until
+ * the next walk). n, or -1 with ENOMEM.
+ */
+long libvis_opaque_boxes(struct vis_tree *tree, const struct vis_window *w,
+			 const pixman_box32_t **out);
 
 /* Lists w among the windows whose states the next update looks at, once. 0, or -1 (ENOMEM). */
 int libvis_touch(struct vis_tree *tree, struct vis_window *w);

@@ -15,6 +15,7 @@
  */
 #include <errno.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "libvis-private.h"
 #include "wtree-live.h"
@@ -89,11 +90,12 @@ void libvis_tally_begin(struct vis_tree *tree, struct vis_win *win, struct vis_b
 
 /*
  * Whether a change of w's place or size alone takes the moved window's way: a top-level window
- * whose pixels are its clip, all opaque, with no viewable child.
+ * whose pixels are its clip (opaque, or opaque in places: no shape), with no viewable child.
  */
 static bool moves_alone(const struct vis_window *w)
 {
-	if (w->parent->parent || !w->mapped || w->look.input_only || libvis_pixels_of(w) != LIBVIS_CLIP)
+	if (w->parent->parent || !w->mapped || w->look.input_only ||
+	    libvis_pixels_of(w) == LIBVIS_PIECES)
 		return false;
 	for (const struct vis_window *c = w->top; c; c = c->below)
 		if (c->mapped)
@@ -103,13 +105,13 @@ static bool moves_alone(const struct vis_window *w)
 
 /*
  * A window that moves alone (moves_alone()) changes what the windows below it see only where it
- * was and is not (they gain it) and where it is and was not (they lose it), and nothing of what
- * the windows above it see: one walk down to it before the change, over the hull d of its boxes,
- * keeps what they leave of d (tree->above) and lists their part of its repaint set; after it,
- * the moved window's own count comes from that, and the windows below list the rest of the set,
- * what each shows where the window was being what it gains; a walk over the strip the window
- * took corrects their tallies for what they lose. A drag costs one walk over d and the strip,
- * where any other change costs two walks over its box.
+ * was opaque and is not (they gain it) and where it is opaque and was not (they lose it), and
+ * nothing of what the windows above it see: one walk down to it before the change, over the hull
+ * d of its boxes, keeps what they leave of d (tree->above) and lists their part of its repaint
+ * set; after it, the moved window's own count comes from that, and the windows below list the
+ * rest of the set, what each shows where the window was opaque being what it gains; a walk over
+ * the strips the window's opaque pieces took corrects their tallies for what they lose. A drag
+ * costs one walk over d and the strips, where any other change costs two walks over its box.
  */
 void libvis_tally_begin_move(struct vis_tree *tree, struct vis_win *win, struct vis_box after)
 {
@@ -128,6 +130,16 @@ void libvis_tally_begin_move(struct vis_tree *tree, struct vis_win *win, struct 
 		tree->tally_broken = true;
 		return;
 	}
+	const pixman_box32_t *op;
+	long n = libvis_opaque_boxes(tree, w, &op);
+	if (n < 0 || libvis_reserve(&tree->opaque_was, &tree->cap_opaque_was, (size_t)n,
+				    sizeof *tree->opaque_was) < 0) {
+		tree->tally_broken = true;
+		return;
+	}
+	if (n)
+		memcpy(tree->opaque_was, op, (size_t)n * sizeof *op);
+	tree->n_opaque_was = (size_t)n;
 	tree->moved = w;
 	tree->moved_from = w->clip;
 	tree->moved_seen =
@@ -140,28 +152,43 @@ static int end_move(struct vis_tree *tree, struct vis_window *w, struct vis_box 
 	struct libvis_walk *k = &tree->walk;
 	struct vis_win *win = w->data;
 	vis_wtree_place(w);
-	pixman_box32_t a = pbox(tree->moved_from), b = pbox(w->clip);
-	bool was = !vis_box_empty(tree->moved_from), is = !vis_box_empty(w->clip);
-	uint64_t now = is ? vis_bands_area_in(&tree->above, b) : 0;
+	bool is = !vis_box_empty(w->clip);
+	uint64_t now = is ? vis_bands_area_in(&tree->above, pbox(w->clip)) : 0;
 	win->seen += now - tree->moved_seen;
 	if ((now || tree->moved_seen) && libvis_touch(tree, w) < 0)
 		return -1;
+	const pixman_box32_t *op;
+	long m = libvis_opaque_boxes(tree, w, &op);
+	if (m < 0 || libvis_reserve(&tree->opaque_is, &tree->cap_opaque_is, (size_t)m,
+				    sizeof *tree->opaque_is) < 0)
+		return -1;
+	if (m)
+		memcpy(tree->opaque_is, op, (size_t)m * sizeof *op);
+	tree->n_opaque_is = (size_t)m;
 	/* Its part of the repaint set, and the windows' below it. */
 	if (vis_bands_copy(&k->left, &tree->above) < 0)
 		return -1;
 	k->out = &tree->kept;
-	if (is && (libvis_draw_box(tree, w, w->clip) < 0 || vis_bands_subtract(&k->left, &k->scratch, b) < 0))
+	if (is && libvis_draw_box(tree, w, w->clip) < 0)
 		return -1;
-	/* The windows below: what they show now, where it was is what they gain. */
-	k->within = true;
-	k->in = a;
-	if (libvis_walk_left(tree, w->below, NULL, was, &tree->kept) < 0)
+	for (size_t i = 0; i < tree->n_opaque_is; i++)
+		if (vis_bands_subtract(&k->left, &k->scratch, tree->opaque_is[i]) < 0)
+			return -1;
+	/* The windows below: what they show now where it was opaque is what they gain. */
+	k->in = tree->opaque_was;
+	k->n_in = tree->n_opaque_was;
+	if (libvis_walk_left(tree, w->below, NULL, tree->n_opaque_was > 0, &tree->kept) < 0)
 		return -1;
-	/* And they lose what it took. */
-	if (is && (vis_bands_intersect(&k->left, &tree->above, b) < 0 ||
-		   (was && vis_bands_subtract(&k->left, &k->scratch, a) < 0) ||
-		   libvis_walk_left(tree, w->below, NULL, -1, NULL) < 0))
-		return -1;
+	/* And they lose what its opaque pieces took, one disjoint strip after another. */
+	for (size_t j = 0; j < tree->n_opaque_is; j++) {
+		if (vis_bands_intersect(&k->left, &tree->above, tree->opaque_is[j]) < 0)
+			return -1;
+		for (size_t i = 0; i < tree->n_opaque_was; i++)
+			if (vis_bands_subtract(&k->left, &k->scratch, tree->opaque_was[i]) < 0)
+				return -1;
+		if (libvis_walk_left(tree, w->below, NULL, -1, NULL) < 0)
+			return -1;
+	}
 	tree->kept_ok = true;
 	tree->kept_box = d;
 	return 0;

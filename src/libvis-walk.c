@@ -158,6 +158,23 @@ static long opaque_cut(struct vis_tree *tree, const struct vis_window *w, struct
 	return (long)n;
 }
 
+long libvis_opaque_boxes(struct vis_tree *tree, const struct vis_window *w,
+			 const pixman_box32_t **out)
+{
+	if (libvis_pixels_of(w) != LIBVIS_CLIP) {
+		long n = opaque_cut(tree, w, w->clip);
+		*out = tree->boxes + 1; /* where opaque_cut() writes, once it has grown them */
+		return n;
+	}
+	if (vis_box_empty(w->clip))
+		return 0;
+	if (libvis_reserve(&tree->boxes, &tree->cap_boxes, 1, sizeof *tree->boxes) < 0)
+		return -1;
+	tree->boxes[0] = pbox(w->clip);
+	*out = tree->boxes;
+	return 1;
+}
+
 /*
  * A walk's visit of a viewable window with pixels: its tally (mine: what was left where it
  * began), its part of the set being listed (what is left now), then its opaque pixels off what
@@ -195,16 +212,19 @@ static int visit(struct vis_tree *tree, const struct vis_window *w, const struct
 		/* Pieces are disjoint: their counts add up. */
 		uint64_t seen = 0;
 		for (size_t i = 0; i < n; i++) {
-			pixman_box32_t in = px[i];
-			if (k->within) {
-				in.x1 = in.x1 > k->in.x1 ? in.x1 : k->in.x1;
-				in.y1 = in.y1 > k->in.y1 ? in.y1 : k->in.y1;
-				in.x2 = in.x2 < k->in.x2 ? in.x2 : k->in.x2;
-				in.y2 = in.y2 < k->in.y2 ? in.y2 : k->in.y2;
-				if (in.x1 >= in.x2 || in.y1 >= in.y2)
-					continue;
+			if (!k->in) {
+				seen += vis_bands_area_in(mine, px[i]);
+				continue;
 			}
-			seen += vis_bands_area_in(mine, in);
+			for (size_t j = 0; j < k->n_in; j++) {
+				pixman_box32_t in = px[i], c = k->in[j];
+				in.x1 = in.x1 > c.x1 ? in.x1 : c.x1;
+				in.y1 = in.y1 > c.y1 ? in.y1 : c.y1;
+				in.x2 = in.x2 < c.x2 ? in.x2 : c.x2;
+				in.y2 = in.y2 < c.y2 ? in.y2 : c.y2;
+				if (in.x1 < in.x2 && in.y1 < in.y2)
+					seen += vis_bands_area_in(mine, in);
+			}
 		}
 		if (count(tree, w, seen) < 0)
 			return -1;
@@ -265,7 +285,7 @@ int libvis_walk_left(struct vis_tree *tree, const struct vis_window *start,
 	k->out = out;
 	k->stop = stop;
 	int rc = walk_from(tree, start, 0);
-	k->within = false;
+	k->in = NULL;
 	return rc;
 }
 

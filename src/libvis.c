@@ -98,6 +98,8 @@ VIS_EXPORT void vis_tree_destroy(struct vis_tree *tree)
 		vis_bands_finish(&tree->walk.saves[i]);
 	free(tree->walk.saves);
 	free(tree->touched);
+	free(tree->opaque_was);
+	free(tree->opaque_is);
 	free(tree->damage);
 	free(tree->tracked);
 	free(tree->list);
