@@ -266,6 +266,9 @@ struct medians {
 	double lib99, reg99; /* the 99th percentiles */
 };
 
+/* --each: a line for each member of the family. */
+static bool each;
+
 /* The share of changes, in percent, that raise a window instead of moving it (--raises). */
 static uint64_t raises;
 
@@ -443,6 +446,13 @@ static void run_family(size_t count, size_t min_n, size_t max_n, size_t moves, u
 		struct medians m = run_scene(s, moves, scene_seed);
 		ratio[k] = m.reg > 0 ? m.lib / m.reg : 0;
 		tail[k] = m.reg99 > 0 ? m.lib99 / m.reg99 : 0;
+		if (each) {
+			char desc[400];
+			if (vis_family_describe(&f, desc, sizeof desc) < 0)
+				desc[0] = 0;
+			printf("scene %zu: %s: libvis %.2f µs, region %.2f µs, ratio %.2f, p99 ratio %.2f\n",
+			       k, desc, m.lib, m.reg, ratio[k], tail[k]);
+		}
 		if (ratio[k] > worst) {
 			worst = ratio[k];
 			int len = snprintf(worst_desc, sizeof worst_desc, "scene %zu: ", k);
@@ -499,6 +509,8 @@ int main(int argc, char **argv)
 			live_from = strtoul(argv[++i], NULL, 10);
 		else if (!strcmp(argv[i], "--tally-below") && i + 1 < argc)
 			tally_below = strtoul(argv[++i], NULL, 10);
+		else if (!strcmp(argv[i], "--each"))
+			each = true;
 		else if (!strcmp(argv[i], "--raises") && i + 1 < argc)
 			raises = strtoul(argv[++i], NULL, 10);
 		else if (!strcmp(argv[i], "--viscomp") && i + 1 < argc) {
@@ -509,7 +521,7 @@ int main(int argc, char **argv)
 		else
 			die("usage: bench-libvis [--kinds K,...] [--sizes N,...] [--moves M] [--seed S]\n"
 			    "       bench-libvis --family COUNT [--min-n N] [--max-n N] [--moves M] "
-			    "[--seed S] [--only K]\n       (either also [--live-from N] [--tally-below N] [--raises PERCENT]; the first also "
+			    "[--seed S] [--only K] [--each]\n       (either also [--live-from N] [--tally-below N] [--raises PERCENT]; the first also "
 			    "[--viscomp WxH])");
 	}
 	if (moves < 1)
