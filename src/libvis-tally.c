@@ -126,10 +126,14 @@ void libvis_tally_begin_move(struct vis_tree *tree, struct vis_win *win, struct 
 	if (vis_box_empty(d))
 		return;
 	struct libvis_walk *k = &tree->walk;
-	if (libvis_walk(tree, d, 0, &tree->kept, w) < 0 || vis_bands_copy(&tree->above, &k->left) < 0) {
+	if (libvis_walk(tree, d, 0, &tree->kept, w) < 0) {
 		tree->tally_broken = true;
 		return;
 	}
+	/* What is left is kept: the walks after the change start from copies of it. */
+	struct vis_bands t = tree->above;
+	tree->above = k->left;
+	k->left = t;
 	const pixman_box32_t *op;
 	long n = libvis_opaque_boxes(tree, w, &op);
 	if (n < 0 || libvis_reserve(&tree->opaque_was, &tree->cap_opaque_was, (size_t)n,
