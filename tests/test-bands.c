@@ -68,6 +68,17 @@ static bool same_pixels(const struct vis_bands *r, pixman_region32_t *p)
 	return same;
 }
 
+/* Whether r holds the pixels of p inside box c. */
+static bool same_inside(const struct vis_bands *r, pixman_region32_t *p, pixman_box32_t c)
+{
+	pixman_region32_t q;
+	pixman_region32_init_rect(&q, c.x1, c.y1, (unsigned)(c.x2 - c.x1), (unsigned)(c.y2 - c.y1));
+	pixman_region32_intersect(&q, &q, p);
+	bool same = same_pixels(r, &q);
+	pixman_region32_fini(&q);
+	return same;
+}
+
 /* A random box in a span of side pixels from origin, on a grid of step, mostly small. */
 static pixman_box32_t random_box(struct vis_rng *rng, int64_t origin, int64_t side, int64_t step)
 {
@@ -134,24 +145,14 @@ static void run(struct vis_rng *rng, int64_t origin, int64_t side, int64_t step,
 				pixman_region32_fini(&e);
 			}
 			CHECK(well_formed(&copy));
-			pixman_region32_t pc;
-			pixman_region32_init_rect(&pc, c.x1, c.y1, (unsigned)(c.x2 - c.x1),
-						  (unsigned)(c.y2 - c.y1));
-			pixman_region32_intersect(&pc, &pc, &p);
-			CHECK(same_pixels(&clipped, &pc));
-			pixman_region32_fini(&pc);
+			CHECK(same_inside(&clipped, &p, c));
 		}
 		CHECK(vis_bands_copy(&copy, &r) == 0);
 		CHECK(copy.n == r.n && same_pixels(&copy, &p));
 		/* The region inside another box, as a region of its own. */
 		CHECK(vis_bands_intersect(&copy, &r, c) == 0);
 		CHECK(well_formed(&copy));
-		pixman_region32_t pi;
-		pixman_region32_init_rect(&pi, c.x1, c.y1, (unsigned)(c.x2 - c.x1),
-					  (unsigned)(c.y2 - c.y1));
-		pixman_region32_intersect(&pi, &pi, &p);
-		CHECK(same_pixels(&copy, &pi));
-		pixman_region32_fini(&pi);
+		CHECK(same_inside(&copy, &p, c));
 	}
 	free(out);
 	pixman_region32_fini(&p);
