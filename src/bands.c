@@ -200,6 +200,9 @@ static int box_less(struct vis_bands *r, pixman_box32_t b)
 	return 0;
 }
 
+/* Regions of up to this many boxes are written again whole, not spliced. */
+#define SMALL 24
+
 int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b)
 {
 	if (!vis_bands_meet(r, b))
@@ -214,20 +217,25 @@ int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_bo
 	/*
 	 * Only the bands b's rows meet change, and the one above and the one below them, which
 	 * may coalesce with what they become: those are written to scratch, and spliced into r
-	 * between the bands above and below, which stay in place.
+	 * between the bands above and below, which stay in place. A small region is written to
+	 * scratch whole, which costs less than finding where to splice.
 	 */
-	size_t from = first_below(r, b.y1);
-	if (from > 0) /* the band above them */
-		from = band_start(r, from - 1);
-	size_t to = from;
-	while (to < r->n && r->boxes[to].y1 < b.y2)
-		to = band_after(r, to);
-	if (to < r->n)
-		to = band_after(r, to); /* and the band below them */
+	size_t from = 0, to = r->n;
+	bool small = r->n <= SMALL;
+	if (!small) {
+		from = first_below(r, b.y1);
+		if (from > 0) /* the band above them */
+			from = band_start(r, from - 1);
+		to = from;
+		while (to < r->n && r->boxes[to].y1 < b.y2)
+			to = band_after(r, to);
+		if (to < r->n)
+			to = band_after(r, to); /* and the band below them */
+	}
 	/* A band meeting b becomes at most three: the parts above and below b, unchanged, and
 	 * the one beside it, whose boxes but one (which b splits) stay one each. */
 	size_t m = to - from;
-	if (reserve(scratch, 4 * m) < 0 || reserve(r, r->n + 3 * m) < 0)
+	if (reserve(scratch, 4 * m) < 0 || (!small && reserve(r, r->n + 3 * m) < 0))
 		return -1;
 	struct out o = { scratch, 0 };
 	scratch->n = 0;
@@ -248,10 +256,22 @@ int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_bo
 		if (y2 > b.y2)
 			put_band(&o, f, k, b.y2, y2);
 	}
-	memmove(r->boxes + from + scratch->n, r->boxes + to, (r->n - to) * sizeof *r->boxes);
-	if (scratch->n)
-		memcpy(r->boxes + from, scratch->boxes, scratch->n * sizeof *r->boxes);
-	r->n = r->n - m + scratch->n;
+	if (small) {
+		/* All of it was written again: the boxes change places with scratch's. */
+		pixman_box32_t *boxes = r->boxes;
+		size_t cap = r->cap;
+		r->boxes = scratch->boxes;
+		r->cap = scratch->cap;
+		r->n = scratch->n;
+		scratch->boxes = boxes;
+		scratch->cap = cap;
+	} else {
+		memmove(r->boxes + from + scratch->n, r->boxes + to,
+			(r->n - to) * sizeof *r->boxes);
+		if (scratch->n)
+			memcpy(r->boxes + from, scratch->boxes, scratch->n * sizeof *r->boxes);
+		r->n = r->n - m + scratch->n;
+	}
 	/* The extents: the first and last bands' rows; the columns stay unless b took pixels of
 	 * the first or the last column (a box holding one keeps it, as b leaves it alone). */
 	if (!r->n) {
