@@ -69,7 +69,12 @@ struct libvis_walk {
 	const struct vis_window *stop; /* a top-level window the walk stops at, or NULL */
 	const pixman_box32_t *in; /* if not NULL, tallies count only inside in[0 … n_in) */
 	size_t n_in;
+	/* Top-level windows a repaint walk passes one by one before it asks the live engine's
+	 * grid, when there is one (LIBVIS_GRID_AFTER; the tests take it lower). */
+	size_t grid_after;
 };
+
+#define LIBVIS_GRID_AFTER 64
 
 /*
  * A tree. dirty: changed since the last update; damage[0 … n_damage) holds the border boxes of

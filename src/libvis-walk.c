@@ -239,15 +239,55 @@ static int visit(struct vis_tree *tree, const struct vis_window *w, const struct
 	return meets ? take_off(k, op, n_opaque) : 0;
 }
 
+/*
+ * A repaint walk, from the keys below from down, over what is left through the live engine's
+ * grid of clips (a tree past tallies): the windows whose clips meet it, highest key first, which
+ * is the walk's order (a window's descendants before it), without passing over the others one by
+ * one. 0, or -1.
+ */
+static int walk_grid(struct vis_tree *tree, uint64_t from)
+{
+	struct libvis_walk *k = &tree->walk;
+	struct vis_wtree_live *lv = tree->core.live;
+	struct vis_zgrid_walk walk;
+	pixman_box32_t *e = &k->left.ext;
+	if (vis_zgrid_walk_init(&walk, &lv->grid, (struct vis_box){ e->x1, e->y1, e->x2, e->y2 },
+				from, false) < 0)
+		return -1;
+	int rc = 0;
+	uint64_t key;
+	uint32_t slot;
+	while (rc == 0 && k->left.n && vis_zgrid_walk_next(&walk, &key, &slot)) {
+		const struct live_slot *sl = &lv->slots[slot];
+		if (!vis_bands_meet(&k->left, sl->clip))
+			continue;
+		rc = visit(tree, sl->w, &k->left);
+		if (k->left.n)
+			vis_zgrid_walk_narrow(&walk, (struct vis_box){ e->x1, e->y1, e->x2, e->y2 });
+	}
+	vis_zgrid_walk_finish(&walk);
+	return rc;
+}
+
 static int walk_window(struct vis_tree *tree, const struct vis_window *w, size_t level);
 
 /* Walks c and the siblings below it, while something is left. 0, or -1. */
 static int walk_from(struct vis_tree *tree, const struct vis_window *c, size_t level)
 {
-	for (; c && c != tree->walk.stop && tree->walk.left.n; c = c->below)
-		if (c->mapped && meets_left(&tree->walk, c->clip) &&
-		    walk_window(tree, c, level) < 0)
-			return -1;
+	struct libvis_walk *k = &tree->walk;
+	/* A repaint of a large tree whose top windows leave the damage uncovered goes on by the
+	 * grid, past the windows that miss it (a cascade's damage, which thousands cross). */
+	bool grid = !level && !k->sign && !k->stop && wtree_live_indexed(&tree->core);
+	uint64_t from = UINT64_MAX;
+	for (size_t passed = 0; c && c != k->stop && k->left.n; c = c->below) {
+		if (grid && ++passed > k->grid_after)
+			return walk_grid(tree, from);
+		if (c->mapped && meets_left(k, c->clip)) {
+			if (walk_window(tree, c, level) < 0)
+				return -1;
+			from = c->key;
+		}
+	}
 	return 0;
 }
 

@@ -58,6 +58,7 @@ VIS_EXPORT struct vis_tree *vis_tree_create(int32_t width, int32_t height)
 	vis_bands_init(&tree->walk.scratch);
 	vis_bands_init(&tree->above);
 	tree->tally_max = LIBVIS_TALLY_WINDOWS;
+	tree->walk.grid_after = LIBVIS_GRID_AFTER;
 	return tree;
 }
 

@@ -1,7 +1,8 @@
 /*
  * test-libvis's one hook past <vis/vis.h>: which engine a tree's updates take. The test's trees
  * are small, so libvis keeps tallies for them (libvis-tally.c); so that they also exercise the
- * core, an update can go through it instead, with the live engine from the first window, or
+ * core, an update can go through it instead, with the live engine from the first window (whose
+ * grid then serves the repaint queries after a window or three), or
  * with tallies kept only up to a few windows, so that trees go in and out of them; and the box
  * whose repaint set a tree keeps, for damage that it serves.
  */
@@ -14,6 +15,8 @@ void tl_engine(struct vis_tree *tree, enum tl_engine engine)
 		tl_fail("vis_wtree_live_from", 0, 0);
 	if (engine == TL_LIVE || engine == TL_THROUGH)
 		libvis_tally_below(tree, 0);
+	if (engine == TL_LIVE)
+		tree->walk.grid_after = (size_t)tl_range(0, 3); /* repaints by the live grid */
 	if (engine == TL_SWITCH)
 		libvis_tally_below(tree, (size_t)tl_range(1, 12));
 }
