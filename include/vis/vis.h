@@ -260,7 +260,8 @@ struct vis_repaint {
  * (changes since the last update) or ENOMEM. Cost: inside the box of the last change of a tree
  * with tallies, O(r) for the r rectangles listed for that box; else the region method inside the
  * damage, from the top down, over the windows that meet it until opaque ones have covered it
- * (O(k · r) for k windows visited and r rectangles of what is left).
+ * (O(k · r) for k windows visited and r rectangles of what is left; in a tree past tallies, the
+ * live engine's grid finds them once 64 top-level windows have left the damage uncovered).
  */
 VIS_EXPORT int vis_tree_repaint(struct vis_tree *tree, const struct vis_rect32 *damage,
 				const struct vis_repaint **out, size_t *n);
