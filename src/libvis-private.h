@@ -57,13 +57,21 @@ struct libvis_set {
 /*
  * A walk over a damaged area, from the top window down (libvis-tally.c): left is what is left
  * of the area, scratch its double; saves[d] what was left where a window at nesting d began
- * (its descendants hide nothing of it). sign: the tallies' walk (−1 before a change, +1 after),
+ * (its descendants hide nothing of it); entered the windows whose children the walk is in, from
+ * the outermost. sign: the tallies' walk (−1 before a change, +1 after),
  * or 0; out: the repaint set it lists, or NULL.
  */
+struct libvis_entered {
+	const struct vis_window *w;
+	bool saved; /* what was left where it began is in saves, for its tally */
+};
+
 struct libvis_walk {
 	struct vis_bands left, scratch;
 	struct vis_bands *saves;
 	size_t cap_saves;
+	struct libvis_entered *entered; /* the windows whose children a walk is in */
+	size_t cap_entered;
 	int sign;
 	struct libvis_set *out;
 	const struct vis_window *stop; /* a top-level window the walk stops at, or NULL */

@@ -269,52 +269,79 @@ static int walk_grid(struct vis_tree *tree, uint64_t from)
 	return rc;
 }
 
-static int walk_window(struct vis_tree *tree, const struct vis_window *w, size_t level);
+/* The first mapped child of w, from the top, whose clip meets what is left, or NULL. */
+static const struct vis_window *first_child(const struct libvis_walk *k,
+					    const struct vis_window *w)
+{
+	const struct vis_window *c = w->top;
+	while (c && !(c->mapped && meets_left(k, c->clip)))
+		c = c->below;
+	return c;
+}
 
-/* Walks c and the siblings below it, while something is left. 0, or -1. */
-static int walk_from(struct vis_tree *tree, const struct vis_window *c, size_t level)
+/*
+ * Walks c and the siblings below it, while something is left: each window meeting it after its
+ * descendants above it, those from the top child down. Without recursion (a chain of nested
+ * windows is as deep as the tree): the windows entered, whose children are walked, wait in
+ * k->entered, with whether they kept what was left for their tally in k->saves. 0, or -1.
+ */
+static int walk_from(struct vis_tree *tree, const struct vis_window *c)
 {
 	struct libvis_walk *k = &tree->walk;
 	/* A repaint of a large tree whose top windows leave the damage uncovered goes on by the
 	 * grid, past the windows that miss it (a cascade's damage, which thousands cross). */
-	bool grid = !level && !k->sign && !k->stop && wtree_live_indexed(&tree->core);
+	bool grid = !k->sign && !k->stop && wtree_live_indexed(&tree->core);
 	uint64_t from = UINT64_MAX;
-	for (size_t passed = 0; c && c != k->stop && k->left.n; c = c->below) {
-		if (grid && ++passed > k->grid_after)
-			return walk_grid(tree, from);
-		if (c->mapped && meets_left(k, c->clip)) {
-			if (walk_window(tree, c, level) < 0)
-				return -1;
-			from = c->key;
+	size_t depth = 0, level = 0, passed = 0;
+	for (;;) {
+		for (; c && c != k->stop && k->left.n; c = c->below) {
+			if (!depth && grid && ++passed > k->grid_after)
+				return walk_grid(tree, from);
+			if (c->mapped && meets_left(k, c->clip))
+				break;
 		}
-	}
-	return 0;
-}
-
-/* Walks a viewable window: its descendants above it first. 0, or -1. */
-static int walk_window(struct vis_tree *tree, const struct vis_window *w, size_t level)
-{
-	struct libvis_walk *k = &tree->walk;
-	const struct vis_window *c = w->top;
-	while (c && !(c->mapped && meets_left(k, c->clip)))
-		c = c->below;
-	bool counts = !w->look.input_only, saved = false;
-	if (c) {
-		/* A tally counts what was left before the descendants took their part. */
-		saved = k->sign && counts;
-		if (saved) {
-			size_t cap = k->cap_saves;
-			if (libvis_reserve(&k->saves, &k->cap_saves, level + 1, sizeof *k->saves) < 0)
-				return -1;
-			for (size_t i = cap; i < k->cap_saves; i++)
-				vis_bands_init(&k->saves[i]);
-			if (vis_bands_copy(&k->saves[level], &k->left) < 0)
-				return -1;
+		const struct vis_window *w;
+		const struct vis_bands *mine = &k->left;
+		if (c && c != k->stop && k->left.n) {
+			const struct vis_window *child = first_child(k, c);
+			if (child) {
+				/* A tally counts what was left before the descendants took their
+				 * part. */
+				bool saved = k->sign && !c->look.input_only;
+				if (libvis_reserve(&k->entered, &k->cap_entered, depth + 1,
+						   sizeof *k->entered) < 0)
+					return -1;
+				if (saved) {
+					size_t cap = k->cap_saves;
+					if (libvis_reserve(&k->saves, &k->cap_saves, level + 1,
+							   sizeof *k->saves) < 0)
+						return -1;
+					for (size_t i = cap; i < k->cap_saves; i++)
+						vis_bands_init(&k->saves[i]);
+					if (vis_bands_copy(&k->saves[level], &k->left) < 0)
+						return -1;
+				}
+				k->entered[depth++] = (struct libvis_entered){ c, saved };
+				level += saved;
+				c = child;
+				continue;
+			}
+			w = c;
+		} else {
+			/* The siblings are done: their parent, entered, is next, or the walk ends. */
+			if (!depth)
+				return 0;
+			struct libvis_entered e = k->entered[--depth];
+			w = e.w;
+			if (e.saved)
+				mine = &k->saves[--level];
 		}
-		if (walk_from(tree, c, level + saved) < 0)
+		if (!w->look.input_only && visit(tree, w, mine) < 0)
 			return -1;
+		if (!depth)
+			from = w->key;
+		c = w->below;
 	}
-	return counts ? visit(tree, w, saved ? &k->saves[level] : &k->left) : 0;
 }
 
 int libvis_walk_left(struct vis_tree *tree, const struct vis_window *start,
@@ -324,7 +351,7 @@ int libvis_walk_left(struct vis_tree *tree, const struct vis_window *start,
 	k->sign = sign;
 	k->out = out;
 	k->stop = stop;
-	int rc = walk_from(tree, start, 0);
+	int rc = walk_from(tree, start);
 	k->in = NULL;
 	return rc;
 }

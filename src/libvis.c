@@ -98,6 +98,7 @@ VIS_EXPORT void vis_tree_destroy(struct vis_tree *tree)
 	for (size_t i = 0; i < tree->walk.cap_saves; i++)
 		vis_bands_finish(&tree->walk.saves[i]);
 	free(tree->walk.saves);
+	free(tree->walk.entered);
 	free(tree->touched);
 	free(tree->opaque_was);
 	free(tree->opaque_is);

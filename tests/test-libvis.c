@@ -9,10 +9,12 @@
  *
  * usage: test-libvis [--trees N] [--seed S] [--live | --through | --switch]
  * (the engine, libvis-live.c: the live engine from the first window, through the core, or tallies
- * up to a few windows; a failure prints the seed and tree to rerun with --seed S --trees 1)
+ * up to a few windows; a failure prints the seed and tree to rerun with --seed S --trees 1).
+ * First, a chain of 3,000 nested windows on a thread with a small stack: walks do not recurse.
  */
 #include <errno.h>
 #include <inttypes.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -331,6 +333,53 @@ static void one_tree(enum tl_engine engine, bool bad)
 	vis_tree_destroy(c.vt);
 }
 
+/*
+ * A chain of windows, each inside the last, as deep as the tree: updates and repaints walk it
+ * without recursion, on a thread whose stack (128 KiB) a walk recursing once a window would
+ * overflow many times over. With tallies (the hook's engine) and without.
+ */
+#define CHAIN 3000
+
+static void *chain(void *arg)
+{
+	enum tl_engine engine = *(enum tl_engine *)arg;
+	struct vis_tree *t = vis_tree_create(640, 480);
+	tl_check(t != NULL, "chain: a tree");
+	tl_engine(t, engine);
+	struct vis_win *w = NULL;
+	for (int i = 0; i < CHAIN; i++) {
+		int step = i % 1000 == 0; /* a pixel now and then: edges to walk past */
+		w = vis_win_create(t, w, step, step, 600, 400, step, 0);
+		tl_check(w && vis_win_map(w) == 0, "chain: a window");
+	}
+	const struct vis_change *changes;
+	const struct vis_repaint *out;
+	size_t n;
+	struct vis_rect32 d = { 0, 0, 640, 480 };
+	for (int round = 0; round < 3; round++) {
+		tl_check(vis_tree_update(t, &changes, &n) == 0, "chain: an update");
+		tl_check(vis_tree_repaint(t, &d, &out, &n) == 0, "chain: a repaint");
+		/* The innermost window hides its ancestors but for their borders and edges. */
+		tl_check(n >= 1 && out[n - 1].win == w, "chain: the innermost window on top");
+		tl_check(vis_win_state(w) == VIS_VISIBILITY_UNOBSCURED ||
+				 vis_win_state(w) == VIS_VISIBILITY_PARTIALLY_OBSCURED,
+			 "chain: the innermost window seen");
+		vis_win_move(w, round, round);
+	}
+	vis_tree_destroy(t);
+	return NULL;
+}
+
+static void deep_chain(enum tl_engine engine)
+{
+	pthread_attr_t attr;
+	pthread_t thread;
+	if (pthread_attr_init(&attr) != 0 || pthread_attr_setstacksize(&attr, 128 * 1024) != 0 ||
+	    pthread_create(&thread, &attr, chain, &engine) != 0 || pthread_join(thread, NULL) != 0)
+		tl_fail("chain: a thread", 0, 0);
+	pthread_attr_destroy(&attr);
+}
+
 int main(int argc, char **argv)
 {
 	long trees = 3000;
@@ -355,6 +404,7 @@ int main(int argc, char **argv)
 			return 2;
 		}
 	}
+	deep_chain(engine);
 	for (long k = 0; k < trees; k++) {
 		seed_now = seed + (uint64_t)k;
 		rng_state = seed_now * 0x9e3779b97f4a7c15ull | 1;
