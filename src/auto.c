@@ -40,7 +40,8 @@
  *
  * Below SAMPLE_MIN × SAMPLE_PART (256) windows the sweep is not measured: its smallest sample
  * would be more than an eighth of it, and on the family's stacks of 100-300 windows the samples
- * took `auto` from 1.16 to 1.39 times the fastest engine at the median; the price decides there.
+ * took `auto` from 1.16 to 1.39 times the fastest engine at the median; the price decides there,
+ * by the rule of before (region.c, hand_over(): an estimate's cap is twice it).
  * A sample costs time, so it is taken only where a hand-over is near: when the work reaches half
  * the sweep's steps at 6 units (LATE; on most desktop-like stacks the walk ends before), or when
  * a hand-over is about to be decided. It is sized to take at most an eighth of the walk's time so
@@ -66,8 +67,9 @@
  * each with the samples on top, about a sixth of W. So auto is within max(1 + a, 1 + 2 / a,
  * (1 + a) / a) of the faster engine wherever the sweep is measured: 3 when the measurement is
  * exact, and 4 for any a between 2/3 and 3, where the samples checked lie. What the bound does
- * not cover: stacks below 256 windows, decided on the price (by the same cases with the price's
- * error e for a); and an early hand-over that no sample fitted in, which
+ * not cover: stacks below 256 windows, decided on the price as before 2026-11-29 (region.c: the
+ * cap at twice the estimate; within max(1 + 2e, 1 + 1/e) where the forecast holds, e the price
+ * over the true one); and an early hand-over that no sample fitted in, which
  * costs W + S with W at most a quarter of the estimate and rests on the forecast as before (on
  * the family's seed 1: lattices where the region method was 2-3 times faster). The noise is the
  * clock's: a walk or a sample that the scheduler interrupts is priced dearer, which can move the
@@ -217,12 +219,13 @@ static double sample_sweep(const struct vis_stack *stack, size_t m, uint64_t ste
 
 /* The rival priced: price × the steps, counted once. */
 static uint64_t priced_units(const struct vis_stack *stack, const void *data, uint64_t work,
-			     bool handing)
+			     bool handing, bool *measured)
 {
 	struct gauge *g = (struct gauge *)data;
 
 	(void)work;
 	(void)handing;
+	*measured = false;
 	if (!g->counted) {
 		g->steps = sweep_steps(stack, g->exact);
 		g->counted = true;
@@ -237,12 +240,12 @@ static uint64_t priced_units(const struct vis_stack *stack, const void *data, ui
  * far (its time over its work). See the comment above UNITS_PER_STEP_ON_SCREEN.
  */
 static uint64_t measured_units(const struct vis_stack *stack, const void *data, uint64_t work,
-			       bool handing)
+			       bool handing, bool *measured)
 {
 	struct gauge *g = (struct gauge *)data;
 	size_t n = stack->n, least = n < SAMPLE_MIN ? n : SAMPLE_MIN;
 	size_t most = n / SAMPLE_PART > least ? n / SAMPLE_PART : least;
-	uint64_t estimate = priced_units(stack, data, work, handing);
+	uint64_t estimate = priced_units(stack, data, work, handing, measured);
 
 	if (g->steps == 0 || g->steps == UINT64_MAX || n < SAMPLE_MIN * SAMPLE_PART)
 		return estimate;
@@ -266,6 +269,7 @@ static uint64_t measured_units(const struct vis_stack *stack, const void *data, 
 	if (g->sweep <= 0)
 		return estimate;
 	double units = g->sweep * (double)(work > 0 ? work : 1) / (walk > 1 ? walk : 1);
+	*measured = true;
 	return units >= 0x1p63 ? UINT64_MAX / 2 : (uint64_t)units;
 }
 

@@ -64,12 +64,13 @@ int vis_region_compute_within(const struct vis_stack *stack, uint8_t *states, ui
  * or a first estimate that sharpen(), when not NULL, replaces, given the work done so far. It is
  * called at the first checkpoint where the work done or a forecast passes floor units and at
  * every checkpoint after, with handing false, and before any hand-over with handing true, the
- * hand-over being decided again on what it returns (auto measures the sweep there).
+ * hand-over being decided again on what it returns (auto measures the sweep there); it sets
+ * *measured when what it returns is a measurement (region.c's rule then changes, hand_over()).
  */
 struct vis_rival {
 	uint64_t units, floor;
 	uint64_t (*sharpen)(const struct vis_stack *stack, const void *data, uint64_t work,
-			    bool handing);
+			    bool handing, bool *measured);
 	const void *data;
 };
 

@@ -136,6 +136,7 @@ struct forecast {
 	uint64_t work_next;     /* or work done */
 	size_t count, base;     /* checkpoints so far; the latest at or before half the current k */
 	bool sharpened;         /* the rival's sharpen() called: from then on at every checkpoint */
+	bool measured;          /* what it returned is a measurement, not an estimate */
 	unsigned agreed;        /* forecasts allowed to act, in a row, that the rival is cheaper */
 	struct checkpoint at[FORECAST_MAX];
 };
@@ -276,16 +277,28 @@ static bool many_windows(const struct vis_stack *stack, size_t from, size_t to)
 	return overlaps >= WINDOWS_TO_TRUST;
 }
 
-/* Whether to hand over at a checkpoint, the rival's units as they stand (forecast_exceeds()). */
+/*
+ * Whether to hand over at a checkpoint, the rival's units as they stand (forecast_exceeds()).
+ * A measured rival is a ski rental's price: the cap is the rival, and a forecast is acted on early
+ * or from 1/LEAD of it. An estimate may be wrong either way, so the cap is twice it, and an
+ * agreed forecast acts at any time, a lone one only early.
+ */
 static bool hand_over(const struct forecast *f, const struct checkpoint *b, size_t k, double rest,
 		      bool actionable, uint64_t work)
 {
-	uint64_t cap = f->rival.units;
+	uint64_t units = f->rival.units, cap = units;
+	bool early = work <= units / EARLY;
 
+	if (!f->measured)
+		cap = units > (UINT64_MAX - 1) / 2 ? UINT64_MAX : 2 * units + 1;
 	if (work >= cap)
 		return true;
-	return actionable && rest > (double)cap && (work <= cap / EARLY || work >= cap / LEAD) &&
-	       (f->agreed >= 2 || many_windows(f->stack, b->k, k));
+	if (!actionable || rest <= (double)units)
+		return false;
+	if (f->measured && !early && work < units / LEAD)
+		return false;
+	return f->agreed >= 2 || (early && many_windows(f->stack, b->k, k)) ||
+	       (f->measured && many_windows(f->stack, b->k, k));
 }
 
 /*
@@ -330,14 +343,14 @@ static bool forecast_exceeds(struct forecast *f, pixman_region32_t *above, size_
 	}
 	if (f->rival.sharpen != NULL &&
 	    (f->sharpened || work >= f->rival.floor || (actionable && rest > (double)f->rival.floor))) {
-		f->rival.units = f->rival.sharpen(f->stack, f->rival.data, work, false);
+		f->rival.units = f->rival.sharpen(f->stack, f->rival.data, work, false, &f->measured);
 		f->sharpened = true;
 	}
 	if (actionable)
 		f->agreed = rest > (double)f->rival.units ? f->agreed + 1 : 0;
 	over = hand_over(f, b, k, rest, actionable, work);
 	if (over && f->rival.sharpen != NULL) {
-		f->rival.units = f->rival.sharpen(f->stack, f->rival.data, work, true);
+		f->rival.units = f->rival.sharpen(f->stack, f->rival.data, work, true, &f->measured);
 		f->sharpened = true;
 		over = hand_over(f, b, k, rest, actionable, work);
 	}
@@ -345,6 +358,8 @@ static bool forecast_exceeds(struct forecast *f, pixman_region32_t *above, size_
 		f->at[f->count++] = now;
 
 	uint64_t cap = f->rival.units, lead = cap / LEAD;
+	if (!f->measured)
+		cap = cap > (UINT64_MAX - 1) / 2 ? UINT64_MAX : 2 * cap + 1;
 	f->k_next = 2 * k;
 	f->work_next = work < cap / 2 ? 2 * work : cap;
 	if (work < lead && f->work_next > lead)
