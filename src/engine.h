@@ -61,14 +61,16 @@ int vis_region_compute_within(const struct vis_stack *stack, uint8_t *states, ui
 
 /*
  * What the region method is weighed against: the other method's cost in units of region work,
- * or a bound on it from above that sharpen(), when not NULL, replaces by the estimate itself.
- * Sharpening costs a pass over the windows, so it is asked for at most once, at the first
- * checkpoint where the forecast or the work done passes floor units: below, no estimate the
- * caller expects could change the choice.
+ * or a first estimate that sharpen(), when not NULL, replaces, given the work done so far. It is
+ * called at the first checkpoint where the work done or a forecast passes floor units and at
+ * every checkpoint after, with handing false, and before any hand-over with handing true, the
+ * hand-over being decided again on what it returns (auto measures the sweep there); it sets
+ * *measured when what it returns is a measurement (region.c's rule then changes, hand_over()).
  */
 struct vis_rival {
 	uint64_t units, floor;
-	uint64_t (*sharpen)(const struct vis_stack *stack, const void *data);
+	uint64_t (*sharpen)(const struct vis_stack *stack, const void *data, uint64_t work,
+			    bool handing, bool *measured);
 	const void *data;
 };
 
@@ -84,10 +86,10 @@ int vis_region_compute_against(const struct vis_stack *stack, uint8_t *states,
 int vis_brute_compute(const struct vis_stack *stack, uint8_t *states);
 
 /*
- * The region method while the forecast of its work over the next 8 times the windows walked stays
- * within the gmv-heap sweep's cost, the sweep past that (auto.c). O(n log² n) time in the worst
- * case (the region method gives up by twice the sweep's estimated cost); the region method's time
- * when that is cheaper.
+ * The region method until its time reaches the gmv-heap sweep's, or half of it with the rest of
+ * its work forecast to cost more, or early on a forecast; the sweep after that (auto.c). The
+ * sweep's time is measured on samples of the stack once a hand-over is near. Within about 3 times
+ * the faster engine's time where the sweep is measured; O(n log² n) time in the worst case.
  */
 int vis_auto_compute(const struct vis_stack *stack, uint8_t *states);
 

@@ -93,11 +93,18 @@ static uint64_t ilog2(uint64_t x)
 
 /*
  * A forecast that the rival is cheaper is acted on alone when the windows it was measured on are
- * evidently this many windows or more and the work done is at most 1/TRUST_WORK_SHARE of the
- * rival, else only when the next one agrees (forecast_exceeds()).
+ * evidently this many windows or more, else only when the next one agrees (forecast_exceeds()).
  */
 #define WINDOWS_TO_TRUST 16
-#define TRUST_WORK_SHARE 4
+
+/*
+ * A forecast that the rival is cheaper is acted on while the work done is at most 1/EARLY of the
+ * rival (little is thrown away), or once it has reached 1/LEAD of it: a forecast that is wrong
+ * then costs at most 1 + LEAD times the region method's time, one that is right 1 + 1/LEAD times
+ * the rival's (a ski rental with advice; auto.c).
+ */
+#define EARLY 4
+#define LEAD 2
 
 /*
  * A forecast is acted on only when the windows left are at most this many times those its rates
@@ -128,6 +135,8 @@ struct forecast {
 	size_t k_next;          /* the next checkpoint: windows walked, */
 	uint64_t work_next;     /* or work done */
 	size_t count, base;     /* checkpoints so far; the latest at or before half the current k */
+	bool sharpened;         /* the rival's sharpen() called: from then on at every checkpoint */
+	bool measured;          /* what it returned is a measurement, not an estimate */
 	unsigned agreed;        /* forecasts allowed to act, in a row, that the rival is cheaper */
 	struct checkpoint at[FORECAST_MAX];
 };
@@ -269,17 +278,42 @@ static bool many_windows(const struct vis_stack *stack, size_t from, size_t to)
 }
 
 /*
+ * Whether to hand over at a checkpoint, the rival's units as they stand (forecast_exceeds()).
+ * A measured rival is a ski rental's price: the cap is the rival, and a forecast is acted on early
+ * or from 1/LEAD of it. An estimate may be wrong either way, so the cap is twice it, and an
+ * agreed forecast acts at any time, a lone one only early.
+ */
+static bool hand_over(const struct forecast *f, const struct checkpoint *b, size_t k, double rest,
+		      bool actionable, uint64_t work)
+{
+	uint64_t units = f->rival.units, cap = units;
+	bool early = work <= units / EARLY;
+
+	if (!f->measured)
+		cap = units > (UINT64_MAX - 1) / 2 ? UINT64_MAX : 2 * units + 1;
+	if (work >= cap)
+		return true;
+	if (!actionable || rest <= (double)units)
+		return false;
+	if (f->measured && !early && work < units / LEAD)
+		return false;
+	return f->agreed >= 2 || (early && many_windows(f->stack, b->k, k)) ||
+	       (f->measured && many_windows(f->stack, b->k, k));
+}
+
+/*
  * A checkpoint after k of n windows, added of them added to the union (laid their areas summed),
- * work units in all:
- * returns whether the rest is predicted to cost more than the rival, or the work done has passed
- * twice the rival (a forecast can be wrong: this bounds what trusting it can cost), and sets the
- * next checkpoint, no later than that bound. A rival that is only a bound is sharpened once the
- * forecast or the work passes its floor. A forecast is trusted alone when at least
- * WINDOWS_TO_TRUST of the windows it measured overlap the window walked before them (a window's
- * pieces, a shaped window's rows, are disjoint, so each such overlap begins another window) and
- * the hand-over would throw little away. Otherwise the next forecast must agree: the windows since
- * the last checkpoint can be a single window's pieces, all added, which look like the grid's bars,
- * and a late forecast can be a union's passing jump in boxes.
+ * work units in all: returns whether to hand over to the rival, and sets the next checkpoint.
+ * The walk gives up once its work reaches the rival's (the cap: a forecast can be wrong, and this
+ * bounds what trusting it can cost), or once it has reached 1/LEAD of it and the rest is forecast
+ * to cost more than the rival. Such a forecast is trusted alone when at least WINDOWS_TO_TRUST of
+ * the windows it measured overlap the window walked before them (a window's pieces, a shaped
+ * window's rows, are disjoint, so each such overlap begins another window); otherwise the next
+ * forecast must agree: the windows since the last checkpoint can be a single window's pieces, all
+ * added, which look like the grid's bars, and a late forecast can be a union's passing jump in
+ * boxes. A rival that can be sharpened is sharpened from the first checkpoint where the work, or
+ * a forecast that may be acted on, passes its floor, and at every one after; and before any
+ * hand-over, which is then decided again on what it says.
  */
 static bool forecast_exceeds(struct forecast *f, pixman_region32_t *above, size_t k, size_t n,
 			     size_t added, double laid, uint64_t work)
@@ -293,7 +327,7 @@ static bool forecast_exceeds(struct forecast *f, pixman_region32_t *above, size_
 	};
 	const struct checkpoint *b = NULL;
 	double rest = 0;
-	bool over = false;
+	bool over, actionable = false;
 
 	if (f->count == 0)
 		f->area = landing_area(f->stack, f->boxes);
@@ -305,29 +339,34 @@ static bool forecast_exceeds(struct forecast *f, pixman_region32_t *above, size_
 		b = &f->at[f->base];
 		double h = (double)HORIZON * (double)k;
 		rest = rest_of_walk(b, &now, (double)(n - k) < h ? (double)(n - k) : h);
+		actionable = (double)(n - k) <= EXTRAPOLATION_MAX * (double)(k - b->k);
 	}
 	if (f->rival.sharpen != NULL &&
-	    (rest > (double)f->rival.floor || work > f->rival.floor)) {
-		f->rival.units = f->rival.sharpen(f->stack, f->rival.data);
-		f->rival.sharpen = NULL;
+	    (f->sharpened || work >= f->rival.floor || (actionable && rest > (double)f->rival.floor))) {
+		f->rival.units = f->rival.sharpen(f->stack, f->rival.data, work, false, &f->measured);
+		f->sharpened = true;
 	}
-
-	uint64_t cap = f->rival.units > (UINT64_MAX - 1) / 2 ? UINT64_MAX : 2 * f->rival.units + 1;
-	if (work >= cap) {
-		over = true;
-	} else if (b != NULL && (double)(n - k) <= EXTRAPOLATION_MAX * (double)(k - b->k)) {
-		if (rest > (double)f->rival.units) {
-			f->agreed++;
-			over = f->agreed >= 2 || (work <= f->rival.units / TRUST_WORK_SHARE &&
-						  many_windows(f->stack, b->k, k));
-		} else {
-			f->agreed = 0;
-		}
+	if (actionable)
+		f->agreed = rest > (double)f->rival.units ? f->agreed + 1 : 0;
+	over = hand_over(f, b, k, rest, actionable, work);
+	if (over && f->rival.sharpen != NULL) {
+		f->rival.units = f->rival.sharpen(f->stack, f->rival.data, work, true, &f->measured);
+		f->sharpened = true;
+		over = hand_over(f, b, k, rest, actionable, work);
 	}
 	if (f->count < FORECAST_MAX)
 		f->at[f->count++] = now;
+
+	uint64_t cap = f->rival.units, lead = cap / LEAD;
+	if (!f->measured)
+		cap = cap > (UINT64_MAX - 1) / 2 ? UINT64_MAX : 2 * cap + 1;
 	f->k_next = 2 * k;
 	f->work_next = work < cap / 2 ? 2 * work : cap;
+	if (work < lead && f->work_next > lead)
+		f->work_next = lead;
+	if (f->rival.sharpen != NULL && !f->sharpened && work < f->rival.floor &&
+	    f->work_next > f->rival.floor)
+		f->work_next = f->rival.floor;
 	return over;
 }
 
