@@ -13,8 +13,6 @@
  * tallies, and, after a change of the order, numbers the viewable windows' keys and positions
  * again (the queries read them). Past LIBVIS_TALLY_WINDOWS × 2 windows, the core takes over.
  */
-#include <errno.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "libvis-private.h"
