@@ -238,6 +238,8 @@ live_usage "stress --pipeline 0" "--pipeline '0' is not a number" stress --pipel
 live_usage "stress unknown kind" "--mix: unknown kind 'spin'" stress --mix move=1,spin=2
 live_usage "stress bad weight" "--mix: weight 'x' is not a number" stress --mix move=x
 live_usage "stress zero mix" "gives every kind weight 0" stress --mix move=0
+live_usage "stress scene with looks" "--scene 'shaped' is not random, uniform, grid, cascade," \
+	stress --scene shaped
 live_usage "stress json and csv" "--json and --csv exclude each other" stress --json --csv
 live_usage "stress unknown option" "unknown option '--frob'" stress --frob
 live_usage "stress -c without value" "-c needs a value" stress -c

@@ -87,6 +87,7 @@ expect "script FILE" "$T/other" visctl script "$T/o"
 expect "--svg FILE" "$T/other" visctl snapshot --svg "$T/o"
 expect "--svg=FILE" "$T/other" visctl snapshot --svg = "$T/o"
 expect "--record FILE" "$T/other" visctl stress -c 4 --record "$T/o"
+expect "stress --scene KIND" "tiles" visctl stress --scene t
 expect "-s SOCKET" "$T/other" visctl -s "$T/o"
 
 echo "$passed passed, $failed failed"

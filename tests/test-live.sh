@@ -282,11 +282,11 @@ import json, sys
 d = json.load(open(sys.argv[1]))
 fields = ("windows clients seed pipeline rate ops changes seconds ops_per_s changes_per_s notices "
 	  "notices_per_s p50_us p90_us p99_us p999_us max_us mean_us daemon_pid daemon_cpu_s "
-	  "daemon_cpu_pct daemon_rss_kb daemon_hwm_kb visctl_cpu_s mismatches ok kinds").split()
+	  "daemon_cpu_pct daemon_rss_kb daemon_hwm_kb visctl_cpu_s mismatches scene ok kinds").split()
 missing = [f for f in fields if f not in d]
 assert not missing, missing
 assert d["windows"] == 50 and d["clients"] == 3 and d["ops"] == 2000 and d["rate"] is None
-assert d["ok"] is True and d["mismatches"] == 0 and d["notices"] > 0
+assert d["ok"] is True and d["mismatches"] == 0 and d["notices"] > 0 and d["scene"] == "random"
 assert d["changes"] > d["ops"]  # batches hold several changes
 assert 0 < d["p50_us"] <= d["p90_us"] <= d["p99_us"] <= d["p999_us"] <= d["max_us"]
 assert d["daemon_pid"] == int(sys.argv[2]) and d["daemon_rss_kb"] > 0
@@ -305,12 +305,14 @@ awk 'FNR == NR { if (/^# @[0-9]+ /) want[substr($2, 2)] = $3; next }
 	END { for (n in want) if (got[id[n]] != want[n]) { print "@" n, got[id[n]], want[n]; bad = 1 }
 	      exit bad || length(want) == 0 }' "$dir/rec" "$dir/replay" >"$dir/err" ||
 	fail "the replayed record ends in other states: $(head -3 "$dir/err")"
-# A fixed rate, a pipeline, exposures, only some kinds; CSV is a header and one row. (At most
+# A fixed rate, a pipeline, exposures, only some kinds, tiles; CSV is a header and one row. (At most
 # 600 operations fall due in 0.3 s: fewer when the machine is slow, as no operation starts later.)
 v stress -c 2 -n 30 -R 2000 --duration 0.3 --pipeline 4 --exposure --mix move,raise=2,batch \
-	--batch-size 3 --csv >"$dir/stress.csv" 2>"$dir/err" || fail "stress -R: $(cat "$dir/err")"
+	--batch-size 3 --scene tiles --csv >"$dir/stress.csv" 2>"$dir/err" ||
+	fail "stress -R: $(cat "$dir/err")"
 awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; n = NF }
 	NR == 2 { ok = NF == n && $col["ok"] == 1 && $col["rate"] == "2000.0" &&
+		  $col["scene"] == "tiles" &&
 		  $col["ops"] > 0 && $col["ops"] <= 600 }
 	END { exit !(NR == 2 && ok) }' "$dir/stress.csv" || fail "stress --csv: $(cat "$dir/stress.csv")"
 # The check can fail: a model that drifts from the daemon is caught.

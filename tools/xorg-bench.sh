@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # visd against X.Org, side by side: the same operations on both, measured the same way. For each
-# cell of windows 100, 1,000, 10,000 (100,000 with --huge) × subscribers 1, 10, 100:
-#  (a) visd: visctl stress -n N -c S against a fresh visd --screen 3840x2160, one operation at a
-#      time, recording its operations (--record); that run is visd's measurement: latency from
-#      an operation to its last notice, p50 and p99, operations a second, visd's CPU an operation;
+# cell of scenes random, cascade, tiles × windows 100, 1,000, 10,000 (100,000 with --huge) ×
+# subscribers 1, 10, 100:
+#  (a) visd: visctl stress --scene K -n N -c S against a fresh visd --screen 3840x2160, one
+#      operation at a time, recording its operations (--record); that run is visd's measurement:
+#      latency from an operation to its last notice, p50 and p99, operations a second, visd's CPU
+#      an operation;
 #  (b) X.Org: a fresh Xvfb of the same screen (-displayfd, -nolisten tcp, no window manager,
 #      no screen saver, no root background) and tests/xorg-replay, which replays the record: the
 #      windows as override-redirect top-level windows, S connections selecting VisibilityNotify
@@ -13,11 +15,13 @@
 # The operations (the mix move=40,resize=15,raise=15,lower=10,restack=5,map=10: no batches,
 # borders, shapes or opaque regions, which X cannot replay one request each), a cell: 10,000, or
 # 5,000 with 100 subscribers, 3,000 at 10,000 windows, 200 at 100,000. The default matrix takes
-# about a minute on a 2-core machine; --huge adds about 8 (X takes 0.1-0.2 s an operation at
+# about four minutes on a 2-core machine; --huge adds about 25 (X takes 0.1-0.2 s an operation at
 # 100,000 windows, and minutes to map and unmap them).
-#   tools/xorg-bench.sh [--quick] [--huge] [--out DIR] [--build DIR]
+#   tools/xorg-bench.sh [--quick] [--huge] [--scenes LIST] [--out DIR] [--build DIR]
 #   --quick      windows 100, 1,000 × subscribers 1, 10, 200 operations a cell: a smoke run
 #   --huge       adds 100,000 windows to the matrix
+#   --scenes LIST  the desktops, comma-separated kinds of visctl stress --scene (default
+#                random,cascade,tiles)
 #   --out DIR    where xorg-bench.csv goes (default: the build directory)
 #   --build DIR  the build whose visd, visctl and tests/xorg-replay run, as it is (default:
 #                build-release, installed and built first by tools/dev.sh release)
@@ -33,12 +37,14 @@ usage() {
 
 quick=0
 huge=0
+scenes=random,cascade,tiles
 out=
 bin=
 while [ $# -gt 0 ]; do
 	case $1 in
 	--quick) quick=1 ;;
 	--huge) huge=1 ;;
+	--scenes) [ $# -gt 1 ] || usage; scenes=$2; shift ;;
 	--out) [ $# -gt 1 ] || usage; out=$2; shift ;;
 	--build) [ $# -gt 1 ] || usage; bin=$2; shift ;;
 	*) usage ;;
@@ -64,6 +70,18 @@ replay=$bin/tests/xorg-replay
 	{ echo "xorg-bench: no visd or visctl built in $bin (a meson build directory?)" >&2; exit 2; }
 [ -x "$replay" ] || { echo "xorg-bench: no tests/xorg-replay built in $bin: it is built where" \
 	"xcb and xcb-shape are found (install libxcb1-dev and libxcb-shape0-dev, then build again)" >&2; exit 1; }
+IFS=, read -r -a kinds <<<"$scenes"
+[ ${#kinds[@]} -gt 0 ] || usage
+for k in "${kinds[@]}"; do
+	case $k in
+	random | uniform | grid | cascade | tiles | nested) ;;
+	*)
+		echo "xorg-bench: --scenes: '$k' is not random, uniform, grid, cascade, tiles or" \
+			"nested" >&2
+		exit 2
+		;;
+	esac
+done
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
 
@@ -148,56 +166,60 @@ field() {
 }
 
 csv=$out/xorg-bench.csv
-echo "windows,subscribers,ops,visd_p50_us,x_p50_us,visd_p99_us,x_p99_us,visd_ops_per_s,x_ops_per_s,visd_cpu_us_per_op,x_cpu_us_per_op,visd_notices,x_notices,x_ops_without_notices,visd_ok,x_ok,same_states" \
+echo "scene,windows,subscribers,ops,visd_p50_us,x_p50_us,visd_p99_us,x_p99_us,visd_ops_per_s,x_ops_per_s,visd_cpu_us_per_op,x_cpu_us_per_op,visd_notices,x_notices,x_ops_without_notices,visd_ok,x_ok,same_states" \
 	>"$csv"
 failed=0
-for n in "${windows[@]}"; do
-	for c in "${subscribers[@]}"; do
-		ops=$(count "$n" "$c")
-		echo "xorg-bench: $n windows, $c subscriber$([ "$c" -eq 1 ] || echo s), $ops operations" >&2
-		rm -f "$tmp/record" "$tmp/visd.csv" "$tmp/x.csv"
-		visd_ok=0
-		x_ok=0
-		if start_visd; then
-			if "$visctl" -s "$tmp/visd" stress -n "$n" -c "$c" --count "$ops" --seed 1 \
-				--mix "$mix" --duration 300 --record "$tmp/record" --csv --quiet \
-				>"$tmp/visd.csv"; then
-				visd_ok=1
-			else
-				echo "xorg-bench: FAILED: visctl stress -n $n -c $c (status above)" >&2
+for k in "${kinds[@]}"; do
+	for n in "${windows[@]}"; do
+		for c in "${subscribers[@]}"; do
+			ops=$(count "$n" "$c")
+			echo "xorg-bench: $k, $n windows, $c subscriber$([ "$c" -eq 1 ] || echo s)," \
+				"$ops operations" >&2
+			rm -f "$tmp/record" "$tmp/visd.csv" "$tmp/x.csv"
+			visd_ok=0
+			x_ok=0
+			if start_visd; then
+				if "$visctl" -s "$tmp/visd" stress --scene "$k" -n "$n" -c "$c" \
+					--count "$ops" --seed 1 --mix "$mix" --duration 300 \
+					--record "$tmp/record" --csv --quiet >"$tmp/visd.csv"; then
+					visd_ok=1
+				else
+					echo "xorg-bench: FAILED: visctl stress --scene $k -n $n -c $c" \
+						"(status above)" >&2
+				fi
 			fi
-		fi
-		stop "$visd_pid"
-		visd_pid=
-		if [ -s "$tmp/record" ] && start_x; then
-			if "$replay" -c "$c" --display ":$display" --pid "$x_pid" --csv --quiet \
-				"$tmp/record" >"$tmp/x.csv"; then
-				x_ok=1
-			else
-				echo "xorg-bench: FAILED: xorg-replay of $n windows, $c subscribers" \
-					"(status above)" >&2
+			stop "$visd_pid"
+			visd_pid=
+			if [ -s "$tmp/record" ] && start_x; then
+				if "$replay" -c "$c" --display ":$display" --pid "$x_pid" --csv --quiet \
+					"$tmp/record" >"$tmp/x.csv"; then
+					x_ok=1
+				else
+					echo "xorg-bench: FAILED: xorg-replay of $k, $n windows, $c subscribers" \
+						"(status above)" >&2
+				fi
 			fi
-		fi
-		stop "$x_pid"
-		x_pid=
-		[ $visd_ok = 1 ] && [ $x_ok = 1 ] || failed=1
-		v() { [ -s "$tmp/visd.csv" ] && field "$tmp/visd.csv" "$1" || true; }
-		x() { [ -s "$tmp/x.csv" ] && field "$tmp/x.csv" "$1" || true; }
-		# visd's CPU an operation from its share of the run (daemon_cpu_pct): daemon_cpu_s
-		# has two decimals, too coarse for runs of a fraction of a second.
-		vops=$(v ops)
-		ops=${vops:-$ops} # as run: --duration may have cut it short
-		vpct=$(v daemon_cpu_pct)
-		vsec=$(v seconds)
-		vcpu_op=
-		[ -n "$vops" ] && [ -n "$vpct" ] && [ -n "$vsec" ] && vcpu_op=$(awk -v p="$vpct" \
-			-v t="$vsec" -v n="$vops" 'BEGIN { printf "%.1f", n ? p / 100 * t * 1e6 / n : 0 }')
-		# visd's notices of the operations: less the first state of every window that each
-		# subscriber gets when it subscribes (X's count has no such events).
-		vnotices=$(v notices)
-		[ -n "$vnotices" ] && vnotices=$((vnotices - n * c))
-		echo "$n,$c,$ops,$(v p50_us),$(x p50_us),$(v p99_us),$(x p99_us),$(v ops_per_s),$(x ops_per_s),$vcpu_op,$(x server_cpu_us_per_op),$vnotices,$(x notices),$(x ops_without_notices),$visd_ok,$x_ok,$((visd_ok && x_ok))" \
-			>>"$csv"
+			stop "$x_pid"
+			x_pid=
+			[ $visd_ok = 1 ] && [ $x_ok = 1 ] || failed=1
+			v() { [ -s "$tmp/visd.csv" ] && field "$tmp/visd.csv" "$1" || true; }
+			x() { [ -s "$tmp/x.csv" ] && field "$tmp/x.csv" "$1" || true; }
+			# visd's CPU an operation from its share of the run (daemon_cpu_pct): daemon_cpu_s
+			# has two decimals, too coarse for runs of a fraction of a second.
+			vops=$(v ops)
+			ops=${vops:-$ops} # as run: --duration may have cut it short
+			vpct=$(v daemon_cpu_pct)
+			vsec=$(v seconds)
+			vcpu_op=
+			[ -n "$vops" ] && [ -n "$vpct" ] && [ -n "$vsec" ] && vcpu_op=$(awk -v p="$vpct" \
+				-v t="$vsec" -v n="$vops" 'BEGIN { printf "%.1f", n ? p / 100 * t * 1e6 / n : 0 }')
+			# visd's notices of the operations: less the first state of every window that each
+			# subscriber gets when it subscribes (X's count has no such events).
+			vnotices=$(v notices)
+			[ -n "$vnotices" ] && vnotices=$((vnotices - n * c))
+			echo "$k,$n,$c,$ops,$(v p50_us),$(x p50_us),$(v p99_us),$(x p99_us),$(v ops_per_s),$(x ops_per_s),$vcpu_op,$(x server_cpu_us_per_op),$vnotices,$(x notices),$(x ops_without_notices),$visd_ok,$x_ok,$((visd_ok && x_ok))" \
+				>>"$csv"
+		done
 	done
 done
 
@@ -212,19 +234,19 @@ function ratio(x, v) { return (x != "" && v != "" && v + 0 > 0) ? sprintf("%.2f"
 function cell(v, x) { return sprintf(" %8s %8s %6s", v == "" ? "-" : v, x == "" ? "-" : x, ratio(x, v)) }
 NR == 1 {
 	# Spelt out: awk may count the bytes of "µ" as two columns.
-	printf "%7s %5s %5s | %-24s | %-24s | %-24s | %-24s | %s\n", "windows", "subs", "ops",
-		"p50 latency, us", "p99 latency, us", "operations a second", "server cpu, us an op",
-		"states"
+	printf "%-7s %7s %5s %5s | %-24s | %-24s | %-24s | %-24s | %s\n", "scene", "windows",
+		"subs", "ops", "p50 latency, us", "p99 latency, us", "operations a second",
+		"server cpu, us an op", "states"
 	h = sprintf(" %8s %8s %6s", "visd", "X", "X/visd")
-	printf "%19s |%s |%s |%s |%s |\n", "", h, h, h, h
+	printf "%27s |%s |%s |%s |%s |\n", "", h, h, h, h
 	next
 }
 {
-	printf "%7d %5d %5d |%s |%s |%s |%s | %s\n", $1, $2, $3, cell($4, $5), cell($6, $7),
-		cell($8, $9), cell($10, $11), $17 ? "same" : "FAILED"
-	if ($12 != $13)
-		notes = notes sprintf("note: %d windows, %d subscribers: visd sent %s notices, X %s\n",
-			$1, $2, $12, $13)
+	printf "%-7s %7d %5d %5d |%s |%s |%s |%s | %s\n", $1, $2, $3, $4, cell($5, $6),
+		cell($7, $8), cell($9, $10), cell($11, $12), $18 ? "same" : "FAILED"
+	if ($13 != $14)
+		notes = notes sprintf("note: %s, %d windows, %d subscribers: visd sent %s notices, X %s\n",
+			$1, $2, $3, $13, $14)
 }
 END { printf "%s", notes }' "$csv"
 echo "wrote $csv"

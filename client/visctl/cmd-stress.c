@@ -35,9 +35,9 @@ static void usage(FILE *f)
 	fprintf(f,
 		"usage: visctl stress [-c CLIENTS] [-n WINDOWS] [--count N] [--duration SECONDS]\n"
 		"                     [-R OPS] [--pipeline K] [--mix KIND=WEIGHT,...] [--batch-size B]\n"
-		"                     [--exposure] [--seed S] [--record FILE] [--pid PID]\n"
-		"                     [--json | --csv] [--quiet]\n"
-		"  A manager changes a desktop of WINDOWS windows (as visctl gen random makes them)\n"
+		"                     [--exposure] [--scene KIND] [--seed S] [--record FILE]\n"
+		"                     [--pid PID] [--json | --csv] [--quiet]\n"
+		"  A manager changes a desktop of WINDOWS windows (as visctl gen makes them)\n"
 		"  while CLIENTS observers subscribed to every window count the notices. An\n"
 		"  operation's latency runs from its start to the arrival of the last notice it\n"
 		"  causes, confirmed by a sync on every subscriber. At the end the daemon's tree and\n"
@@ -59,6 +59,8 @@ static void usage(FILE *f)
 		"                      a shadow margin's inside\n"
 		"  --batch-size B      changes in a batch operation (default 8)\n"
 		"  --exposure          the subscribers ask for exposure notices too\n"
+		"  --scene KIND        the desktop: random, uniform, grid, cascade, tiles or nested\n"
+		"                      (default random)\n"
 		"  --seed S            the desktop and the operations (default 1)\n"
 		"  --record FILE       writes the operations as a script for visctl script\n"
 		"  --pid PID           visd's process, for CPU and memory (default: the socket's peer);\n"
@@ -155,6 +157,7 @@ static int parse_options(int argc, char **argv, struct stress_options *o, enum f
 		{ "pipeline", required_argument, NULL, 'P' }, { "mix", required_argument, NULL, 'M' },
 		{ "batch-size", required_argument, NULL, 'B' }, { "exposure", no_argument, NULL, 'E' },
 		{ "seed", required_argument, NULL, 'S' },   { "record", required_argument, NULL, 'W' },
+		{ "scene", required_argument, NULL, 'K' },
 		{ "pid", required_argument, NULL, 'p' },    { "json", no_argument, NULL, 'j' },
 		{ "csv", no_argument, NULL, 'v' },          { "quiet", no_argument, NULL, 'q' },
 		{ "help", no_argument, NULL, 'h' },         { NULL, 0, NULL, 0 },
@@ -211,6 +214,13 @@ static int parse_options(int argc, char **argv, struct stress_options *o, enum f
 			if (parse_uint(a, 0, UINT64_MAX, &o->seed) < 0)
 				return bad_usage("--seed '%s' is not a number", a);
 			break;
+		case 'K':
+			/* Looks come from --mix: a change each, as the model tracks them. */
+			if (vis_gen_kind_from_name(a, &o->scene) < 0 || o->scene == VIS_GEN_SHAPED ||
+			    o->scene == VIS_GEN_TRANSLUCENT)
+				return bad_usage("--scene '%s' is not random, uniform, grid, cascade, "
+						 "tiles or nested", a);
+			break;
 		case 'W':
 			*record = a;
 			break;
@@ -250,6 +260,7 @@ static int parse_options(int argc, char **argv, struct stress_options *o, enum f
  * Counts are printed from integer, so that a 64-bit seed survives; measures with decimals. */
 struct field {
 	const char *name;
+	const char *text; /* a word, not a number, when not NULL */
 	bool present;
 	int decimals; /* < 0: the count */
 	uint64_t count;
@@ -265,9 +276,9 @@ static size_t fields(const struct stress_options *o, const struct stress_result 
 	bool cpu = r->daemon_cpu >= 0;
 	size_t n = 0;
 #define COUNT(name_, count_, present_) \
-	f[n++] = (struct field){ name_, present_, -1, (uint64_t)(count_), 0 }
+	f[n++] = (struct field){ name_, NULL, present_, -1, (uint64_t)(count_), 0 }
 #define VALUE(name_, value_, present_, decimals_) \
-	f[n++] = (struct field){ name_, present_, decimals_, 0, (double)(value_) }
+	f[n++] = (struct field){ name_, NULL, present_, decimals_, 0, (double)(value_) }
 	COUNT("windows", o->windows, true);
 	COUNT("clients", o->clients, true);
 	COUNT("seed", o->seed, true);
@@ -293,6 +304,7 @@ static size_t fields(const struct stress_options *o, const struct stress_result 
 	COUNT("daemon_hwm_kb", r->daemon_hwm_kb, r->daemon_hwm_kb >= 0);
 	VALUE("visctl_cpu_s", r->self_cpu, true, 2);
 	COUNT("mismatches", r->mismatches, true);
+	f[n++] = (struct field){ "scene", vis_gen_kind_name(o->scene), true, -1, 0, 0 };
 #undef COUNT
 #undef VALUE
 	return n;
@@ -300,10 +312,12 @@ static size_t fields(const struct stress_options *o, const struct stress_result 
 
 #define MAX_FIELDS 32
 
-/* Prints a field's value as JSON and CSV want it. */
-static void print_value(const struct field *f, const char *absent)
+/* Prints a field's value as JSON and CSV want it; a word in quotes for JSON. */
+static void print_value(const struct field *f, const char *absent, bool json)
 {
-	if (f->present && f->decimals < 0)
+	if (f->text)
+		printf(json ? "\"%s\"" : "%s", f->text);
+	else if (f->present && f->decimals < 0)
 		printf("%llu", (unsigned long long)f->count);
 	else if (f->present)
 		printf("%.*f", f->decimals, f->value);
@@ -319,7 +333,7 @@ static void print_json(const struct stress_options *o, const struct stress_resul
 	putchar('{');
 	for (size_t i = 0; i < n; i++) {
 		printf("\"%s\":", f[i].name);
-		print_value(&f[i], "null");
+		print_value(&f[i], "null", true);
 		putchar(',');
 	}
 	printf("\"ok\":%s,\"kinds\":{", r->mismatches ? "false" : "true");
@@ -345,7 +359,7 @@ static void print_csv(const struct stress_options *o, const struct stress_result
 		printf("%s,", f[i].name);
 	printf("ok\n");
 	for (size_t i = 0; i < n; i++) {
-		print_value(&f[i], "");
+		print_value(&f[i], "", false);
 		putchar(',');
 	}
 	printf("%d\n", r->mismatches ? 0 : 1);
@@ -365,9 +379,9 @@ static void print_latency_row(const char *name, uint64_t ops, const struct histo
 static void print_table(const struct stress_options *o, const struct stress_result *r)
 {
 	double t = r->seconds > 0 ? r->seconds : 1e-9;
-	printf("visctl stress: %u windows on %dx%d, %u subscribers%s, seed %llu, pipeline %u, ",
-	       o->windows, r->screen_w, r->screen_h, o->clients, o->exposure ? " (+exposure)" : "",
-	       (unsigned long long)o->seed, o->pipeline);
+	printf("visctl stress: %u windows (%s) on %dx%d, %u subscribers%s, seed %llu, pipeline "
+	       "%u, ", o->windows, vis_gen_kind_name(o->scene), r->screen_w, r->screen_h, o->clients,
+	       o->exposure ? " (+exposure)" : "", (unsigned long long)o->seed, o->pipeline);
 	if (o->rate > 0)
 		printf("rate %.0f/s\n", o->rate);
 	else

@@ -359,7 +359,7 @@ int stress_run(const struct stress_options *o, struct stress_result *r)
 		goto out;
 	r->daemon_pid = o->pid ? o->pid : peer;
 
-	if (vis_gen(&scene, VIS_GEN_RANDOM, o->windows, o->seed, (int32_t)sw, (int32_t)sh) < 0 ||
+	if (vis_gen(&scene, o->scene, o->windows, o->seed, (int32_t)sw, (int32_t)sh) < 0 ||
 	    stress_model_init(&s.m, scene.rects, (uint32_t)scene.n, (int32_t)sw, (int32_t)sh,
 			      o->seed) < 0 ||
 	    !(s.subs = calloc(o->clients ? o->clients : 1, sizeof(*s.subs))) ||
@@ -369,9 +369,9 @@ int stress_run(const struct stress_options *o, struct stress_result *r)
 		goto out;
 	}
 	if (o->record)
-		fprintf(o->record, "# visctl stress: %u windows on a %ux%u screen, seed %llu; replay "
-				   "with `visctl script FILE`\n", o->windows, sw, sh,
-			(unsigned long long)o->seed);
+		fprintf(o->record, "# visctl stress: %u windows on a %ux%u screen, seed %llu, scene "
+				   "%s; replay with `visctl script FILE`\n", o->windows, sw, sh,
+			(unsigned long long)o->seed, vis_gen_kind_name(o->scene));
 	if (create_windows(&s, &scene) < 0 || connect_subscribers(&s) < 0)
 		goto out;
 

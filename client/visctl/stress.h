@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <sys/types.h>
 
+#include "gen.h"
 #include "histogram.h"
 #include "idmap.h"
 #include "look.h"
@@ -43,6 +44,7 @@ struct stress_options {
 	const char *socket; /* NULL: the default socket */
 	uint32_t clients;   /* subscribers */
 	uint32_t windows;
+	enum vis_gen_kind scene; /* the desktop: a kind of visctl gen without looks */
 	uint64_t count;     /* operations; 0: until the duration is over */
 	double duration;    /* seconds; 0: until count operations are done */
 	double rate;        /* intended operations a second; 0: as fast as the pipeline allows */

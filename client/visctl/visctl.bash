@@ -25,8 +25,8 @@ _visctl_options() {
 	lookup) echo "--x11 --help" ;;
 	snapshot) echo "--svg --help" ;;
 	watch) echo "--json --count --x11 --help" ;;
-	stress) echo "-c -n --count --duration -R --pipeline --mix --batch-size --exposure --seed
-		--record --pid --json --csv -q --quiet --help" ;;
+	stress) echo "-c -n --count --duration -R --pipeline --mix --batch-size --exposure --scene
+		--seed --record --pid --json --csv -q --quiet --help" ;;
 	*) echo "--help" ;;
 	esac
 }
@@ -42,7 +42,7 @@ _visctl_takes_value() {
 	bench:--seed | bench:--limit | bench:--svg | bench:--csv | bench:--family | bench:--min-n) return 0 ;;
 	stress:-c | stress:-n | stress:--count | stress:--duration | stress:-R) return 0 ;;
 	stress:--pipeline | stress:--mix | stress:--batch-size | stress:--seed) return 0 ;;
-	stress:--record | stress:--pid) return 0 ;;
+	stress:--record | stress:--pid | stress:--scene) return 0 ;;
 	esac
 	return 1
 }
@@ -59,6 +59,10 @@ _visctl_value() {
 	case $opt in
 	--engine) mapfile -t COMPREPLY < <(compgen -P "$prefix" -W "$_visctl_engines" -- "$cur") ;;
 	--role) mapfile -t COMPREPLY < <(compgen -P "$prefix" -W "client observer manager" -- "$cur") ;;
+	--scene)
+		mapfile -t COMPREPLY < <(compgen -P "$prefix" -W "random uniform grid cascade tiles nested" \
+			-- "$cur")
+		;;
 	--engines | --kinds)
 		# A comma-separated list: complete its last item.
 		local words=$_visctl_kinds
