@@ -62,7 +62,7 @@ static const char usage_text[] =
 	"tuning:\n"
 	"  --live-from N             windows from which recomputes go live, costing the\n"
 	"                            windows a change can affect; below, through the\n"
-	"                            tree (default 2048; 0: always live)\n"
+	"                            tree (default 0: always live)\n"
 	"testing:\n"
 	"  --id-key KEY              the window IDs' permutation key (decimal or 0x hex;\n"
 	"                            default: random; 0: IDs 1, 2, 3 ... in order), so\n"
@@ -376,7 +376,7 @@ int main(int argc, char **argv)
 		.max_depth = 64,
 		.max_subs = 1024,
 		.max_pending = 4u << 20,
-		.live_from = 2048,
+		.live_from = 0,
 		.allowed_uid = getuid(),
 		.socket_fd = -1,
 		.restricted_fd = -1,

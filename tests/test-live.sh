@@ -319,6 +319,16 @@ awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; n = NF }
 VISCTL_STRESS_CORRUPT_MODEL=1 v stress -c 2 -n 30 --count 100 >/dev/null 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "differences between visd and the model" "$dir/err" ||
 	fail "a corrupt model passed: $(cat "$dir/err")"
+# A daemon that never goes live recomputes through the tree: the same states and notices.
+"$visd" --socket "$dir/through" --screen 3840x2160 --live-from 2147483647 2>"$dir/through.log" &
+tpid=$!
+wait_socket "$tpid" "$dir/through"
+for k in random cascade tiles; do
+	"$visctl" -s "$dir/through" stress -c 3 -n 200 --count 1000 --scene $k --seed 2 --quiet \
+		>/dev/null 2>"$dir/err" || fail "stress --scene $k through the tree: $(cat "$dir/err")"
+done
+kill "$tpid"
+wait "$tpid" 2>/dev/null
 # --pid must be the visd serving the socket: not init, not a process that is gone.
 v stress -n 10 --count 10 --pid 1 >/dev/null 2>"$dir/err"
 [ $? -eq 1 ] && grep -q -- "--pid 1 is '.*', not visd" "$dir/err" || fail "stress --pid 1: $(cat "$dir/err")"
