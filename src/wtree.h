@@ -438,8 +438,9 @@ void vis_wtree_note(struct vis_wtree *tree, struct vis_window *window);
  * (those in the grid cells its pixels meet, between its key and the first that hide them; for
  * rule 2, at most 512 and a sixteenth of the seen boxes in those cells, then read once), plus
  * the subtrees changed. Past a budget of n + 256 steps in all (a walk step costs about what the
- * recompute through the tree spends on 0.3 to 2.5 windows), or more changed windows than 64 + n / 32,
- * the states come from vis_wtree_compute_damaged() instead, the structures kept up to date.
+ * recompute through the tree spends on 0.3 to 2.5 windows), or more changed windows than 4 + n / 32
+ * (4 + n / 512 below 2,048 windows), the states come from vis_wtree_compute_damaged() instead,
+ * the structures kept up to date.
  */
 int vis_wtree_update(struct vis_wtree *tree);
 
