@@ -18,7 +18,8 @@
 # about four minutes on a 2-core machine; --huge adds about 25 (X takes 0.1-0.2 s an operation at
 # 100,000 windows, and minutes to map and unmap them).
 #   tools/xorg-bench.sh [--quick] [--huge] [--scenes LIST] [--out DIR] [--build DIR]
-#   --quick      windows 100, 1,000 × subscribers 1, 10, 200 operations a cell: a smoke run
+#   --quick      windows 100, 1,000 × subscribers 1, 10 for each scene, 200 operations a cell:
+#                a smoke run
 #   --huge       adds 100,000 windows to the matrix
 #   --scenes LIST  the desktops, comma-separated kinds of visctl stress --scene (default
 #                random,cascade,tiles)
