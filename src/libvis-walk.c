@@ -48,6 +48,12 @@ static long pieces_of(struct vis_tree *tree, const struct vis_window *w, struct 
 	return (long)n;
 }
 
+/* A box's pixels. */
+static uint64_t box_area(pixman_box32_t b)
+{
+	return (uint64_t)((int64_t)b.x2 - b.x1) * (uint64_t)((int64_t)b.y2 - b.y1);
+}
+
 /* Takes boxes[0 … n) off what is left. 0, or -1. */
 static int take_off(struct libvis_walk *k, const pixman_box32_t *boxes, size_t n)
 {
@@ -208,34 +214,37 @@ static int visit(struct vis_tree *tree, const struct vis_window *w, const struct
 	}
 	/* What is left lies in mine: a clip that meets nothing of either takes nothing off. */
 	bool meets = kind != LIBVIS_CLIP;
+	long parts = -1;
+	if (k->out && (parts = draw(tree, w, px, n)) < 0)
+		return -1;
 	if (k->sign) {
-		/* Pieces are disjoint: their counts add up. */
+		/* Pieces are disjoint: their counts add up. Without descendants that took their part
+		 * (mine is what is left), what it sees is the parts it shows. */
 		uint64_t seen = 0;
-		for (size_t i = 0; i < n; i++) {
+		bool drawn = parts >= 0 && mine == &k->left;
+		size_t m = drawn ? (size_t)parts : n;
+		const pixman_box32_t *b = drawn ? tree->parts : px;
+		for (size_t i = 0; i < m; i++) {
 			if (!k->in) {
-				seen += vis_bands_area_in(mine, px[i]);
+				seen += drawn ? box_area(b[i]) : vis_bands_area_in(mine, b[i]);
 				continue;
 			}
 			for (size_t j = 0; j < k->n_in; j++) {
-				pixman_box32_t in = px[i], c = k->in[j];
+				pixman_box32_t in = b[i], c = k->in[j];
 				in.x1 = in.x1 > c.x1 ? in.x1 : c.x1;
 				in.y1 = in.y1 > c.y1 ? in.y1 : c.y1;
 				in.x2 = in.x2 < c.x2 ? in.x2 : c.x2;
 				in.y2 = in.y2 < c.y2 ? in.y2 : c.y2;
 				if (in.x1 < in.x2 && in.y1 < in.y2)
-					seen += vis_bands_area_in(mine, in);
+					seen += drawn ? box_area(in) : vis_bands_area_in(mine, in);
 			}
 		}
 		if (count(tree, w, seen) < 0)
 			return -1;
 		meets |= seen != 0;
 	}
-	if (k->out) {
-		long parts = draw(tree, w, px, n);
-		if (parts < 0)
-			return -1;
+	if (k->out)
 		meets = parts > 0 || kind != LIBVIS_CLIP;
-	}
 	return meets ? take_off(k, op, n_opaque) : 0;
 }
 
