@@ -239,7 +239,18 @@ int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_bo
 		return -1;
 	struct out o = { scratch, 0 };
 	scratch->n = 0;
-	for (size_t i = from, j; i < to; i = j) {
+	size_t start = from;
+	if (small) {
+		/* The bands above b's rows stay as they are, coalesced: copied at once. */
+		while (start < to && r->boxes[start].y2 <= b.y1)
+			start++;
+		if (start) {
+			memcpy(scratch->boxes, r->boxes, start * sizeof *r->boxes);
+			scratch->n = start;
+			o.last = band_start(scratch, start - 1);
+		}
+	}
+	for (size_t i = start, j; i < to; i = j) {
 		const pixman_box32_t *f = &r->boxes[i];
 		int32_t y1 = f->y1, y2 = f->y2;
 		bool meets = false;
@@ -248,6 +259,13 @@ int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_bo
 		size_t k = j - i;
 		if (!meets || y2 <= b.y1 || y1 >= b.y2) {
 			put_band(&o, f, k, y1, y2);
+			if (small && y1 >= b.y2 && j < to) {
+				/* Below b's rows, only the first band can coalesce: the rest as is. */
+				memcpy(scratch->boxes + scratch->n, r->boxes + j,
+				       (to - j) * sizeof *r->boxes);
+				scratch->n += to - j;
+				break;
+			}
 			continue;
 		}
 		if (y1 < b.y1)
