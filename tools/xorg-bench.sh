@@ -52,6 +52,19 @@ while [ $# -gt 0 ]; do
 	esac
 	shift
 done
+# The scenes are checked before anything is built or started.
+IFS=, read -r -a kinds <<<"$scenes"
+[ ${#kinds[@]} -gt 0 ] || usage
+for k in "${kinds[@]}"; do
+	case $k in
+	random | uniform | grid | cascade | tiles | nested) ;;
+	*)
+		echo "xorg-bench: --scenes: '$k' is not random, uniform, grid, cascade, tiles or" \
+			"nested" >&2
+		exit 2
+		;;
+	esac
+done
 if ! command -v Xvfb >/dev/null 2>&1; then
 	echo "xorg-bench: Xvfb is not installed: install the xvfb Debian package" \
 		"(apt-get install xvfb, or tools/dev.sh install xvfb)" >&2
@@ -71,18 +84,6 @@ replay=$bin/tests/xorg-replay
 	{ echo "xorg-bench: no visd or visctl built in $bin (a meson build directory?)" >&2; exit 2; }
 [ -x "$replay" ] || { echo "xorg-bench: no tests/xorg-replay built in $bin: it is built where" \
 	"xcb and xcb-shape are found (install libxcb1-dev and libxcb-shape0-dev, then build again)" >&2; exit 1; }
-IFS=, read -r -a kinds <<<"$scenes"
-[ ${#kinds[@]} -gt 0 ] || usage
-for k in "${kinds[@]}"; do
-	case $k in
-	random | uniform | grid | cascade | tiles | nested) ;;
-	*)
-		echo "xorg-bench: --scenes: '$k' is not random, uniform, grid, cascade, tiles or" \
-			"nested" >&2
-		exit 2
-		;;
-	esac
-done
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
 
