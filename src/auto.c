@@ -81,14 +81,13 @@
 
 /*
  * The sampling, as the comment above says: LATE, the share of the steps at
- * UNITS_PER_STEP_ON_SCREEN the work reaches before the sweep is measured; EARLY, the share of the
- * rival an early hand-over may have spent (region.c has the same); NS_PER_STEP_GUESS, the price a
- * step in ns that sizes the first sample (the family's median is 75; it decides nothing else); a
- * sample is at most 1/SAMPLE_SHARE of the walk's time so far, taken again when SAMPLE_GROWTH
- * times the windows fit, of at most 1/SAMPLE_PART of the windows and at least SAMPLE_MIN.
+ * UNITS_PER_STEP_ON_SCREEN the work reaches before the sweep is measured; NS_PER_STEP_GUESS,
+ * the price a step in ns that sizes the first sample (the family's median is 75; it decides
+ * nothing else); a sample is at most 1/SAMPLE_SHARE of the walk's time so far, taken again when
+ * SAMPLE_GROWTH times the windows fit, of at most 1/SAMPLE_PART of the windows and at least
+ * SAMPLE_MIN.
  */
 #define LATE 2
-#define EARLY 4
 #define NS_PER_STEP_GUESS 100
 #define SAMPLE_SHARE 8
 #define SAMPLE_GROWTH 4
@@ -235,9 +234,10 @@ static uint64_t priced_units(const struct vis_stack *stack, const void *data, ui
 
 /*
  * The rival at every checkpoint of the walk: the estimate (price × steps) until the work reaches
- * 1/EARLY of it or of the steps at UNITS_PER_STEP_ON_SCREEN, the sweep's time as samples of it
- * forecast it from then on, in units of the region method's work as its walk has priced them so
- * far (its time over its work). See the comment above UNITS_PER_STEP_ON_SCREEN.
+ * 1/LATE of the steps at UNITS_PER_STEP_ON_SCREEN or a hand-over is asked for (an early one only
+ * where a sample fits), the sweep's time as samples of it forecast it from then on, in units of
+ * the region method's work as its walk has priced them so far (its time over its work). See the
+ * comment above UNITS_PER_STEP_ON_SCREEN.
  */
 static uint64_t measured_units(const struct vis_stack *stack, const void *data, uint64_t work,
 			       bool handing, bool *measured)
@@ -255,7 +255,7 @@ static uint64_t measured_units(const struct vis_stack *stack, const void *data, 
 	double per_step = g->sweep > 0 ? g->sweep / (double)g->steps : NS_PER_STEP_GUESS;
 	double fits = (double)n * walk / SAMPLE_SHARE / ((double)g->steps * per_step);
 	/* An early hand-over is measured only when a sample fits: it throws little away. */
-	if (g->sweep <= 0 && handing && work <= estimate / EARLY && fits < (double)least)
+	if (g->sweep <= 0 && handing && work <= estimate / VIS_RIVAL_EARLY && fits < (double)least)
 		return estimate;
 	if (g->sample_n == 0 || (fits >= (double)(SAMPLE_GROWTH * g->sample_n) && g->sample_n < most)) {
 		size_t m = fits >= (double)most ? most : fits <= (double)least ? least : (size_t)fits;

@@ -60,6 +60,13 @@ int vis_region_compute(const struct vis_stack *stack, uint8_t *states);
 int vis_region_compute_within(const struct vis_stack *stack, uint8_t *states, uint64_t budget);
 
 /*
+ * A hand-over is early while the region method's work is at most 1/VIS_RIVAL_EARLY of the
+ * rival's: little is thrown away then, so region.c acts on a lone forecast, and auto.c measures
+ * the sweep for it only where a sample fits.
+ */
+#define VIS_RIVAL_EARLY 4
+
+/*
  * What the region method is weighed against: the other method's cost in units of region work,
  * or a first estimate that sharpen(), when not NULL, replaces, given the work done so far. It is
  * called at the first checkpoint where the work done or a forecast passes floor units and at

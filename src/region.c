@@ -98,12 +98,11 @@ static uint64_t ilog2(uint64_t x)
 #define WINDOWS_TO_TRUST 16
 
 /*
- * A forecast that the rival is cheaper is acted on while the work done is at most 1/EARLY of the
- * rival (little is thrown away), or once it has reached 1/LEAD of it: a forecast that is wrong
- * then costs at most 1 + LEAD times the region method's time, one that is right 1 + 1/LEAD times
- * the rival's (a ski rental with advice; auto.c).
+ * A forecast that the rival is cheaper is acted on while the work done is early
+ * (VIS_RIVAL_EARLY, engine.h), or once it has reached 1/LEAD of the rival: a forecast that is
+ * wrong then costs at most 1 + LEAD times the region method's time, one that is right 1 + 1/LEAD
+ * times the rival's (a ski rental with advice; auto.c).
  */
-#define EARLY 4
 #define LEAD 2
 
 /*
@@ -277,6 +276,16 @@ static bool many_windows(const struct vis_stack *stack, size_t from, size_t to)
 	return overlaps >= WINDOWS_TO_TRUST;
 }
 
+/* The work at which the walk gives up whatever the forecast: the rival measured, twice it
+ * estimated (hand_over()). */
+static uint64_t cap_of(const struct forecast *f)
+{
+	uint64_t units = f->rival.units;
+	if (f->measured)
+		return units;
+	return units > (UINT64_MAX - 1) / 2 ? UINT64_MAX : 2 * units + 1;
+}
+
 /*
  * Whether to hand over at a checkpoint, the rival's units as they stand (forecast_exceeds()).
  * A measured rival is a ski rental's price: the cap is the rival, and a forecast is acted on early
@@ -286,12 +295,10 @@ static bool many_windows(const struct vis_stack *stack, size_t from, size_t to)
 static bool hand_over(const struct forecast *f, const struct checkpoint *b, size_t k, double rest,
 		      bool actionable, uint64_t work)
 {
-	uint64_t units = f->rival.units, cap = units;
-	bool early = work <= units / EARLY;
+	uint64_t units = f->rival.units;
+	bool early = work <= units / VIS_RIVAL_EARLY;
 
-	if (!f->measured)
-		cap = units > (UINT64_MAX - 1) / 2 ? UINT64_MAX : 2 * units + 1;
-	if (work >= cap)
+	if (work >= cap_of(f))
 		return true;
 	if (!actionable || rest <= (double)units)
 		return false;
@@ -357,9 +364,7 @@ static bool forecast_exceeds(struct forecast *f, pixman_region32_t *above, size_
 	if (f->count < FORECAST_MAX)
 		f->at[f->count++] = now;
 
-	uint64_t cap = f->rival.units, lead = cap / LEAD;
-	if (!f->measured)
-		cap = cap > (UINT64_MAX - 1) / 2 ? UINT64_MAX : 2 * cap + 1;
+	uint64_t cap = cap_of(f), lead = f->rival.units / LEAD;
 	f->k_next = 2 * k;
 	f->work_next = work < cap / 2 ? 2 * work : cap;
 	if (work < lead && f->work_next > lead)
