@@ -337,13 +337,6 @@ static bool covers(pixman_box32_t b, const struct vis_bands *a)
 	return b.x1 <= a->ext.x1 && b.y1 <= a->ext.y1 && a->ext.x2 <= b.x2 && a->ext.y2 <= b.y2;
 }
 
-/* a ∩ b, which meet. */
-static pixman_box32_t box_and(pixman_box32_t a, pixman_box32_t b)
-{
-	return (pixman_box32_t){ a.x1 > b.x1 ? a.x1 : b.x1, a.y1 > b.y1 ? a.y1 : b.y1,
-				 a.x2 < b.x2 ? a.x2 : b.x2, a.y2 < b.y2 ? a.y2 : b.y2 };
-}
-
 int vis_bands_intersect(struct vis_bands *dst, const struct vis_bands *src, pixman_box32_t b)
 {
 	dst->n = 0;
@@ -352,7 +345,7 @@ int vis_bands_intersect(struct vis_bands *dst, const struct vis_bands *src, pixm
 		return 0;
 	/* A box, or a region b covers, is cut without a pass over its bands. */
 	if (src->n == 1)
-		return vis_bands_set_box(dst, box_and(src->boxes[0], b));
+		return vis_bands_set_box(dst, vis_pbox_and(src->boxes[0], b));
 	if (covers(b, src))
 		return vis_bands_copy(dst, src);
 	if (reserve(dst, src->n) < 0)
@@ -365,10 +358,8 @@ uint64_t vis_bands_area_in(const struct vis_bands *r, pixman_box32_t b)
 {
 	if (!vis_bands_meet(r, b))
 		return 0;
-	if (r->n == 1) {
-		pixman_box32_t c = box_and(r->boxes[0], b);
-		return (uint64_t)((int64_t)c.x2 - c.x1) * (uint64_t)((int64_t)c.y2 - c.y1);
-	}
+	if (r->n == 1)
+		return vis_pbox_area(vis_pbox_and(r->boxes[0], b));
 	uint64_t a = 0;
 	for (size_t i = first_below(r, b.y1); i < r->n; i++) {
 		const pixman_box32_t *f = &r->boxes[i];
@@ -387,7 +378,7 @@ size_t vis_bands_clip(const struct vis_bands *r, pixman_box32_t b, pixman_box32_
 	if (!vis_bands_meet(r, b))
 		return 0;
 	if (r->n == 1) {
-		out[0] = box_and(r->boxes[0], b);
+		out[0] = vis_pbox_and(r->boxes[0], b);
 		return 1;
 	}
 	if (covers(b, r)) {

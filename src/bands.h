@@ -36,6 +36,19 @@ int vis_bands_set_box(struct vis_bands *r, pixman_box32_t b);
 /* Makes dst a copy of src. 0, or -1 with ENOMEM (dst is then empty). O(n). */
 int vis_bands_copy(struct vis_bands *dst, const struct vis_bands *src);
 
+/* a ∩ b: empty (x1 ≥ x2 or y1 ≥ y2) when they do not meet. O(1). */
+static inline pixman_box32_t vis_pbox_and(pixman_box32_t a, pixman_box32_t b)
+{
+	return (pixman_box32_t){ a.x1 > b.x1 ? a.x1 : b.x1, a.y1 > b.y1 ? a.y1 : b.y1,
+				 a.x2 < b.x2 ? a.x2 : b.x2, a.y2 < b.y2 ? a.y2 : b.y2 };
+}
+
+/* The pixels of a box that is not empty. O(1). */
+static inline uint64_t vis_pbox_area(pixman_box32_t b)
+{
+	return (uint64_t)((int64_t)b.x2 - b.x1) * (uint64_t)((int64_t)b.y2 - b.y1);
+}
+
 /* Whether a box shares a pixel with the region's extents. O(1). */
 static inline bool vis_bands_meet(const struct vis_bands *r, pixman_box32_t b)
 {

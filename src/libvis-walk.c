@@ -48,12 +48,6 @@ static long pieces_of(struct vis_tree *tree, const struct vis_window *w, struct 
 	return (long)n;
 }
 
-/* A box's pixels. */
-static uint64_t box_area(pixman_box32_t b)
-{
-	return (uint64_t)((int64_t)b.x2 - b.x1) * (uint64_t)((int64_t)b.y2 - b.y1);
-}
-
 /* Takes boxes[0 … n) off what is left. 0, or -1. */
 static int take_off(struct libvis_walk *k, const pixman_box32_t *boxes, size_t n)
 {
@@ -226,17 +220,13 @@ static int visit(struct vis_tree *tree, const struct vis_window *w, const struct
 		const pixman_box32_t *b = drawn ? tree->parts : px;
 		for (size_t i = 0; i < m; i++) {
 			if (!k->in) {
-				seen += drawn ? box_area(b[i]) : vis_bands_area_in(mine, b[i]);
+				seen += drawn ? vis_pbox_area(b[i]) : vis_bands_area_in(mine, b[i]);
 				continue;
 			}
 			for (size_t j = 0; j < k->n_in; j++) {
-				pixman_box32_t in = b[i], c = k->in[j];
-				in.x1 = in.x1 > c.x1 ? in.x1 : c.x1;
-				in.y1 = in.y1 > c.y1 ? in.y1 : c.y1;
-				in.x2 = in.x2 < c.x2 ? in.x2 : c.x2;
-				in.y2 = in.y2 < c.y2 ? in.y2 : c.y2;
+				pixman_box32_t in = vis_pbox_and(b[i], k->in[j]);
 				if (in.x1 < in.x2 && in.y1 < in.y2)
-					seen += drawn ? box_area(in) : vis_bands_area_in(mine, in);
+					seen += drawn ? vis_pbox_area(in) : vis_bands_area_in(mine, in);
 			}
 		}
 		if (count(tree, w, seen) < 0)
