@@ -131,7 +131,6 @@ struct vis_tree {
 	/* A window moving alone (libvis_tally_begin_move()): it, its clip and the pixels it saw
 	 * before, and what the windows above it leave of the change's box. */
 	struct vis_window *moved;
-	struct vis_box moved_from;
 	uint64_t moved_seen;
 	struct vis_bands above;
 	pixman_box32_t *opaque_was, *opaque_is; /* its opaque pixels before and after */

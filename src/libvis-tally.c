@@ -132,6 +132,11 @@ void libvis_tally_begin_move(struct vis_tree *tree, struct vis_win *win, struct 
 	struct vis_bands t = tree->above;
 	tree->above = k->left;
 	k->left = t;
+	tree->moved = w;
+	tree->moved_seen = 0;
+	tree->n_opaque_was = 0;
+	if (!tree->above.n) /* covered above: end_move() has nothing to do */
+		return;
 	const pixman_box32_t *op;
 	long n = libvis_opaque_boxes(tree, w, &op);
 	if (n < 0 || libvis_reserve(&tree->opaque_was, &tree->cap_opaque_was, (size_t)n,
@@ -142,8 +147,6 @@ void libvis_tally_begin_move(struct vis_tree *tree, struct vis_win *win, struct 
 	if (n)
 		memcpy(tree->opaque_was, op, (size_t)n * sizeof *op);
 	tree->n_opaque_was = (size_t)n;
-	tree->moved = w;
-	tree->moved_from = w->clip;
 	tree->moved_seen =
 		vis_box_empty(w->clip) ? 0 : vis_bands_area_in(&tree->above, pbox(w->clip));
 }
@@ -154,6 +157,12 @@ static int end_move(struct vis_tree *tree, struct vis_window *w, struct vis_box 
 	struct libvis_walk *k = &tree->walk;
 	struct vis_win *win = w->data;
 	vis_wtree_place(w);
+	/* The windows above cover d: nothing below changes, nor its own count (none). */
+	if (!tree->above.n) {
+		tree->kept_ok = true;
+		tree->kept_box = d;
+		return 0;
+	}
 	bool is = !vis_box_empty(w->clip);
 	uint64_t now = is ? vis_bands_area_in(&tree->above, pbox(w->clip)) : 0;
 	win->seen += now - tree->moved_seen;
