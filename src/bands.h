@@ -65,6 +65,11 @@ int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_bo
 /* Makes dst (not src) src ∩ b. 0, or -1 with ENOMEM (dst is then empty). O(n). */
 int vis_bands_intersect(struct vis_bands *dst, const struct vis_bands *src, pixman_box32_t b);
 
+/* Makes dst (not src) src ∩ b less box h, in one pass. 0, or -1 with ENOMEM (dst is then
+ * empty). O(n). */
+int vis_bands_intersect_less(struct vis_bands *dst, const struct vis_bands *src, pixman_box32_t b,
+			     pixman_box32_t h);
+
 /* The number of pixels r shares with box b. O(n). */
 uint64_t vis_bands_area_in(const struct vis_bands *r, pixman_box32_t b);
 

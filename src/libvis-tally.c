@@ -163,8 +163,13 @@ static int end_move(struct vis_tree *tree, struct vis_window *w, struct vis_box 
 		tree->kept_box = d;
 		return 0;
 	}
-	bool is = !vis_box_empty(w->clip);
-	uint64_t now = is ? vis_bands_area_in(&tree->above, pbox(w->clip)) : 0;
+	/* Its part of the repaint set, which is what it sees now, and the windows' below it. */
+	if (vis_bands_copy(&k->left, &tree->above) < 0)
+		return -1;
+	k->out = &tree->kept;
+	uint64_t now = 0;
+	if (!vis_box_empty(w->clip) && libvis_draw_box(tree, w, w->clip, &now) < 0)
+		return -1;
 	win->seen += now - tree->moved_seen;
 	if ((now || tree->moved_seen) && libvis_touch(tree, w) < 0)
 		return -1;
@@ -176,12 +181,6 @@ static int end_move(struct vis_tree *tree, struct vis_window *w, struct vis_box 
 	if (m)
 		memcpy(tree->opaque_is, op, (size_t)m * sizeof *op);
 	tree->n_opaque_is = (size_t)m;
-	/* Its part of the repaint set, and the windows' below it. */
-	if (vis_bands_copy(&k->left, &tree->above) < 0)
-		return -1;
-	k->out = &tree->kept;
-	if (is && libvis_draw_box(tree, w, w->clip) < 0)
-		return -1;
 	for (size_t i = 0; i < tree->n_opaque_is; i++)
 		if (vis_bands_subtract(&k->left, &k->scratch, tree->opaque_is[i]) < 0)
 			return -1;
@@ -192,9 +191,13 @@ static int end_move(struct vis_tree *tree, struct vis_window *w, struct vis_box 
 		return -1;
 	/* And they lose what its opaque pieces took, one disjoint strip after another. */
 	for (size_t j = 0; j < tree->n_opaque_is; j++) {
-		if (vis_bands_intersect(&k->left, &tree->above, tree->opaque_is[j]) < 0)
+		/* One piece before (an opaque window's clip) is taken off in the same pass. */
+		bool one = tree->n_opaque_was <= 1;
+		pixman_box32_t was = tree->n_opaque_was ? tree->opaque_was[0] : (pixman_box32_t){ 0 };
+		if ((one ? vis_bands_intersect_less(&k->left, &tree->above, tree->opaque_is[j], was)
+			 : vis_bands_intersect(&k->left, &tree->above, tree->opaque_is[j])) < 0)
 			return -1;
-		for (size_t i = 0; i < tree->n_opaque_was; i++)
+		for (size_t i = 0; !one && i < tree->n_opaque_was; i++)
 			if (vis_bands_subtract(&k->left, &k->scratch, tree->opaque_was[i]) < 0)
 				return -1;
 		if (libvis_walk_left(tree, w->below, NULL, -1, NULL) < 0)

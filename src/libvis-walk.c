@@ -369,8 +369,15 @@ int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign, struct libvis
 	return libvis_walk_left(tree, tree->core.root.top, stop, sign, out);
 }
 
-int libvis_draw_box(struct vis_tree *tree, const struct vis_window *w, struct vis_box b)
+int libvis_draw_box(struct vis_tree *tree, const struct vis_window *w, struct vis_box b,
+		    uint64_t *pixels)
 {
 	pixman_box32_t px = pbox(b);
-	return draw(tree, w, &px, 1) < 0 ? -1 : 0;
+	long parts = draw(tree, w, &px, 1);
+	if (parts < 0)
+		return -1;
+	*pixels = 0;
+	for (long i = 0; i < parts; i++)
+		*pixels += vis_pbox_area(tree->parts[i]);
+	return 0;
 }

@@ -3,7 +3,7 @@
  * another, on small grids where they share edges, cover each other exactly and take all that is
  * left, and near the 32-bit limits; after each, the same pixels as pixman's region, the
  * invariants (bands sorted, disjoint, coalesced; exact extents), and the areas, clips and
- * intersections of random boxes.
+ * intersections of random boxes (less a third one).
  */
 #include <stdbool.h>
 #include <stdio.h>
@@ -153,6 +153,21 @@ static void run(struct vis_rng *rng, int64_t origin, int64_t side, int64_t step,
 		CHECK(vis_bands_intersect(&copy, &r, c) == 0);
 		CHECK(well_formed(&copy));
 		CHECK(same_inside(&copy, &p, c));
+		/* And less a third box, in one pass. */
+		pixman_box32_t h = random_box(rng, origin, side, step);
+		CHECK(vis_bands_intersect_less(&copy, &r, c, h) == 0);
+		CHECK(well_formed(&copy));
+		pixman_region32_t want;
+		pixman_region32_init(&want);
+		pixman_region32_intersect_rect(&want, &p, c.x1, c.y1, (unsigned)(c.x2 - c.x1),
+					       (unsigned)(c.y2 - c.y1));
+		pixman_region32_t hr;
+		pixman_region32_init_rect(&hr, h.x1, h.y1, (unsigned)(h.x2 - h.x1),
+					  (unsigned)(h.y2 - h.y1));
+		pixman_region32_subtract(&want, &want, &hr);
+		CHECK(same_pixels(&copy, &want));
+		pixman_region32_fini(&hr);
+		pixman_region32_fini(&want);
 	}
 	free(out);
 	pixman_region32_fini(&p);
