@@ -67,11 +67,12 @@
  * each with the samples on top, about a sixth of W. So auto is within max(1 + a, 1 + 2 / a,
  * (1 + a) / a) of the faster engine wherever the sweep is measured: 3 when the measurement is
  * exact, and 4 for any a between 2/3 and 3, where the samples checked lie. What the bound does
- * not cover: stacks below 256 windows, decided on the price as before 2026-11-29 (region.c: the
- * cap at twice the estimate; within max(1 + 2e, 1 + 1/e) where the forecast holds, e the price
- * over the true one); and an early hand-over that no sample fitted in, which
- * costs W + S with W at most a quarter of the estimate and rests on the forecast as before (on
- * the family's seed 1: lattices where the region method was 2-3 times faster). The noise is the
+ * not cover: stacks below 256 windows, decided on the price (region.c: the cap at twice the
+ * estimate, and a forecast acted on only where it has the walk passing that cap; within
+ * max(1 + 2e, 1 + 1/e) where the forecast holds, e the price over the true one); and an early
+ * hand-over that no sample fitted in, which costs W + S with W at most a quarter of the
+ * estimate and rests on the forecast (on the family's seed 1: lattices where the region method
+ * was 2-3 times faster). The noise is the
  * clock's: a walk or a sample that the scheduler interrupts is priced dearer, which can move the
  * hand-over, never the states.
  */
