@@ -128,8 +128,8 @@ struct vis_tree {
 	struct libvis_set kept;
 	struct vis_box kept_box;
 	bool kept_ok;
-	/* A window moving alone (libvis_tally_begin_move()): it, its clip and the pixels it saw
-	 * before, and what the windows above it leave of the change's box. */
+	/* A window moving alone (libvis_tally_begin_move()): it and the pixels it saw before, and
+	 * what the windows above it leave of the change's box. */
 	struct vis_window *moved;
 	uint64_t moved_seen;
 	struct vis_bands above;

@@ -189,11 +189,11 @@ static int end_move(struct vis_tree *tree, struct vis_window *w, struct vis_box 
 	k->n_in = tree->n_opaque_was;
 	if (libvis_walk_left(tree, w->below, NULL, tree->n_opaque_was > 0, &tree->kept) < 0)
 		return -1;
-	/* And they lose what its opaque pieces took, one disjoint strip after another. */
+	/* And they lose what its opaque pieces took, one disjoint strip after another; one piece
+	 * before (an opaque window's clip) is taken off in the same pass as the cut. */
+	bool one = tree->n_opaque_was <= 1;
+	pixman_box32_t was = tree->n_opaque_was ? tree->opaque_was[0] : (pixman_box32_t){ 0 };
 	for (size_t j = 0; j < tree->n_opaque_is; j++) {
-		/* One piece before (an opaque window's clip) is taken off in the same pass. */
-		bool one = tree->n_opaque_was <= 1;
-		pixman_box32_t was = tree->n_opaque_was ? tree->opaque_was[0] : (pixman_box32_t){ 0 };
 		if ((one ? vis_bands_intersect_less(&k->left, &tree->above, tree->opaque_is[j], was)
 			 : vis_bands_intersect(&k->left, &tree->above, tree->opaque_is[j])) < 0)
 			return -1;

@@ -304,8 +304,8 @@ static bool hand_over(const struct forecast *f, const struct checkpoint *b, size
 		return false;
 	if (f->measured && !early && work < units / LEAD)
 		return false;
-	/* An estimate is wrong either way: it is left only where the walk is forecast to pass
-	 * its cap anyway, when a hand-over now costs less than one there. */
+	/* An estimate can be wrong either way: against one, the walk is left on a forecast only
+	 * where it would pass the cap anyway, when a hand-over now costs less than one there. */
 	if (!f->measured && (double)work + rest <= (double)cap_of(f))
 		return false;
 	return f->agreed >= 2 || (early && many_windows(f->stack, b->k, k)) ||
