@@ -304,24 +304,54 @@ int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_bo
 	return 0;
 }
 
-/* Writes src ∩ b to dst's boxes, which have room for src->n (b meets src), and sets its
- * extents if ext. */
+/* Writes the band of src starting at box i, cut to b's columns, between rows y1 and y2, less the
+ * columns of hole if not NULL; returns the index of the band after it. */
+static size_t put_band_cut(struct out *o, const struct vis_bands *src, size_t i, int32_t y1,
+			   int32_t y2, pixman_box32_t b, const pixman_box32_t *hole)
+{
+	size_t start = o->r->n;
+	for (int32_t band = src->boxes[i].y1; i < src->n && src->boxes[i].y1 == band; i++) {
+		int32_t x1 = src->boxes[i].x1 > b.x1 ? src->boxes[i].x1 : b.x1;
+		int32_t x2 = src->boxes[i].x2 < b.x2 ? src->boxes[i].x2 : b.x2;
+		if (x1 >= x2)
+			continue;
+		if (!hole || x2 <= hole->x1 || x1 >= hole->x2) {
+			put(o->r, x1, y1, x2, y2);
+			continue;
+		}
+		if (x1 < hole->x1)
+			put(o->r, x1, y1, hole->x1, y2);
+		if (x2 > hole->x2)
+			put(o->r, hole->x2, y1, x2, y2);
+	}
+	band_end(o, start);
+	return i;
+}
+
+/*
+ * Writes src ∩ b less the box hole (inside b, or NULL) to dst's boxes, which have room for
+ * src->n (3 src->n with a hole: a band across its rows becomes three), b meeting src, and sets
+ * its extents if ext.
+ */
 static void clip_into(struct vis_bands *dst, const struct vis_bands *src, pixman_box32_t b,
-		      bool ext)
+		      const pixman_box32_t *hole, bool ext)
 {
 	struct out o = { dst, 0 };
 	dst->n = 0;
 	for (size_t i = first_below(src, b.y1); i < src->n && src->boxes[i].y1 < b.y2;) {
 		int32_t y1 = src->boxes[i].y1 > b.y1 ? src->boxes[i].y1 : b.y1;
 		int32_t y2 = src->boxes[i].y2 < b.y2 ? src->boxes[i].y2 : b.y2;
-		size_t start = dst->n;
-		for (int32_t band = src->boxes[i].y1; i < src->n && src->boxes[i].y1 == band; i++) {
-			int32_t x1 = src->boxes[i].x1 > b.x1 ? src->boxes[i].x1 : b.x1;
-			int32_t x2 = src->boxes[i].x2 < b.x2 ? src->boxes[i].x2 : b.x2;
-			if (x1 < x2)
-				put(dst, x1, y1, x2, y2);
+		if (!hole || y2 <= hole->y1 || y1 >= hole->y2) {
+			i = put_band_cut(&o, src, i, y1, y2, b, NULL);
+			continue;
 		}
-		band_end(&o, start);
+		if (y1 < hole->y1)
+			put_band_cut(&o, src, i, y1, hole->y1, b, NULL);
+		size_t next = put_band_cut(&o, src, i, y1 > hole->y1 ? y1 : hole->y1,
+					   y2 < hole->y2 ? y2 : hole->y2, b, hole);
+		if (y2 > hole->y2)
+			put_band_cut(&o, src, i, hole->y2, y2, b, NULL);
+		i = next;
 	}
 	dst->ext = (pixman_box32_t){ 0 };
 	if (ext && dst->n) {
@@ -350,71 +380,23 @@ int vis_bands_intersect(struct vis_bands *dst, const struct vis_bands *src, pixm
 		return vis_bands_copy(dst, src);
 	if (reserve(dst, src->n) < 0)
 		return -1;
-	clip_into(dst, src, b, true);
+	clip_into(dst, src, b, NULL, true);
 	return 0;
-}
-
-/* Writes the boxes of the band from[0 … m) in columns x1 … x2, between rows y1 and y2, less the
- * columns hx1 … hx2 (none when hx1 is INT32_MAX). */
-static void put_band_within(struct out *o, const pixman_box32_t *from, size_t m, int32_t y1,
-			    int32_t y2, int32_t x1, int32_t x2, int32_t hx1, int32_t hx2)
-{
-	size_t start = o->r->n;
-	for (size_t i = 0; i < m; i++) {
-		int32_t a = from[i].x1 > x1 ? from[i].x1 : x1;
-		int32_t c = from[i].x2 < x2 ? from[i].x2 : x2;
-		if (a >= c)
-			continue;
-		if (c <= hx1 || a >= hx2) {
-			put(o->r, a, y1, c, y2);
-			continue;
-		}
-		if (a < hx1)
-			put(o->r, a, y1, hx1, y2);
-		if (c > hx2)
-			put(o->r, hx2, y1, c, y2);
-	}
-	band_end(o, start);
 }
 
 int vis_bands_intersect_less(struct vis_bands *dst, const struct vis_bands *src, pixman_box32_t b,
 			     pixman_box32_t h)
 {
+	pixman_box32_t hole = vis_pbox_and(h, b);
+	if (hole.x1 >= hole.x2 || hole.y1 >= hole.y2)
+		return vis_bands_intersect(dst, src, b);
 	dst->n = 0;
 	dst->ext = (pixman_box32_t){ 0 };
-	pixman_box32_t hb = vis_pbox_and(h, b);
-	if (hb.x1 >= hb.x2 || hb.y1 >= hb.y2)
-		return vis_bands_intersect(dst, src, b);
 	if (!vis_bands_meet(src, b))
 		return 0;
-	/* A band becomes at most three: above h's rows, beside h (one box more), below them. */
-	if (reserve(dst, 3 * src->n + 1) < 0)
+	if (reserve(dst, 3 * src->n) < 0)
 		return -1;
-	struct out o = { dst, 0 };
-	for (size_t i = first_below(src, b.y1), j; i < src->n && src->boxes[i].y1 < b.y2; i = j) {
-		int32_t y1 = src->boxes[i].y1 > b.y1 ? src->boxes[i].y1 : b.y1;
-		int32_t y2 = src->boxes[i].y2 < b.y2 ? src->boxes[i].y2 : b.y2;
-		for (j = i; j < src->n && src->boxes[j].y1 == src->boxes[i].y1; j++)
-			;
-		const pixman_box32_t *f = src->boxes + i;
-		size_t m = j - i;
-		if (y2 <= hb.y1 || y1 >= hb.y2) {
-			put_band_within(&o, f, m, y1, y2, b.x1, b.x2, INT32_MAX, INT32_MIN);
-			continue;
-		}
-		if (y1 < hb.y1)
-			put_band_within(&o, f, m, y1, hb.y1, b.x1, b.x2, INT32_MAX, INT32_MIN);
-		put_band_within(&o, f, m, y1 > hb.y1 ? y1 : hb.y1, y2 < hb.y2 ? y2 : hb.y2, b.x1,
-				b.x2, hb.x1, hb.x2);
-		if (y2 > hb.y2)
-			put_band_within(&o, f, m, hb.y2, y2, b.x1, b.x2, INT32_MAX,
-					INT32_MIN);
-	}
-	if (dst->n) {
-		dst->ext.y1 = dst->boxes[0].y1;
-		dst->ext.y2 = dst->boxes[dst->n - 1].y2;
-		columns(dst);
-	}
+	clip_into(dst, src, b, &hole, true);
 	return 0;
 }
 
@@ -450,6 +432,6 @@ size_t vis_bands_clip(const struct vis_bands *r, pixman_box32_t b, pixman_box32_
 		return r->n;
 	}
 	struct vis_bands view = { out, 0, r->n, { 0 } };
-	clip_into(&view, r, b, false);
+	clip_into(&view, r, b, NULL, false);
 	return view.n;
 }

@@ -289,8 +289,9 @@ static uint64_t cap_of(const struct forecast *f)
 /*
  * Whether to hand over at a checkpoint, the rival's units as they stand (forecast_exceeds()).
  * A measured rival is a ski rental's price: the cap is the rival, and a forecast is acted on early
- * or from 1/LEAD of it. An estimate may be wrong either way, so the cap is twice it, and an
- * agreed forecast acts at any time, a lone one only early.
+ * or from 1/LEAD of it. An estimate may be wrong either way, so the cap is twice it, and a
+ * forecast is acted on only where it has the walk passing that cap anyway (a hand-over then
+ * costs less than one at the cap): an agreed one at any time, a lone one only early.
  */
 static bool hand_over(const struct forecast *f, const struct checkpoint *b, size_t k, double rest,
 		      bool actionable, uint64_t work)
@@ -304,8 +305,6 @@ static bool hand_over(const struct forecast *f, const struct checkpoint *b, size
 		return false;
 	if (f->measured && !early && work < units / LEAD)
 		return false;
-	/* An estimate can be wrong either way: against one, the walk is left on a forecast only
-	 * where it would pass the cap anyway, when a hand-over now costs less than one there. */
 	if (!f->measured && (double)work + rest <= (double)cap_of(f))
 		return false;
 	return f->agreed >= 2 || (early && many_windows(f->stack, b->k, k)) ||
