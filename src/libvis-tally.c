@@ -189,15 +189,13 @@ static int end_move(struct vis_tree *tree, struct vis_window *w, struct vis_box 
 	k->n_in = tree->n_opaque_was;
 	if (libvis_walk_left(tree, w->below, NULL, tree->n_opaque_was > 0, &tree->kept) < 0)
 		return -1;
-	/* And they lose what its opaque pieces took, one disjoint strip after another; one piece
-	 * before (an opaque window's clip) is taken off in the same pass as the cut. */
-	bool one = tree->n_opaque_was <= 1;
+	/* And they lose what its opaque pieces took, one disjoint strip after another; its first
+	 * piece before (an opaque window's clip) is taken off in the same pass as the cut. */
 	pixman_box32_t was = tree->n_opaque_was ? tree->opaque_was[0] : (pixman_box32_t){ 0 };
 	for (size_t j = 0; j < tree->n_opaque_is; j++) {
-		if ((one ? vis_bands_intersect_less(&k->left, &tree->above, tree->opaque_is[j], was)
-			 : vis_bands_intersect(&k->left, &tree->above, tree->opaque_is[j])) < 0)
+		if (vis_bands_intersect_less(&k->left, &tree->above, tree->opaque_is[j], was) < 0)
 			return -1;
-		for (size_t i = 0; !one && i < tree->n_opaque_was; i++)
+		for (size_t i = 1; i < tree->n_opaque_was; i++)
 			if (vis_bands_subtract(&k->left, &k->scratch, tree->opaque_was[i]) < 0)
 				return -1;
 		if (libvis_walk_left(tree, w->below, NULL, -1, NULL) < 0)
