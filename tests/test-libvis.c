@@ -226,8 +226,13 @@ static void change(struct tl *c)
 		break;
 	}
 	case 5:
+		/* Across the screen, or a drag of a few pixels, where its boxes before and after
+		 * overlap. */
 		m->x += (int32_t)tl_range(-5, 5) * (m->x > -1000000 && m->x < 1000000);
-		m->y = coord(t->sh);
+		if (tl_range(0, 1) && m->y > -1000000 && m->y < 1000000)
+			m->y += (int32_t)tl_range(-5, 5);
+		else
+			m->y = coord(t->sh);
 		must(vis_win_move(m->win, m->x, m->y), "move");
 		break;
 	case 6: {
