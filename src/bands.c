@@ -107,11 +107,12 @@ static void put_band(struct out *o, const pixman_box32_t *from, size_t m, int32_
 	band_end(o, start);
 }
 
-/* Writes the band of the m boxes from less the columns x1 … x2, between y1 and y2. */
-static void put_band_less(struct out *o, const pixman_box32_t *from, size_t m, int32_t y1,
-			  int32_t y2, int32_t x1, int32_t x2)
+/* Writes the band of the m boxes from less the columns x1 … x2, between y1 and y2, and, if p is
+ * not NULL, their part in those columns to p. */
+static void put_band_less(struct out *o, struct out *p, const pixman_box32_t *from, size_t m,
+			  int32_t y1, int32_t y2, int32_t x1, int32_t x2)
 {
-	size_t start = o->r->n;
+	size_t start = o->r->n, pstart = p ? p->r->n : 0;
 	for (size_t i = 0; i < m; i++) {
 		const pixman_box32_t *f = &from[i];
 		if (f->x2 <= x1 || f->x1 >= x2) {
@@ -122,8 +123,12 @@ static void put_band_less(struct out *o, const pixman_box32_t *from, size_t m, i
 			put(o->r, f->x1, y1, x1, y2);
 		if (f->x2 > x2)
 			put(o->r, x2, y1, f->x2, y2);
+		if (p)
+			put(p->r, f->x1 > x1 ? f->x1 : x1, y1, f->x2 < x2 ? f->x2 : x2, y2);
 	}
 	band_end(o, start);
+	if (p)
+		band_end(p, pstart);
 }
 
 /* The index of the first box below row y (whose y2 passes it), or n: y2 grows box by box. */
@@ -171,6 +176,11 @@ static void columns(struct vis_bands *r)
 	}
 }
 
+/* Whether b covers a's extents (b meets a). */
+static bool covers(pixman_box32_t b, const struct vis_bands *a)
+{
+	return b.x1 <= a->ext.x1 && b.y1 <= a->ext.y1 && a->ext.x2 <= b.x2 && a->ext.y2 <= b.y2;
+}
 
 /* vis_bands_subtract() of a region of one box, which b meets and does not cover: at most three
  * bands, the middle one of at most two boxes. 0, or -1. */
@@ -203,17 +213,13 @@ static int box_less(struct vis_bands *r, pixman_box32_t b)
 /* Regions of up to this many boxes are written again whole, not spliced. */
 #define SMALL 24
 
-int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b)
+/*
+ * vis_bands_subtract() of a region of several boxes that b meets and does not cover; when p is
+ * not NULL (a small region only), the bands of r ∩ b are written to it too. 0, or -1.
+ */
+static int subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b,
+		    struct out *p)
 {
-	if (!vis_bands_meet(r, b))
-		return 0;
-	if (b.x1 <= r->ext.x1 && b.y1 <= r->ext.y1 && r->ext.x2 <= b.x2 && r->ext.y2 <= b.y2) {
-		r->n = 0; /* b covers it all: the common end of a walk */
-		r->ext = (pixman_box32_t){ 0 };
-		return 0;
-	}
-	if (r->n == 1)
-		return box_less(r, b);
 	/*
 	 * Only the bands b's rows meet change, and the one above and the one below them, which
 	 * may coalesce with what they become: those are written to scratch, and spliced into r
@@ -270,7 +276,7 @@ int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_bo
 		}
 		if (y1 < b.y1)
 			put_band(&o, f, k, y1, b.y1);
-		put_band_less(&o, f, k, y1 > b.y1 ? y1 : b.y1, y2 < b.y2 ? y2 : b.y2, b.x1, b.x2);
+		put_band_less(&o, p, f, k, y1 > b.y1 ? y1 : b.y1, y2 < b.y2 ? y2 : b.y2, b.x1, b.x2);
 		if (y2 > b.y2)
 			put_band(&o, f, k, b.y2, y2);
 	}
@@ -302,6 +308,52 @@ int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_bo
 		return 0;
 	columns(r);
 	return 0;
+}
+
+int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b)
+{
+	if (!vis_bands_meet(r, b))
+		return 0;
+	if (covers(b, r)) {
+		r->n = 0; /* b covers it all: the common end of a walk */
+		r->ext = (pixman_box32_t){ 0 };
+		return 0;
+	}
+	if (r->n == 1)
+		return box_less(r, b);
+	return subtract(r, scratch, b, NULL);
+}
+
+long vis_bands_take(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b,
+		    pixman_box32_t *out)
+{
+	if (!vis_bands_meet(r, b))
+		return 0;
+	size_t n = r->n;
+	if (covers(b, r)) {
+		memcpy(out, r->boxes, n * sizeof *out);
+		r->n = 0;
+		r->ext = (pixman_box32_t){ 0 };
+		return (long)n;
+	}
+	if (n == 1) {
+		out[0] = vis_pbox_and(r->boxes[0], b);
+		return box_less(r, b) < 0 ? -1 : 1;
+	}
+	/* Meeting the extents and none of the boxes, b leaves r as it is: found for less than a
+	 * rewrite costs. */
+	size_t i = first_below(r, b.y1);
+	while (i < n && r->boxes[i].y1 < b.y2 && (r->boxes[i].x2 <= b.x1 || b.x2 <= r->boxes[i].x1))
+		i++;
+	if (i == n || r->boxes[i].y1 >= b.y2)
+		return 0;
+	if (n > SMALL) {
+		n = vis_bands_clip(r, b, out);
+		return subtract(r, scratch, b, NULL) < 0 ? -1 : (long)n;
+	}
+	struct vis_bands parts = { out, 0, n, { 0 } };
+	struct out p = { &parts, 0 };
+	return subtract(r, scratch, b, &p) < 0 ? -1 : (long)parts.n;
 }
 
 /* Writes the band of src starting at box i, cut to b's columns, between rows y1 and y2, less the
@@ -359,12 +411,6 @@ static void clip_into(struct vis_bands *dst, const struct vis_bands *src, pixman
 		dst->ext.y2 = dst->boxes[dst->n - 1].y2;
 		columns(dst);
 	}
-}
-
-/* Whether b covers a's extents (b meets a). */
-static bool covers(pixman_box32_t b, const struct vis_bands *a)
-{
-	return b.x1 <= a->ext.x1 && b.y1 <= a->ext.y1 && a->ext.x2 <= b.x2 && a->ext.y2 <= b.y2;
 }
 
 int vis_bands_intersect(struct vis_bands *dst, const struct vis_bands *src, pixman_box32_t b)

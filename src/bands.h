@@ -62,6 +62,14 @@ static inline bool vis_bands_meet(const struct vis_bands *r, pixman_box32_t b)
  */
 int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b);
 
+/*
+ * Takes box b off r, through scratch, and writes the boxes of r ∩ b to out (as vis_bands_clip()
+ * does: banded, coalesced, at most r->n); returns how many, or -1 with ENOMEM (r is then
+ * unchanged). One pass where the two calls take two. O(n).
+ */
+long vis_bands_take(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b,
+		    pixman_box32_t *out);
+
 /* Makes dst (not src) src ∩ b. 0, or -1 with ENOMEM (dst is then empty). O(n). */
 int vis_bands_intersect(struct vis_bands *dst, const struct vis_bands *src, pixman_box32_t b);
 

@@ -163,9 +163,9 @@ int libvis_walk_left(struct vis_tree *tree, const struct vis_window *start,
 		     const struct vis_window *stop, int sign, struct libvis_set *out);
 
 /* Lists w in the walk's set (tree->walk.out) with what is left of the screen box b, and sets
- * *pixels to that part's. 0, or -1. */
+ * *pixels to that part's; takes b off what is left if take. 0, or -1. */
 int libvis_draw_box(struct vis_tree *tree, const struct vis_window *w, struct vis_box b,
-		    uint64_t *pixels);
+		    bool take, uint64_t *pixels);
 
 /*
  * The opaque pixels of a viewable window whose pixels are its clip (not LIBVIS_PIECES): its clip,

@@ -168,7 +168,8 @@ static int end_move(struct vis_tree *tree, struct vis_window *w, struct vis_box 
 		return -1;
 	k->out = &tree->kept;
 	uint64_t now = 0;
-	if (!vis_box_empty(w->clip) && libvis_draw_box(tree, w, w->clip, &now) < 0)
+	bool opaque = libvis_pixels_of(w) == LIBVIS_CLIP; /* its clip is its one opaque piece */
+	if (!vis_box_empty(w->clip) && libvis_draw_box(tree, w, w->clip, opaque, &now) < 0)
 		return -1;
 	win->seen += now - tree->moved_seen;
 	if ((now || tree->moved_seen) && libvis_touch(tree, w) < 0)
@@ -181,7 +182,7 @@ static int end_move(struct vis_tree *tree, struct vis_window *w, struct vis_box 
 	if (m)
 		memcpy(tree->opaque_is, op, (size_t)m * sizeof *op);
 	tree->n_opaque_is = (size_t)m;
-	for (size_t i = 0; i < tree->n_opaque_is; i++)
+	for (size_t i = opaque; i < tree->n_opaque_is; i++)
 		if (vis_bands_subtract(&k->left, &k->scratch, tree->opaque_is[i]) < 0)
 			return -1;
 	/* The windows below: what they show now where it was opaque is what they gain. */

@@ -95,23 +95,14 @@ static int append_boxes(struct libvis_set *set, const pixman_box32_t *b, size_t 
 }
 
 /*
- * Lists w in the walk's set with its pixels, the disjoint boxes px[0 … n), in what is left, if
- * any: the boxes it shows (0 when none), or -1.
+ * Lists w in the walk's set with the parts of its pixels, the disjoint boxes px[0 … n), found
+ * left: tree->parts[0 … parts), banded when n is 1. 0, or -1.
  */
-static long draw(struct vis_tree *tree, const struct vis_window *w, const pixman_box32_t *px,
-		 size_t n)
+static int list(struct vis_tree *tree, const struct vis_window *w, size_t n, size_t parts)
 {
-	struct libvis_walk *k = &tree->walk;
-	struct libvis_set *set = k->out;
+	struct libvis_set *set = tree->walk.out;
 	int64_t x = w->box.x1 + w->look.border, y = w->box.y1 + w->look.border;
-	size_t at = set->n_rects, parts = 0;
-	if (libvis_reserve(&tree->parts, &tree->cap_parts, n * k->left.n + 1,
-			   sizeof *tree->parts) < 0)
-		return -1;
-	for (size_t i = 0; i < n; i++)
-		parts += vis_bands_clip(&k->left, px[i], tree->parts + parts);
-	if (!parts)
-		return 0;
+	size_t at = set->n_rects;
 	/* One box's part is banded; several boxes' parts are once pixman joins them. */
 	if (n == 1) {
 		if (append_boxes(set, tree->parts, parts, x, y) < 0)
@@ -130,7 +121,37 @@ static long draw(struct vis_tree *tree, const struct vis_window *w, const pixman
 	struct vis_win *win = w->data;
 	set->wins[set->n++] = (struct vis_repaint){ .win = win, .x = x, .y = y,
 						    .n_rects = (uint32_t)(set->n_rects - at) };
-	return (long)parts;
+	return 0;
+}
+
+/*
+ * Lists w in the walk's set with its pixels, the disjoint boxes px[0 … n), in what is left, if
+ * any: the boxes it shows (0 when none), or -1.
+ */
+static long draw(struct vis_tree *tree, const struct vis_window *w, const pixman_box32_t *px,
+		 size_t n)
+{
+	struct libvis_walk *k = &tree->walk;
+	size_t parts = 0;
+	if (libvis_reserve(&tree->parts, &tree->cap_parts, n * k->left.n + 1,
+			   sizeof *tree->parts) < 0)
+		return -1;
+	for (size_t i = 0; i < n; i++)
+		parts += vis_bands_clip(&k->left, px[i], tree->parts + parts);
+	return parts && list(tree, w, n, parts) < 0 ? -1 : (long)parts;
+}
+
+/*
+ * Takes the box px off what is left, its part (tree->parts) listed in the walk's set if it has
+ * one: the boxes of the part (0 when none), or -1.
+ */
+static long draw_take(struct vis_tree *tree, const struct vis_window *w, pixman_box32_t px)
+{
+	struct libvis_walk *k = &tree->walk;
+	if (libvis_reserve(&tree->parts, &tree->cap_parts, k->left.n + 1, sizeof *tree->parts) < 0)
+		return -1;
+	long parts = vis_bands_take(&k->left, &k->scratch, px, tree->parts);
+	return parts > 0 && k->out && list(tree, w, 1, (size_t)parts) < 0 ? -1 : parts;
 }
 
 /*
@@ -206,10 +227,12 @@ static int visit(struct vis_tree *tree, const struct vis_window *w, const struct
 		op = kind == LIBVIS_CLIP ? tree->boxes : tree->boxes + 1;
 		n_opaque = (size_t)m;
 	}
-	/* What is left lies in mine: a clip that meets nothing of either takes nothing off. */
-	bool meets = kind != LIBVIS_CLIP;
+	/* What is left lies in mine: a clip that meets nothing of either takes nothing off. An
+	 * opaque clip, what was left its tally's, is listed and taken off in one pass. */
+	bool meets = kind != LIBVIS_CLIP, taken = kind == LIBVIS_CLIP && mine == &k->left;
 	long parts = -1;
-	if (k->out && (parts = draw(tree, w, px, n)) < 0)
+	if (taken ? (parts = draw_take(tree, w, px[0])) < 0
+		  : k->out && (parts = draw(tree, w, px, n)) < 0)
 		return -1;
 	if (k->sign) {
 		/* Pieces are disjoint: their counts add up. Without descendants that took their part
@@ -235,7 +258,7 @@ static int visit(struct vis_tree *tree, const struct vis_window *w, const struct
 	}
 	if (k->out)
 		meets = parts > 0 || kind != LIBVIS_CLIP;
-	return meets ? take_off(k, op, n_opaque) : 0;
+	return meets && !taken ? take_off(k, op, n_opaque) : 0;
 }
 
 /*
@@ -370,10 +393,10 @@ int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign, struct libvis
 }
 
 int libvis_draw_box(struct vis_tree *tree, const struct vis_window *w, struct vis_box b,
-		    uint64_t *pixels)
+		    bool take, uint64_t *pixels)
 {
 	pixman_box32_t px = pbox(b);
-	long parts = draw(tree, w, &px, 1);
+	long parts = take ? draw_take(tree, w, px) : draw(tree, w, &px, 1);
 	if (parts < 0)
 		return -1;
 	*pixels = 0;
