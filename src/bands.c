@@ -62,10 +62,47 @@ int vis_bands_copy(struct vis_bands *dst, const struct vis_bands *src)
 }
 
 /*
- * The region being written: boxes [last, n) are the band written last, [start, n) the one being
- * written, which band_end() closes, merging it into the last one when they touch with the same x
- * edges (pixman's coalescing: without it, every box taken off would leave three bands).
+ * Closes the band o[start … n) of a region being written, whose band before starts at *last:
+ * merges it into that one when they touch with the same columns (pixman's coalescing: without
+ * it, every box taken off would leave three bands). Returns where the next band starts.
  */
+static inline size_t close_band(pixman_box32_t *o, size_t *last, size_t start, size_t n)
+{
+	size_t m = n - start, l = *last;
+	if (!m)
+		return n;
+	if (l < start && start - l == m && o[l].y2 == o[start].y1) {
+		size_t i = 0;
+		while (i < m && o[l + i].x1 == o[start + i].x1 && o[l + i].x2 == o[start + i].x2)
+			i++;
+		if (i == m) {
+			for (i = 0; i < m; i++)
+				o[l + i].y2 = o[start].y2;
+			return start;
+		}
+	}
+	*last = start;
+	return n;
+}
+
+/* Copies the band in[i … j) to o[n …], between rows y1 and y2; returns where it ends. */
+static inline size_t copy_rows(pixman_box32_t *o, size_t n, const pixman_box32_t *in, size_t i,
+			       size_t j, int32_t y1, int32_t y2)
+{
+	for (; i < j; i++)
+		o[n++] = (pixman_box32_t){ in[i].x1, y1, in[i].x2, y2 };
+	return n;
+}
+
+/* copy_rows(), the band closed (close_band()); returns where the next band starts. */
+static inline size_t copy_band(pixman_box32_t *o, size_t *last, size_t n, const pixman_box32_t *in,
+			       size_t i, size_t j, int32_t y1, int32_t y2)
+{
+	return close_band(o, last, n, copy_rows(o, n, in, i, j, y1, y2));
+}
+
+/* The region being written: boxes [last, n) are the band written last, [start, n) the one being
+ * written, which band_end() closes (close_band()). */
 struct out {
 	struct vis_bands *r;
 	size_t last;
@@ -73,23 +110,7 @@ struct out {
 
 static void band_end(struct out *o, size_t start)
 {
-	struct vis_bands *r = o->r;
-	if (start == r->n)
-		return;
-	pixman_box32_t *p = r->boxes + o->last, *q = r->boxes + start;
-	size_t m = r->n - start;
-	if (o->last < start && start - o->last == m && p->y2 == q->y1) {
-		size_t i = 0;
-		while (i < m && p[i].x1 == q[i].x1 && p[i].x2 == q[i].x2)
-			i++;
-		if (i == m) {
-			for (i = 0; i < m; i++)
-				p[i].y2 = q->y2;
-			r->n = start;
-			return;
-		}
-	}
-	o->last = start;
+	o->r->n = close_band(o->r->boxes, &o->last, start, o->r->n);
 }
 
 /* Writes one box of a band. */
@@ -101,18 +122,14 @@ static void put(struct vis_bands *r, int32_t x1, int32_t y1, int32_t x2, int32_t
 /* Writes the band of the m boxes from, between y1 and y2. */
 static void put_band(struct out *o, const pixman_box32_t *from, size_t m, int32_t y1, int32_t y2)
 {
-	size_t start = o->r->n;
-	for (size_t i = 0; i < m; i++)
-		put(o->r, from[i].x1, y1, from[i].x2, y2);
-	band_end(o, start);
+	o->r->n = copy_band(o->r->boxes, &o->last, o->r->n, from, 0, m, y1, y2);
 }
 
-/* Writes the band of the m boxes from less the columns x1 … x2, between y1 and y2, and, if p is
- * not NULL, their part in those columns to p. */
-static void put_band_less(struct out *o, struct out *p, const pixman_box32_t *from, size_t m,
-			  int32_t y1, int32_t y2, int32_t x1, int32_t x2)
+/* Writes the band of the m boxes from less the columns x1 … x2, between y1 and y2. */
+static void put_band_less(struct out *o, const pixman_box32_t *from, size_t m, int32_t y1,
+			  int32_t y2, int32_t x1, int32_t x2)
 {
-	size_t start = o->r->n, pstart = p ? p->r->n : 0;
+	size_t start = o->r->n;
 	for (size_t i = 0; i < m; i++) {
 		const pixman_box32_t *f = &from[i];
 		if (f->x2 <= x1 || f->x1 >= x2) {
@@ -123,12 +140,8 @@ static void put_band_less(struct out *o, struct out *p, const pixman_box32_t *fr
 			put(o->r, f->x1, y1, x1, y2);
 		if (f->x2 > x2)
 			put(o->r, x2, y1, f->x2, y2);
-		if (p)
-			put(p->r, f->x1 > x1 ? f->x1 : x1, y1, f->x2 < x2 ? f->x2 : x2, y2);
 	}
 	band_end(o, start);
-	if (p)
-		band_end(p, pstart);
 }
 
 /* The index of the first box below row y (whose y2 passes it), or n: y2 grows box by box. */
@@ -214,49 +227,117 @@ static int box_less(struct vis_bands *r, pixman_box32_t b)
 #define SMALL 24
 
 /*
- * vis_bands_subtract() of a region of several boxes that b meets and does not cover; when p is
- * not NULL (a small region only), the bands of r ∩ b are written to it too. 0, or -1.
+ * vis_bands_subtract() of a small region of several boxes whose extents b meets and does not
+ * cover, written again whole to scratch, whose boxes then change places with r's; when parts is
+ * not NULL (room for r->n), the bands of r ∩ b are written to it too. Their count, or -1.
+ *
+ * Only the bands b takes pixels from change, each into at most three: the rows above b and
+ * below it keep the band's columns, which differ from those of the rows beside b (which lost
+ * some) and, by the invariant, from the band above: only the rows beside b, the bands b's rows
+ * meet without taking from, and the first band below can coalesce with what is written before
+ * them. Nothing is written when b takes nothing.
  */
-static int subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b,
-		    struct out *p)
+static long rewrite_less(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b,
+			 pixman_box32_t *parts)
 {
-	/*
-	 * Only the bands b's rows meet change, and the one above and the one below them, which
-	 * may coalesce with what they become: those are written to scratch, and spliced into r
-	 * between the bands above and below, which stay in place. A small region is written to
-	 * scratch whole, which costs less than finding where to splice.
-	 */
-	size_t from = 0, to = r->n;
-	bool small = r->n <= SMALL;
-	if (!small) {
-		from = first_below(r, b.y1);
-		if (from > 0) /* the band above them */
-			from = band_start(r, from - 1);
-		to = from;
-		while (to < r->n && r->boxes[to].y1 < b.y2)
-			to = band_after(r, to);
-		if (to < r->n)
-			to = band_after(r, to); /* and the band below them */
+	const pixman_box32_t *in = r->boxes;
+	size_t n = r->n, i = 0;
+	while (i < n && in[i].y1 < b.y2 &&
+	       (in[i].y2 <= b.y1 || in[i].x2 <= b.x1 || b.x2 <= in[i].x1))
+		i++;
+	if (i == n || in[i].y1 >= b.y2)
+		return 0;
+	/* A band b takes from becomes at most three, the rows beside b one box more. */
+	if (reserve(scratch, 4 * n) < 0)
+		return -1;
+	pixman_box32_t *o = scratch->boxes;
+	size_t k = 0, last = 0, q = 0, qlast = 0;
+	while (i > 0 && in[i - 1].y1 == in[i].y1)
+		i--;
+	for (; k < i; k++) {
+		if (in[k].y1 != in[last].y1)
+			last = k;
+		o[k] = in[k];
 	}
-	/* A band meeting b becomes at most three: the parts above and below b, unchanged, and
-	 * the one beside it, whose boxes but one (which b splits) stay one each. */
+	while (i < n && in[i].y1 < b.y2) {
+		int32_t y1 = in[i].y1, y2 = in[i].y2;
+		size_t i0 = i, j = i;
+		bool meets = false;
+		for (; j < n && in[j].y1 == y1; j++)
+			meets |= in[j].x1 < b.x2 && b.x1 < in[j].x2;
+		if (!meets) {
+			k = copy_band(o, &last, k, in, i, j, y1, y2);
+			i = j;
+			continue;
+		}
+		if (y1 < b.y1) {
+			last = k;
+			k = copy_rows(o, k, in, i, j, y1, b.y1);
+		}
+		int32_t m1 = y1 > b.y1 ? y1 : b.y1, m2 = y2 < b.y2 ? y2 : b.y2;
+		size_t start = k, qstart = q;
+		for (; i < j; i++) {
+			int32_t x1 = in[i].x1, x2 = in[i].x2;
+			if (x2 <= b.x1 || x1 >= b.x2) {
+				o[k++] = (pixman_box32_t){ x1, m1, x2, m2 };
+				continue;
+			}
+			if (x1 < b.x1)
+				o[k++] = (pixman_box32_t){ x1, m1, b.x1, m2 };
+			if (x2 > b.x2)
+				o[k++] = (pixman_box32_t){ b.x2, m1, x2, m2 };
+			if (parts)
+				parts[q++] = (pixman_box32_t){ x1 > b.x1 ? x1 : b.x1, m1,
+							       x2 < b.x2 ? x2 : b.x2, m2 };
+		}
+		k = close_band(o, &last, start, k);
+		if (parts)
+			q = close_band(parts, &qlast, qstart, q);
+		if (y2 > b.y2) {
+			last = k;
+			k = copy_rows(o, k, in, i0, j, b.y2, y2);
+		}
+	}
+	if (i < n) {
+		size_t j = i;
+		while (j < n && in[j].y1 == in[i].y1)
+			j++;
+		k = copy_band(o, &last, k, in, i, j, in[i].y1, in[i].y2);
+		for (; j < n; j++)
+			o[k++] = in[j];
+	}
+	scratch->boxes = r->boxes;
+	r->boxes = o;
+	size_t cap = r->cap;
+	r->cap = scratch->cap;
+	scratch->cap = cap;
+	r->n = k;
+	return (long)q;
+}
+
+/*
+ * vis_bands_subtract() of a region of more than SMALL boxes, which b meets and does not cover:
+ * only the bands b's rows meet change, and the one above and the one below them, which may
+ * coalesce with what they become; those are written to scratch, and spliced into r between the
+ * bands above and below, which stay in place. 0, or -1.
+ */
+static int splice_less(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b)
+{
+	size_t from = first_below(r, b.y1);
+	if (from > 0) /* the band above them */
+		from = band_start(r, from - 1);
+	size_t to = from;
+	while (to < r->n && r->boxes[to].y1 < b.y2)
+		to = band_after(r, to);
+	if (to < r->n)
+		to = band_after(r, to); /* and the band below them */
+	/* A band meeting b becomes at most three (rewrite_less()). */
 	size_t m = to - from;
-	if (reserve(scratch, 4 * m) < 0 || (!small && reserve(r, r->n + 3 * m) < 0))
+	if (reserve(scratch, 4 * m) < 0 || reserve(r, r->n + 3 * m) < 0)
 		return -1;
 	struct out o = { scratch, 0 };
 	scratch->n = 0;
-	size_t start = from;
-	if (small) {
-		/* The bands above b's rows stay as they are, coalesced: copied at once. */
-		while (start < to && r->boxes[start].y2 <= b.y1)
-			start++;
-		if (start) {
-			memcpy(scratch->boxes, r->boxes, start * sizeof *r->boxes);
-			scratch->n = start;
-			o.last = band_start(scratch, start - 1);
-		}
-	}
-	for (size_t i = start, j; i < to; i = j) {
+	for (size_t i = from, j; i < to; i = j) {
 		const pixman_box32_t *f = &r->boxes[i];
 		int32_t y1 = f->y1, y2 = f->y2;
 		bool meets = false;
@@ -265,49 +346,34 @@ static int subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_box32
 		size_t k = j - i;
 		if (!meets || y2 <= b.y1 || y1 >= b.y2) {
 			put_band(&o, f, k, y1, y2);
-			if (small && y1 >= b.y2 && j < to) {
-				/* Below b's rows, only the first band can coalesce: the rest as is. */
-				memcpy(scratch->boxes + scratch->n, r->boxes + j,
-				       (to - j) * sizeof *r->boxes);
-				scratch->n += to - j;
-				break;
-			}
 			continue;
 		}
 		if (y1 < b.y1)
 			put_band(&o, f, k, y1, b.y1);
-		put_band_less(&o, p, f, k, y1 > b.y1 ? y1 : b.y1, y2 < b.y2 ? y2 : b.y2, b.x1, b.x2);
+		put_band_less(&o, f, k, y1 > b.y1 ? y1 : b.y1, y2 < b.y2 ? y2 : b.y2, b.x1, b.x2);
 		if (y2 > b.y2)
 			put_band(&o, f, k, b.y2, y2);
 	}
-	if (small) {
-		/* All of it was written again: the boxes change places with scratch's. */
-		pixman_box32_t *boxes = r->boxes;
-		size_t cap = r->cap;
-		r->boxes = scratch->boxes;
-		r->cap = scratch->cap;
-		r->n = scratch->n;
-		scratch->boxes = boxes;
-		scratch->cap = cap;
-	} else {
-		memmove(r->boxes + from + scratch->n, r->boxes + to,
-			(r->n - to) * sizeof *r->boxes);
-		if (scratch->n)
-			memcpy(r->boxes + from, scratch->boxes, scratch->n * sizeof *r->boxes);
-		r->n = r->n - m + scratch->n;
-	}
-	/* The extents: the first and last bands' rows; the columns stay unless b took pixels of
-	 * the first or the last column (a box holding one keeps it, as b leaves it alone). */
+	memmove(r->boxes + from + scratch->n, r->boxes + to, (r->n - to) * sizeof *r->boxes);
+	if (scratch->n)
+		memcpy(r->boxes + from, scratch->boxes, scratch->n * sizeof *r->boxes);
+	r->n = r->n - m + scratch->n;
+	return 0;
+}
+
+/* Sets r's extents after b was taken off it: the first and last bands' rows; the columns stay
+ * unless b took pixels of the first or the last column (a box holding one keeps it, as b leaves
+ * it alone). */
+static void extents_less(struct vis_bands *r, pixman_box32_t b)
+{
 	if (!r->n) {
 		r->ext = (pixman_box32_t){ 0 };
-		return 0;
+		return;
 	}
 	r->ext.y1 = r->boxes[0].y1;
 	r->ext.y2 = r->boxes[r->n - 1].y2;
-	if (b.x1 > r->ext.x1 && b.x2 < r->ext.x2)
-		return 0;
-	columns(r);
-	return 0;
+	if (b.x1 <= r->ext.x1 || b.x2 >= r->ext.x2)
+		columns(r);
 }
 
 int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b)
@@ -321,7 +387,11 @@ int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_bo
 	}
 	if (r->n == 1)
 		return box_less(r, b);
-	return subtract(r, scratch, b, NULL);
+	/* A small region is written again whole, which costs less than finding where to splice. */
+	if ((r->n <= SMALL ? rewrite_less(r, scratch, b, NULL) : splice_less(r, scratch, b)) < 0)
+		return -1;
+	extents_less(r, b);
+	return 0;
 }
 
 long vis_bands_take(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b,
@@ -340,20 +410,17 @@ long vis_bands_take(struct vis_bands *r, struct vis_bands *scratch, pixman_box32
 		out[0] = vis_pbox_and(r->boxes[0], b);
 		return box_less(r, b) < 0 ? -1 : 1;
 	}
-	/* Meeting the extents and none of the boxes, b leaves r as it is: found for less than a
-	 * rewrite costs. */
-	size_t i = first_below(r, b.y1);
-	while (i < n && r->boxes[i].y1 < b.y2 && (r->boxes[i].x2 <= b.x1 || b.x2 <= r->boxes[i].x1))
-		i++;
-	if (i == n || r->boxes[i].y1 >= b.y2)
+	long parts;
+	if (n <= SMALL) {
+		if ((parts = rewrite_less(r, scratch, b, out)) <= 0)
+			return parts; /* no pixel taken: r is as it was */
+	} else if ((parts = (long)vis_bands_clip(r, b, out)) == 0) {
 		return 0;
-	if (n > SMALL) {
-		n = vis_bands_clip(r, b, out);
-		return subtract(r, scratch, b, NULL) < 0 ? -1 : (long)n;
+	} else if (splice_less(r, scratch, b) < 0) {
+		return -1;
 	}
-	struct vis_bands parts = { out, 0, n, { 0 } };
-	struct out p = { &parts, 0 };
-	return subtract(r, scratch, b, &p) < 0 ? -1 : (long)parts.n;
+	extents_less(r, b);
+	return parts;
 }
 
 /* Writes the band of src starting at box i, cut to b's columns, between rows y1 and y2, less the
