@@ -189,6 +189,22 @@ static void columns(struct vis_bands *r)
 	}
 }
 
+int vis_bands_set_boxes(struct vis_bands *r, const pixman_box32_t *b, size_t n)
+{
+	r->n = 0;
+	r->ext = (pixman_box32_t){ 0 };
+	if (reserve(r, n) < 0)
+		return -1;
+	if (!n)
+		return 0;
+	memcpy(r->boxes, b, n * sizeof *b);
+	r->n = n;
+	r->ext.y1 = b[0].y1;
+	r->ext.y2 = b[n - 1].y2;
+	columns(r);
+	return 0;
+}
+
 /* Whether b covers a's extents (b meets a). */
 static bool covers(pixman_box32_t b, const struct vis_bands *a)
 {
@@ -423,54 +439,33 @@ long vis_bands_take(struct vis_bands *r, struct vis_bands *scratch, pixman_box32
 	return parts;
 }
 
-/* Writes the band of src starting at box i, cut to b's columns, between rows y1 and y2, less the
- * columns of hole if not NULL; returns the index of the band after it. */
+/* Writes the band of src starting at box i, cut to b's columns, between rows y1 and y2; returns
+ * the index of the band after it. */
 static size_t put_band_cut(struct out *o, const struct vis_bands *src, size_t i, int32_t y1,
-			   int32_t y2, pixman_box32_t b, const pixman_box32_t *hole)
+			   int32_t y2, pixman_box32_t b)
 {
 	size_t start = o->r->n;
 	for (int32_t band = src->boxes[i].y1; i < src->n && src->boxes[i].y1 == band; i++) {
 		int32_t x1 = src->boxes[i].x1 > b.x1 ? src->boxes[i].x1 : b.x1;
 		int32_t x2 = src->boxes[i].x2 < b.x2 ? src->boxes[i].x2 : b.x2;
-		if (x1 >= x2)
-			continue;
-		if (!hole || x2 <= hole->x1 || x1 >= hole->x2) {
+		if (x1 < x2)
 			put(o->r, x1, y1, x2, y2);
-			continue;
-		}
-		if (x1 < hole->x1)
-			put(o->r, x1, y1, hole->x1, y2);
-		if (x2 > hole->x2)
-			put(o->r, hole->x2, y1, x2, y2);
 	}
 	band_end(o, start);
 	return i;
 }
 
-/*
- * Writes src ∩ b less the box hole (inside b, or NULL) to dst's boxes, which have room for
- * src->n (3 src->n with a hole: a band across its rows becomes three), b meeting src, and sets
- * its extents if ext.
- */
+/* Writes src ∩ b to dst's boxes, which have room for src->n, b meeting src, and sets its extents
+ * if ext. */
 static void clip_into(struct vis_bands *dst, const struct vis_bands *src, pixman_box32_t b,
-		      const pixman_box32_t *hole, bool ext)
+		      bool ext)
 {
 	struct out o = { dst, 0 };
 	dst->n = 0;
 	for (size_t i = first_below(src, b.y1); i < src->n && src->boxes[i].y1 < b.y2;) {
 		int32_t y1 = src->boxes[i].y1 > b.y1 ? src->boxes[i].y1 : b.y1;
 		int32_t y2 = src->boxes[i].y2 < b.y2 ? src->boxes[i].y2 : b.y2;
-		if (!hole || y2 <= hole->y1 || y1 >= hole->y2) {
-			i = put_band_cut(&o, src, i, y1, y2, b, NULL);
-			continue;
-		}
-		if (y1 < hole->y1)
-			put_band_cut(&o, src, i, y1, hole->y1, b, NULL);
-		size_t next = put_band_cut(&o, src, i, y1 > hole->y1 ? y1 : hole->y1,
-					   y2 < hole->y2 ? y2 : hole->y2, b, hole);
-		if (y2 > hole->y2)
-			put_band_cut(&o, src, i, hole->y2, y2, b, NULL);
-		i = next;
+		i = put_band_cut(&o, src, i, y1, y2, b);
 	}
 	dst->ext = (pixman_box32_t){ 0 };
 	if (ext && dst->n) {
@@ -493,23 +488,7 @@ int vis_bands_intersect(struct vis_bands *dst, const struct vis_bands *src, pixm
 		return vis_bands_copy(dst, src);
 	if (reserve(dst, src->n) < 0)
 		return -1;
-	clip_into(dst, src, b, NULL, true);
-	return 0;
-}
-
-int vis_bands_intersect_less(struct vis_bands *dst, const struct vis_bands *src, pixman_box32_t b,
-			     pixman_box32_t h)
-{
-	pixman_box32_t hole = vis_pbox_and(h, b);
-	if (hole.x1 >= hole.x2 || hole.y1 >= hole.y2)
-		return vis_bands_intersect(dst, src, b);
-	dst->n = 0;
-	dst->ext = (pixman_box32_t){ 0 };
-	if (!vis_bands_meet(src, b))
-		return 0;
-	if (reserve(dst, 3 * src->n) < 0)
-		return -1;
-	clip_into(dst, src, b, &hole, true);
+	clip_into(dst, src, b, true);
 	return 0;
 }
 
@@ -545,6 +524,6 @@ size_t vis_bands_clip(const struct vis_bands *r, pixman_box32_t b, pixman_box32_
 		return r->n;
 	}
 	struct vis_bands view = { out, 0, r->n, { 0 } };
-	clip_into(&view, r, b, NULL, false);
+	clip_into(&view, r, b, false);
 	return view.n;
 }

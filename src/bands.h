@@ -33,6 +33,10 @@ void vis_bands_finish(struct vis_bands *r);
 /* Makes r the box b (empty when b is). 0, or -1 with ENOMEM (r is then empty). O(1). */
 int vis_bands_set_box(struct vis_bands *r, pixman_box32_t b);
 
+/* Makes r the n boxes b, banded and coalesced as a region's. 0, or -1 with ENOMEM (r is then
+ * empty). O(n). */
+int vis_bands_set_boxes(struct vis_bands *r, const pixman_box32_t *b, size_t n);
+
 /* Makes dst a copy of src. 0, or -1 with ENOMEM (dst is then empty). O(n). */
 int vis_bands_copy(struct vis_bands *dst, const struct vis_bands *src);
 
@@ -72,11 +76,6 @@ long vis_bands_take(struct vis_bands *r, struct vis_bands *scratch, pixman_box32
 
 /* Makes dst (not src) src ∩ b. 0, or -1 with ENOMEM (dst is then empty). O(n). */
 int vis_bands_intersect(struct vis_bands *dst, const struct vis_bands *src, pixman_box32_t b);
-
-/* Makes dst (not src) src ∩ b less box h, in one pass. 0, or -1 with ENOMEM (dst is then
- * empty). O(n). */
-int vis_bands_intersect_less(struct vis_bands *dst, const struct vis_bands *src, pixman_box32_t b,
-			     pixman_box32_t h);
 
 /* The number of pixels r shares with box b. O(n). */
 uint64_t vis_bands_area_in(const struct vis_bands *r, pixman_box32_t b);

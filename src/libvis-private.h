@@ -75,8 +75,12 @@ struct libvis_walk {
 	int sign;
 	struct libvis_set *out;
 	const struct vis_window *stop; /* a top-level window the walk stops at, or NULL */
-	const pixman_box32_t *in; /* if not NULL, tallies count only inside in[0 … n_in) */
-	size_t n_in;
+	/* With within, tallies count only inside in[0 … n_in), less what is inside less[0 …
+	 * n_less), which the set does not list (a moved window's pixels before and after). */
+	bool within;
+	const pixman_box32_t *in, *less;
+	size_t n_in, n_less;
+	struct vis_bands listed; /* a part less those boxes */
 	/* Top-level windows a repaint walk passes one by one before it asks the live engine's
 	 * grid, when there is one (LIBVIS_GRID_AFTER; the tests take it lower). */
 	size_t grid_after;
@@ -163,9 +167,9 @@ int libvis_walk_left(struct vis_tree *tree, const struct vis_window *start,
 		     const struct vis_window *stop, int sign, struct libvis_set *out);
 
 /* Lists w in the walk's set (tree->walk.out) with what is left of the screen box b, and sets
- * *pixels to that part's; takes b off what is left if take. 0, or -1. */
+ * *pixels to that part's. 0, or -1. */
 int libvis_draw_box(struct vis_tree *tree, const struct vis_window *w, struct vis_box b,
-		    bool take, uint64_t *pixels);
+		    uint64_t *pixels);
 
 /*
  * The opaque pixels of a viewable window whose pixels are its clip (not LIBVIS_PIECES): its clip,

@@ -106,10 +106,11 @@ static bool moves_alone(const struct vis_window *w)
  * was opaque and is not (they gain it) and where it is opaque and was not (they lose it), and
  * nothing of what the windows above it see: one walk down to it before the change, over the hull
  * d of its boxes, keeps what they leave of d (tree->above) and lists their part of its repaint
- * set; after it, the moved window's own count comes from that, and the windows below list the
- * rest of the set, what each shows where the window was opaque being what it gains; a walk over
- * the strips the window's opaque pieces took corrects their tallies for what they lose. A drag
- * costs one walk over d and the strips, where any other change costs two walks over its box.
+ * set; after it, the moved window's own count comes from that, and one walk below it, over what
+ * the windows above leave less what it hides both before and after, lists the rest of the set
+ * and counts what each window shows where the window was opaque (what it gains) and where it is
+ * now (what it loses, which is not listed). A drag costs one walk over d above the window and one
+ * below, where any other change costs two walks over its box.
  */
 void libvis_tally_begin_move(struct vis_tree *tree, struct vis_win *win, struct vis_box after)
 {
@@ -168,8 +169,7 @@ static int end_move(struct vis_tree *tree, struct vis_window *w, struct vis_box 
 		return -1;
 	k->out = &tree->kept;
 	uint64_t now = 0;
-	bool opaque = libvis_pixels_of(w) == LIBVIS_CLIP; /* its clip is its one opaque piece */
-	if (!vis_box_empty(w->clip) && libvis_draw_box(tree, w, w->clip, opaque, &now) < 0)
+	if (!vis_box_empty(w->clip) && libvis_draw_box(tree, w, w->clip, &now) < 0)
 		return -1;
 	win->seen += now - tree->moved_seen;
 	if ((now || tree->moved_seen) && libvis_touch(tree, w) < 0)
@@ -182,26 +182,23 @@ static int end_move(struct vis_tree *tree, struct vis_window *w, struct vis_box 
 	if (m)
 		memcpy(tree->opaque_is, op, (size_t)m * sizeof *op);
 	tree->n_opaque_is = (size_t)m;
-	for (size_t i = opaque; i < tree->n_opaque_is; i++)
-		if (vis_bands_subtract(&k->left, &k->scratch, tree->opaque_is[i]) < 0)
-			return -1;
-	/* The windows below: what they show now where it was opaque is what they gain. */
+	/* The windows below, in one walk over what is left less what it hides both before and
+	 * after: where it was opaque they gain what they show, where it is they lose it (and
+	 * list nothing there). */
+	for (size_t i = 0; i < tree->n_opaque_is; i++)
+		for (size_t j = 0; j < tree->n_opaque_was; j++) {
+			pixman_box32_t both = vis_pbox_and(tree->opaque_is[i], tree->opaque_was[j]);
+			if (both.x1 < both.x2 && both.y1 < both.y2 &&
+			    vis_bands_subtract(&k->left, &k->scratch, both) < 0)
+				return -1;
+		}
+	k->within = true;
 	k->in = tree->opaque_was;
 	k->n_in = tree->n_opaque_was;
-	if (libvis_walk_left(tree, w->below, NULL, tree->n_opaque_was > 0, &tree->kept) < 0)
+	k->less = tree->opaque_is;
+	k->n_less = tree->n_opaque_is;
+	if (libvis_walk_left(tree, w->below, NULL, 1, &tree->kept) < 0)
 		return -1;
-	/* And they lose what its opaque pieces took, one disjoint strip after another; its first
-	 * piece before (an opaque window's clip) is taken off in the same pass as the cut. */
-	pixman_box32_t was = tree->n_opaque_was ? tree->opaque_was[0] : (pixman_box32_t){ 0 };
-	for (size_t j = 0; j < tree->n_opaque_is; j++) {
-		if (vis_bands_intersect_less(&k->left, &tree->above, tree->opaque_is[j], was) < 0)
-			return -1;
-		for (size_t i = 1; i < tree->n_opaque_was; i++)
-			if (vis_bands_subtract(&k->left, &k->scratch, tree->opaque_was[i]) < 0)
-				return -1;
-		if (libvis_walk_left(tree, w->below, NULL, -1, NULL) < 0)
-			return -1;
-	}
 	tree->kept_ok = true;
 	tree->kept_box = d;
 	return 0;

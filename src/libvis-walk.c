@@ -100,21 +100,59 @@ static int append_boxes(struct libvis_set *set, const pixman_box32_t *b, size_t 
  */
 static int list(struct vis_tree *tree, const struct vis_window *w, size_t n, size_t parts)
 {
-	struct libvis_set *set = tree->walk.out;
+	struct libvis_walk *k = &tree->walk;
+	struct libvis_set *set = k->out;
 	int64_t x = w->box.x1 + w->look.border, y = w->box.y1 + w->look.border;
 	size_t at = set->n_rects;
+	const pixman_box32_t *b = tree->parts;
+	/* Not the pixels of k->less: is any in the parts' extents? */
+	bool cut = false;
+	if (k->within && k->n_less) {
+		pixman_box32_t e = b[0];
+		for (size_t i = 1; i < parts; i++) {
+			e.x1 = b[i].x1 < e.x1 ? b[i].x1 : e.x1;
+			e.y1 = b[i].y1 < e.y1 ? b[i].y1 : e.y1;
+			e.x2 = b[i].x2 > e.x2 ? b[i].x2 : e.x2;
+			e.y2 = b[i].y2 > e.y2 ? b[i].y2 : e.y2;
+		}
+		for (size_t j = 0; j < k->n_less && !cut; j++) {
+			const pixman_box32_t *l = &k->less[j];
+			if (l->x1 <= e.x1 && l->y1 <= e.y1 && e.x2 <= l->x2 && e.y2 <= l->y2)
+				return 0; /* all of it: often where it only loses */
+			cut = e.x1 < l->x2 && l->x1 < e.x2 && e.y1 < l->y2 && l->y1 < e.y2;
+		}
+	}
 	/* One box's part is banded; several boxes' parts are once pixman joins them. */
-	if (n == 1) {
-		if (append_boxes(set, tree->parts, parts, x, y) < 0)
+	if (n == 1 && cut) {
+		if (vis_bands_set_boxes(&k->listed, b, parts) < 0)
+			return -1;
+		for (size_t j = 0; j < k->n_less; j++)
+			if (vis_bands_subtract(&k->listed, &k->scratch, k->less[j]) < 0)
+				return -1;
+		if (!k->listed.n)
+			return 0;
+		if (append_boxes(set, k->listed.boxes, k->listed.n, x, y) < 0)
+			return -1;
+	} else if (n == 1) {
+		if (append_boxes(set, b, parts, x, y) < 0)
 			return -1;
 	} else {
 		pixman_region32_fini(&tree->part);
-		if (!pixman_region32_init_rects(&tree->part, tree->parts, (int)parts) ||
-		    libvis_append_rects(&tree->part, x, y, &set->rects, &set->n_rects,
-					&set->cap_rects) < 0) {
-			errno = ENOMEM;
-			return -1;
+		if (!pixman_region32_init_rects(&tree->part, b, (int)parts))
+			goto nomem;
+		for (size_t j = 0; cut && j < k->n_less; j++) {
+			pixman_region32_t less;
+			pixman_region32_init_rects(&less, &k->less[j], 1);
+			bool ok = pixman_region32_subtract(&tree->part, &tree->part, &less);
+			pixman_region32_fini(&less);
+			if (!ok)
+				goto nomem;
 		}
+		if (!pixman_region32_not_empty(&tree->part))
+			return 0;
+		if (libvis_append_rects(&tree->part, x, y, &set->rects, &set->n_rects,
+					&set->cap_rects) < 0)
+			goto nomem;
 	}
 	if (libvis_reserve(&set->wins, &set->cap, set->n + 1, sizeof *set->wins) < 0)
 		return -1;
@@ -122,6 +160,9 @@ static int list(struct vis_tree *tree, const struct vis_window *w, size_t n, siz
 	set->wins[set->n++] = (struct vis_repaint){ .win = win, .x = x, .y = y,
 						    .n_rects = (uint32_t)(set->n_rects - at) };
 	return 0;
+nomem:
+	errno = ENOMEM;
+	return -1;
 }
 
 /*
@@ -196,6 +237,20 @@ long libvis_opaque_boxes(struct vis_tree *tree, const struct vis_window *w,
 	return 1;
 }
 
+/* The pixels of box b inside the boxes in[0 … n): in mine, unless b is a part found left
+ * (drawn). */
+static uint64_t area_inside(const pixman_box32_t *in, size_t n, pixman_box32_t b, bool drawn,
+			    const struct vis_bands *mine)
+{
+	uint64_t a = 0;
+	for (size_t j = 0; j < n; j++) {
+		pixman_box32_t x = vis_pbox_and(b, in[j]);
+		if (x.x1 < x.x2 && x.y1 < x.y2)
+			a += drawn ? vis_pbox_area(x) : vis_bands_area_in(mine, x);
+	}
+	return a;
+}
+
 /*
  * A walk's visit of a viewable window with pixels: its tally (mine: what was left where it
  * began), its part of the set being listed (what is left now), then its opaque pixels off what
@@ -242,15 +297,11 @@ static int visit(struct vis_tree *tree, const struct vis_window *w, const struct
 		size_t m = drawn ? (size_t)parts : n;
 		const pixman_box32_t *b = drawn ? tree->parts : px;
 		for (size_t i = 0; i < m; i++) {
-			if (!k->in) {
+			if (!k->within)
 				seen += drawn ? vis_pbox_area(b[i]) : vis_bands_area_in(mine, b[i]);
-				continue;
-			}
-			for (size_t j = 0; j < k->n_in; j++) {
-				pixman_box32_t in = vis_pbox_and(b[i], k->in[j]);
-				if (in.x1 < in.x2 && in.y1 < in.y2)
-					seen += drawn ? vis_pbox_area(in) : vis_bands_area_in(mine, in);
-			}
+			else
+				seen += area_inside(k->in, k->n_in, b[i], drawn, mine) -
+					area_inside(k->less, k->n_less, b[i], drawn, mine);
 		}
 		if (count(tree, w, seen) < 0)
 			return -1;
@@ -374,7 +425,7 @@ int libvis_walk_left(struct vis_tree *tree, const struct vis_window *start,
 	k->out = out;
 	k->stop = stop;
 	int rc = walk_from(tree, start);
-	k->in = NULL;
+	k->within = false;
 	return rc;
 }
 
@@ -393,10 +444,10 @@ int libvis_walk(struct vis_tree *tree, struct vis_box d, int sign, struct libvis
 }
 
 int libvis_draw_box(struct vis_tree *tree, const struct vis_window *w, struct vis_box b,
-		    bool take, uint64_t *pixels)
+		    uint64_t *pixels)
 {
 	pixman_box32_t px = pbox(b);
-	long parts = take ? draw_take(tree, w, px) : draw(tree, w, &px, 1);
+	long parts = draw(tree, w, &px, 1);
 	if (parts < 0)
 		return -1;
 	*pixels = 0;

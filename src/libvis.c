@@ -56,6 +56,7 @@ VIS_EXPORT struct vis_tree *vis_tree_create(int32_t width, int32_t height)
 	pixman_region32_init(&tree->part);
 	vis_bands_init(&tree->walk.left);
 	vis_bands_init(&tree->walk.scratch);
+	vis_bands_init(&tree->walk.listed);
 	vis_bands_init(&tree->above);
 	tree->tally_max = LIBVIS_TALLY_WINDOWS;
 	tree->walk.grid_after = LIBVIS_GRID_AFTER;
@@ -94,6 +95,7 @@ VIS_EXPORT void vis_tree_destroy(struct vis_tree *tree)
 	pixman_region32_fini(&tree->part);
 	vis_bands_finish(&tree->walk.left);
 	vis_bands_finish(&tree->walk.scratch);
+	vis_bands_finish(&tree->walk.listed);
 	vis_bands_finish(&tree->above);
 	for (size_t i = 0; i < tree->walk.cap_saves; i++)
 		vis_bands_finish(&tree->walk.saves[i]);
