@@ -189,22 +189,6 @@ static void columns(struct vis_bands *r)
 	}
 }
 
-int vis_bands_set_boxes(struct vis_bands *r, const pixman_box32_t *b, size_t n)
-{
-	r->n = 0;
-	r->ext = (pixman_box32_t){ 0 };
-	if (reserve(r, n) < 0)
-		return -1;
-	if (!n)
-		return 0;
-	memcpy(r->boxes, b, n * sizeof *b);
-	r->n = n;
-	r->ext.y1 = b[0].y1;
-	r->ext.y2 = b[n - 1].y2;
-	columns(r);
-	return 0;
-}
-
 /* Whether b covers a's extents (b meets a). */
 static bool covers(pixman_box32_t b, const struct vis_bands *a)
 {
@@ -242,31 +226,30 @@ static int box_less(struct vis_bands *r, pixman_box32_t b)
 /* Regions of up to this many boxes are written again whole, not spliced. */
 #define SMALL 24
 
-/*
- * vis_bands_subtract() of a small region of several boxes whose extents b meets and does not
- * cover, written again whole to scratch, whose boxes then change places with r's; when parts is
- * not NULL (room for r->n), the bands of r ∩ b are written to it too. Their count, or -1.
- *
- * Only the bands b takes pixels from change, each into at most three: the rows above b and
- * below it keep the band's columns, which differ from those of the rows beside b (which lost
- * some) and, by the invariant, from the band above: only the rows beside b, the bands b's rows
- * meet without taking from, and the first band below can coalesce with what is written before
- * them. Nothing is written when b takes nothing.
- */
-static long rewrite_less(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b,
-			 pixman_box32_t *parts)
+/* The first box of in[0 … n) b takes pixels from, or n. */
+static size_t first_taken(const pixman_box32_t *in, size_t n, pixman_box32_t b)
 {
-	const pixman_box32_t *in = r->boxes;
-	size_t n = r->n, i = 0;
+	size_t i = 0;
 	while (i < n && in[i].y1 < b.y2 &&
 	       (in[i].y2 <= b.y1 || in[i].x2 <= b.x1 || b.x2 <= in[i].x1))
 		i++;
-	if (i == n || in[i].y1 >= b.y2)
-		return 0;
-	/* A band b takes from becomes at most three, the rows beside b one box more. */
-	if (reserve(scratch, 4 * n) < 0)
-		return -1;
-	pixman_box32_t *o = scratch->boxes;
+	return i < n && in[i].y1 < b.y2 ? i : n;
+}
+
+/*
+ * Writes the banded boxes in[0 … n) less b to o (room for 4 n: a band b takes from becomes at
+ * most three, the rows beside b one box more), b taking pixels from box i; when parts is not
+ * NULL (room for n), the bands of in ∩ b are written to it too, *n_parts of them. Returns how
+ * many boxes o has.
+ *
+ * Only the bands b takes from change, each into at most three: the rows above b and below it
+ * keep the band's columns, which differ from those of the rows beside b (which lost some) and,
+ * by the invariant, from the band above: only the rows beside b, the bands b's rows meet without
+ * taking from, and the first band below can coalesce with what is written before them.
+ */
+static size_t write_less(const pixman_box32_t *in, size_t n, size_t i, pixman_box32_t b,
+			 pixman_box32_t *o, pixman_box32_t *parts, size_t *n_parts)
+{
 	size_t k = 0, last = 0, q = 0, qlast = 0;
 	while (i > 0 && in[i - 1].y1 == in[i].y1)
 		i--;
@@ -322,6 +305,27 @@ static long rewrite_less(struct vis_bands *r, struct vis_bands *scratch, pixman_
 		for (; j < n; j++)
 			o[k++] = in[j];
 	}
+	if (n_parts)
+		*n_parts = q;
+	return k;
+}
+
+/*
+ * vis_bands_subtract() of a small region of several boxes whose extents b meets and does not
+ * cover, written again whole to scratch, whose boxes then change places with r's; when parts is
+ * not NULL (room for r->n), the bands of r ∩ b are written to it too. Their count, or -1.
+ * Nothing is written when b takes nothing.
+ */
+static long rewrite_less(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b,
+			 pixman_box32_t *parts)
+{
+	size_t i = first_taken(r->boxes, r->n, b), q = 0;
+	if (i == r->n)
+		return 0;
+	if (reserve(scratch, 4 * r->n) < 0)
+		return -1;
+	size_t k = write_less(r->boxes, r->n, i, b, scratch->boxes, parts, &q);
+	pixman_box32_t *o = scratch->boxes;
 	scratch->boxes = r->boxes;
 	r->boxes = o;
 	size_t cap = r->cap;
@@ -437,6 +441,27 @@ long vis_bands_take(struct vis_bands *r, struct vis_bands *scratch, pixman_box32
 	}
 	extents_less(r, b);
 	return parts;
+}
+
+int vis_bands_set_less(struct vis_bands *r, const pixman_box32_t *b, size_t n, pixman_box32_t h)
+{
+	r->n = 0;
+	r->ext = (pixman_box32_t){ 0 };
+	if (reserve(r, 4 * n) < 0)
+		return -1;
+	size_t i = h.x1 < h.x2 && h.y1 < h.y2 ? first_taken(b, n, h) : n;
+	if (i < n) {
+		r->n = write_less(b, n, i, h, r->boxes, NULL, NULL);
+	} else if (n) {
+		memcpy(r->boxes, b, n * sizeof *b);
+		r->n = n;
+	}
+	if (r->n) {
+		r->ext.y1 = r->boxes[0].y1;
+		r->ext.y2 = r->boxes[r->n - 1].y2;
+		columns(r);
+	}
+	return 0;
 }
 
 /* Writes the band of src starting at box i, cut to b's columns, between rows y1 and y2; returns

@@ -33,9 +33,9 @@ void vis_bands_finish(struct vis_bands *r);
 /* Makes r the box b (empty when b is). 0, or -1 with ENOMEM (r is then empty). O(1). */
 int vis_bands_set_box(struct vis_bands *r, pixman_box32_t b);
 
-/* Makes r the n boxes b, banded and coalesced as a region's. 0, or -1 with ENOMEM (r is then
- * empty). O(n). */
-int vis_bands_set_boxes(struct vis_bands *r, const pixman_box32_t *b, size_t n);
+/* Makes r the n boxes b, banded and coalesced as a region's, less box h (maybe empty). 0, or -1
+ * with ENOMEM (r is then empty). O(n). */
+int vis_bands_set_less(struct vis_bands *r, const pixman_box32_t *b, size_t n, pixman_box32_t h);
 
 /* Makes dst a copy of src. 0, or -1 with ENOMEM (dst is then empty). O(n). */
 int vis_bands_copy(struct vis_bands *dst, const struct vis_bands *src);

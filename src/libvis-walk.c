@@ -124,9 +124,9 @@ static int list(struct vis_tree *tree, const struct vis_window *w, size_t n, siz
 	}
 	/* One box's part is banded; several boxes' parts are once pixman joins them. */
 	if (n == 1 && cut) {
-		if (vis_bands_set_boxes(&k->listed, b, parts) < 0)
+		if (vis_bands_set_less(&k->listed, b, parts, k->less[0]) < 0)
 			return -1;
-		for (size_t j = 0; j < k->n_less; j++)
+		for (size_t j = 1; j < k->n_less; j++)
 			if (vis_bands_subtract(&k->listed, &k->scratch, k->less[j]) < 0)
 				return -1;
 		if (!k->listed.n)

@@ -3,7 +3,7 @@
  * another (every other one with its part written out), on small grids where they share edges, cover each other exactly and take all that is
  * left, and near the 32-bit limits; after each, the same pixels as pixman's region, the
  * invariants (bands sorted, disjoint, coalesced; exact extents), and the areas, clips and
- * intersections of random boxes.
+ * intersections of random boxes, and clips less another box.
  */
 #include <stdbool.h>
 #include <stdio.h>
@@ -143,9 +143,23 @@ static void run(struct vis_rng *rng, int64_t origin, int64_t side, int64_t step,
 		if (r.n <= 64 * 1024) {
 			size_t k = vis_bands_clip(&r, c, out);
 			CHECK(k <= r.n);
-			CHECK(vis_bands_set_boxes(&copy, out, k) == 0); /* with its extents */
-			CHECK(well_formed(&copy));
+			CHECK(vis_bands_set_less(&copy, out, k, (pixman_box32_t){ 0 }) == 0);
+			CHECK(well_formed(&copy)); /* with its extents */
 			CHECK(same_inside(&copy, &p, c));
+			/* Less another box, as a region of its own. */
+			pixman_box32_t h = random_box(rng, origin, side, step);
+			CHECK(vis_bands_set_less(&copy, out, k, h) == 0);
+			CHECK(well_formed(&copy));
+			pixman_region32_t want, hr;
+			pixman_region32_init(&want);
+			pixman_region32_intersect_rect(&want, &p, c.x1, c.y1, (unsigned)(c.x2 - c.x1),
+						       (unsigned)(c.y2 - c.y1));
+			pixman_region32_init_rect(&hr, h.x1, h.y1, (unsigned)(h.x2 - h.x1),
+						  (unsigned)(h.y2 - h.y1));
+			pixman_region32_subtract(&want, &want, &hr);
+			CHECK(same_pixels(&copy, &want));
+			pixman_region32_fini(&hr);
+			pixman_region32_fini(&want);
 		}
 		CHECK(vis_bands_copy(&copy, &r) == 0);
 		CHECK(copy.n == r.n && same_pixels(&copy, &p));
