@@ -214,13 +214,18 @@ run_tests() {
 		meson test -C build-san --print-errorlogs --timeout-multiplier 4
 }
 
+# The release build links with link-time optimization: libvis's walks call the banded regions'
+# operations (src/bands.c) window after window, across files; inlined, a 10-window frame of
+# bench-libvis takes about 5% less time.
+RELEASE=(--buildtype=release -Db_lto=true)
+
 case "${1:-}" in
 demo)
 	if [ $# -gt 1 ]; then
 		case $2 in /*) demo "$2" ;; *) demo "$called_from/$2" ;; esac
 	else
 		install_missing "${PACKAGES[@]}"
-		build build-release --buildtype=release
+		build build-release "${RELEASE[@]}"
 		demo build-release
 	fi
 	;;
@@ -230,7 +235,7 @@ test)
 	;;
 release)
 	install_missing "${PACKAGES[@]}"
-	build build-release --buildtype=release
+	build build-release "${RELEASE[@]}"
 	;;
 install)
 	shift
