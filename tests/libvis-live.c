@@ -3,8 +3,8 @@
  * are small, so libvis keeps tallies for them (libvis-tally.c); so that they also exercise the
  * core, an update can go through it instead, with the live engine from the first window (whose
  * grid then serves the repaint queries after a window or three), or
- * with tallies kept only up to a few windows, so that trees go in and out of them; and the box
- * whose repaint set a tree keeps, for damage that it serves.
+ * with tallies kept only up to a few windows, so that trees go in and out of them; the box
+ * whose repaint set a tree keeps, for damage that it serves; and a window's tally.
  */
 #include "libvis-private.h"
 #include "test-libvis.h"
@@ -32,4 +32,13 @@ void tl_kept_damage(struct vis_tree *tree, struct vis_rect32 *d)
 	if (tl_range(0, 1))
 		x1 = b.x1, y1 = b.y1;
 	*d = (struct vis_rect32){ (int32_t)x1, (int32_t)y1, (uint32_t)(x2 - x1), (uint32_t)(y2 - y1) };
+}
+
+bool tl_tally(const struct vis_win *win, uint64_t *seen)
+{
+	const struct vis_tree *tree = win->tree;
+	if (!tree->tally || tree->tally_broken)
+		return false;
+	*seen = win->seen;
+	return true;
 }

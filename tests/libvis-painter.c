@@ -160,20 +160,28 @@ void pm_paint_finish(struct pm_paint *p)
 	p->top = NULL;
 }
 
-int pm_state(const struct pm_tree *t, const struct pm_paint *p, int i)
+/* Window i's own pixels on the screen, into *all, and those of them seen, descendants hiding
+ * none (X's rule), into *seen. */
+static void count(const struct pm_tree *t, const struct pm_paint *p, int i, long *all, long *seen)
 {
-	if (t->w[i].input_only || !pm_viewable(t, i))
-		return VIS_VISIBILITY_NONE;
 	int k = p->pos[i];
-	long all = 0, seen = 0;
+	*all = *seen = 0;
 	for (int64_t y = 0; y < t->sh; y++)
 		for (int64_t x = 0; x < t->sw; x++) {
 			if (!pixel_of(t, i, x, y))
 				continue;
-			all++;
+			(*all)++;
 			if (inside_chain(t, i, x, y) && p->top[y * t->sw + x] < p->end[k])
-				seen++;
+				(*seen)++;
 		}
+}
+
+int pm_state(const struct pm_tree *t, const struct pm_paint *p, int i)
+{
+	if (t->w[i].input_only || !pm_viewable(t, i))
+		return VIS_VISIBILITY_NONE;
+	long all, seen;
+	count(t, p, i, &all, &seen);
 	/* Pixels off the screen are never seen: such a window is never unobscured. */
 	bool off = off_screen(t, i);
 	if (all == 0 && !off)
@@ -181,6 +189,15 @@ int pm_state(const struct pm_tree *t, const struct pm_paint *p, int i)
 	return seen == all && !off ? VIS_VISIBILITY_UNOBSCURED
 	       : seen		   ? VIS_VISIBILITY_PARTIALLY_OBSCURED
 				   : VIS_VISIBILITY_FULLY_OBSCURED;
+}
+
+uint64_t pm_seen(const struct pm_tree *t, const struct pm_paint *p, int i)
+{
+	if (t->w[i].input_only || !pm_viewable(t, i))
+		return 0;
+	long all, seen;
+	count(t, p, i, &all, &seen);
+	return (uint64_t)seen;
 }
 
 bool pm_visible(const struct pm_tree *t, const struct pm_paint *p, int i, int64_t x, int64_t y)

@@ -70,6 +70,10 @@ void pm_paint_finish(struct pm_paint *p);
 /* A window's state by X's rule (enum vis_visibility). */
 int pm_state(const struct pm_tree *t, const struct pm_paint *p, int i);
 
+/* The pixels of a viewable window with pixels that it sees, its descendants hiding none of them
+ * (X's rule for its state; its visible region is less what they cover), else 0. */
+uint64_t pm_seen(const struct pm_tree *t, const struct pm_paint *p, int i);
+
 /*
  * Whether screen pixel (x, y) is visible of window i: its own, inside its ancestors and the
  * screen, and no opaque pixel of a later window in pre-order covers it.

@@ -172,6 +172,9 @@ void tl_update_and_check(struct tl *c)
 			tl_fail("vis_win_visible_region failed", i, errno);
 		uint64_t *l = listed(t, i, r, nr, &nl);
 		tl_check(same(v, nv, l, nl), "a visible region");
+		uint64_t tally;
+		tl_check(!tl_tally(m->win, &tally) || tally == pm_seen(t, &p, i),
+			 "a tally of seen pixels");
 		free(l);
 		if (m->tracked) {
 			/* Newly visible: what it shows less what it showed, in window coordinates. */

@@ -164,7 +164,7 @@ static void op_create(struct tl *c)
 		i++;
 	if (i > t->max)
 		return;
-	int parent = tl_range(0, 1) ? 0 : any_window(t, false); /* half of them top-level */
+	int parent = c->flat || tl_range(0, 1) ? 0 : any_window(t, false); /* half top-level */
 	struct pm_win *m = &t->w[i];
 	*m = (struct pm_win){ .alive = true, .input_only = tl_range(0, 9) == 0 };
 	t->dirty = true;
@@ -191,6 +191,8 @@ static void change(struct tl *c)
 {
 	struct pm_tree *t = &c->t;
 	int i = any_window(t, false), op = (int)tl_range(0, 13);
+	if (c->flat && tl_range(0, 1))
+		op = 5;
 	if (!i || op == 0) {
 		op_create(c);
 		return;
@@ -259,7 +261,7 @@ static void change(struct tl *c)
 		break;
 	}
 	case 8: {
-		int p = tl_range(0, 1) ? 0 : any_window(t, false);
+		int p = c->flat || tl_range(0, 1) ? 0 : any_window(t, false);
 		if (pm_is_ancestor(t, i, p)) {
 			t->dirty = dirty;
 			break;
@@ -313,6 +315,7 @@ static void one_tree(enum tl_engine engine, bool bad)
 	c.t.sw = (int32_t)(tl_range(0, 9) ? tl_range(8, 40) : tl_range(1, 8));
 	c.t.sh = (int32_t)(tl_range(0, 9) ? tl_range(8, 28) : tl_range(1, 8));
 	c.looks = tl_range(0, 2) != 0;
+	c.flat = tl_range(0, 3) == 0;
 	c.vt = vis_tree_create(c.t.sw, c.t.sh);
 	if (!c.vt)
 		tl_fail("vis_tree_create", c.t.sw, c.t.sh);

@@ -13,6 +13,9 @@ struct tl {
 	struct vis_tree *vt;
 	struct pm_tree t;
 	bool looks; /* whether its windows get shapes and opaque regions */
+	/* A desktop: top-level windows only, dragged half the time (a window moving alone, whose
+	 * walk below counts what the windows there gain and lose, libvis-tally.c). */
+	bool flat;
 };
 
 /* The seeded random source; a number in lo … hi. */
@@ -44,5 +47,10 @@ void tl_engine(struct vis_tree *tree, enum tl_engine engine);
 /* A box at random inside the one whose repaint set the tree keeps from its last change, into *d
  * (libvis-live.c; with none kept, *d stays). */
 void tl_kept_damage(struct vis_tree *tree, struct vis_rect32 *d);
+
+/* While the window's tree keeps tallies (libvis-live.c), the pixels its tally says it sees, into
+ * *seen, and true; else false. The states show a tally only where it reaches 0 or the window's
+ * total: the test compares every tally with the painter's count. */
+bool tl_tally(const struct vis_win *win, uint64_t *seen);
 
 #endif
