@@ -40,8 +40,15 @@
  *
  * Below SAMPLE_MIN × SAMPLE_PART (256) windows the sweep is not measured: its smallest sample
  * would be more than an eighth of it, and on the family's stacks of 100-300 windows the samples
- * took `auto` from 1.16 to 1.39 times the fastest engine at the median; the price decides there,
- * by the rule of before (region.c, hand_over(): an estimate's cap is twice it).
+ * took `auto` from 1.16 to 1.39 times the fastest engine at the median. It is priced in time
+ * there instead, NS_PER_STEP_GUESS a step, and that time in units at the walk's own time a unit
+ * so far: the walk is measured, the sweep estimated, and the rule for an estimate decides
+ * (region.c, hand_over(): its cap is twice it). A price in time misses by less than one in
+ * units: on those stacks a step of the sweep took 15-132 ns from p5 to p95, but a unit of the
+ * walk 0.5-18 ns, so the fixed 6 units a step of before was 0.8-260 times too low or high. On
+ * 600 stacks of 100-256 windows for each of the family's seeds 1-5 (the price was chosen on 1
+ * and 2), `auto` over the fastest engine went from 1.16-1.20 / 2.03-2.43 / 3.71-6.52 (median /
+ * p95 / worst) to 1.13-1.16 / 1.86-1.95 / 3.31-4.05.
  * A sample costs time, so it is taken only where a hand-over is near: when the work reaches half
  * the sweep's steps at 6 units (LATE; on most desktop-like stacks the walk ends before), or when
  * a hand-over is about to be decided. It is sized to take at most an eighth of the walk's time so
@@ -67,9 +74,11 @@
  * each with the samples on top, about a sixth of W. So auto is within max(1 + a, 1 + 2 / a,
  * (1 + a) / a) of the faster engine wherever the sweep is measured: 3 when the measurement is
  * exact, and 4 for any a between 2/3 and 3, where the samples checked lie. What the bound does
- * not cover: stacks below 256 windows, decided on the price (region.c: the cap at twice the
- * estimate, and a forecast acted on only where it has the walk passing that cap; within
- * max(1 + 2e, 1 + 1/e) where the forecast holds, e the price over the true one); and an early
+ * not cover: stacks below 256 windows, decided on the price in time (region.c: the cap at
+ * twice the estimate, and a forecast acted on only where it has the walk passing that cap;
+ * within max(1 + 2e, 1 + 1/e) where the forecast holds, e the price over the true one: 2.3 at
+ * p95 of the prices measured, where the sweep costs more than guessed, and up to 14 at p5,
+ * where it costs less, but only where the region method is the slower); and an early
  * hand-over that no sample fitted in, which costs W + S with W at most a quarter of the
  * estimate and rests on the forecast (on the family's seed 1: lattices where the region method
  * was 2-3 times faster). The noise is the
@@ -83,8 +92,10 @@
 /*
  * The sampling, as the comment above says: LATE, the share of the steps at
  * UNITS_PER_STEP_ON_SCREEN the work reaches before the sweep is measured; NS_PER_STEP_GUESS,
- * the price a step in ns that sizes the first sample (the family's median is 75; it decides
- * nothing else); a sample is at most 1/SAMPLE_SHARE of the walk's time so far, taken again when
+ * the price a step in ns that sizes the first sample and prices the sweep where no sample is
+ * taken (the family's median is 75 over all its sizes, about 100 below 256 windows, whose
+ * stacks have fewer levels to share a window's cost); a sample is at most 1/SAMPLE_SHARE of the
+ * walk's time so far, taken again when
  * SAMPLE_GROWTH times the windows fit, of at most 1/SAMPLE_PART of the windows and at least
  * SAMPLE_MIN.
  */
@@ -233,6 +244,13 @@ static uint64_t priced_units(const struct vis_stack *stack, const void *data, ui
 	return priced(g->price, g->steps);
 }
 
+/* ns of the sweep in units of the walk's work, which took walk ns for work units. */
+static uint64_t in_units(double ns, uint64_t work, double walk)
+{
+	double units = ns * (double)work / walk;
+	return units >= 0x1p63 ? UINT64_MAX / 2 : (uint64_t)units;
+}
+
 /*
  * The rival at every checkpoint of the walk: the estimate (price × steps) until the work reaches
  * 1/LATE of the steps at UNITS_PER_STEP_ON_SCREEN or a hand-over is asked for (an early one only
@@ -248,11 +266,16 @@ static uint64_t measured_units(const struct vis_stack *stack, const void *data, 
 	size_t most = n / SAMPLE_PART > least ? n / SAMPLE_PART : least;
 	uint64_t estimate = priced_units(stack, data, work, handing, measured);
 
-	if (g->steps == 0 || g->steps == UINT64_MAX || n < SAMPLE_MIN * SAMPLE_PART)
-		return estimate;
-	if (g->sweep <= 0 && !handing && work < priced(UNITS_PER_STEP_ON_SCREEN, g->steps) / LATE)
+	if (g->steps == 0 || g->steps == UINT64_MAX)
 		return estimate;
 	double walk = now_ns() - g->start - g->sampled;
+	/* Too few windows to sample: the sweep priced in time (still an estimate). */
+	if (n < SAMPLE_MIN * SAMPLE_PART)
+		return walk > 0 && work > 0
+			       ? in_units((double)g->steps * NS_PER_STEP_GUESS, work, walk)
+			       : estimate;
+	if (g->sweep <= 0 && !handing && work < priced(UNITS_PER_STEP_ON_SCREEN, g->steps) / LATE)
+		return estimate;
 	double per_step = g->sweep > 0 ? g->sweep / (double)g->steps : NS_PER_STEP_GUESS;
 	double fits = (double)n * walk / SAMPLE_SHARE / ((double)g->steps * per_step);
 	/* An early hand-over is measured only when a sample fits: it throws little away. */
@@ -269,9 +292,8 @@ static uint64_t measured_units(const struct vis_stack *stack, const void *data, 
 	}
 	if (g->sweep <= 0)
 		return estimate;
-	double units = g->sweep * (double)(work > 0 ? work : 1) / (walk > 1 ? walk : 1);
 	*measured = true;
-	return units >= 0x1p63 ? UINT64_MAX / 2 : (uint64_t)units;
+	return in_units(g->sweep, work > 0 ? work : 1, walk > 1 ? walk : 1);
 }
 
 int vis_auto_compute_priced(const struct vis_stack *stack, uint8_t *states, uint64_t units_per_step)
