@@ -96,7 +96,8 @@ static int append_boxes(struct libvis_set *set, const pixman_box32_t *b, size_t 
 
 /*
  * Lists w in the walk's set with the parts of its pixels, the disjoint boxes px[0 … n), found
- * left: tree->parts[0 … parts), banded when n is 1. 0, or -1.
+ * left: tree->parts[0 … parts), banded when n is 1; in a walk within (k->within), less the
+ * boxes of k->less, and not at all when nothing is left of them. 0, or -1.
  */
 static int list(struct vis_tree *tree, const struct vis_window *w, size_t n, size_t parts)
 {
