@@ -101,49 +101,6 @@ static inline size_t copy_band(pixman_box32_t *o, size_t *last, size_t n, const 
 	return close_band(o, last, n, copy_rows(o, n, in, i, j, y1, y2));
 }
 
-/* The region being written: boxes [last, n) are the band written last, [start, n) the one being
- * written, which band_end() closes (close_band()). */
-struct out {
-	struct vis_bands *r;
-	size_t last;
-};
-
-static void band_end(struct out *o, size_t start)
-{
-	o->r->n = close_band(o->r->boxes, &o->last, start, o->r->n);
-}
-
-/* Writes one box of a band. */
-static void put(struct vis_bands *r, int32_t x1, int32_t y1, int32_t x2, int32_t y2)
-{
-	r->boxes[r->n++] = (pixman_box32_t){ x1, y1, x2, y2 };
-}
-
-/* Writes the band of the m boxes from, between y1 and y2. */
-static void put_band(struct out *o, const pixman_box32_t *from, size_t m, int32_t y1, int32_t y2)
-{
-	o->r->n = copy_band(o->r->boxes, &o->last, o->r->n, from, 0, m, y1, y2);
-}
-
-/* Writes the band of the m boxes from less the columns x1 … x2, between y1 and y2. */
-static void put_band_less(struct out *o, const pixman_box32_t *from, size_t m, int32_t y1,
-			  int32_t y2, int32_t x1, int32_t x2)
-{
-	size_t start = o->r->n;
-	for (size_t i = 0; i < m; i++) {
-		const pixman_box32_t *f = &from[i];
-		if (f->x2 <= x1 || f->x1 >= x2) {
-			put(o->r, f->x1, y1, f->x2, y2);
-			continue;
-		}
-		if (f->x1 < x1)
-			put(o->r, f->x1, y1, x1, y2);
-		if (f->x2 > x2)
-			put(o->r, x2, y1, f->x2, y2);
-	}
-	band_end(o, start);
-}
-
 /* The index of the first box below row y (whose y2 passes it), or n: y2 grows box by box. */
 static size_t first_below(const struct vis_bands *r, int32_t y)
 {
@@ -189,10 +146,27 @@ static void columns(struct vis_bands *r)
 	}
 }
 
+/* Sets the extents of the boxes r holds. */
+static void extents(struct vis_bands *r)
+{
+	r->ext = (pixman_box32_t){ 0 };
+	if (!r->n)
+		return;
+	r->ext.y1 = r->boxes[0].y1;
+	r->ext.y2 = r->boxes[r->n - 1].y2;
+	columns(r);
+}
+
 /* Whether b covers a's extents (b meets a). */
 static bool covers(pixman_box32_t b, const struct vis_bands *a)
 {
 	return b.x1 <= a->ext.x1 && b.y1 <= a->ext.y1 && a->ext.x2 <= b.x2 && a->ext.y2 <= b.y2;
+}
+
+/* Writes one box after r's. */
+static void put(struct vis_bands *r, int32_t x1, int32_t y1, int32_t x2, int32_t y2)
+{
+	r->boxes[r->n++] = (pixman_box32_t){ x1, y1, x2, y2 };
 }
 
 /* vis_bands_subtract() of a region of one box, which b meets and does not cover: at most three
@@ -310,77 +284,6 @@ static size_t write_less(const pixman_box32_t *in, size_t n, size_t i, pixman_bo
 	return k;
 }
 
-/*
- * vis_bands_subtract() of a small region of several boxes whose extents b meets and does not
- * cover, written again whole to scratch, whose boxes then change places with r's; when parts is
- * not NULL (room for r->n), the bands of r ∩ b are written to it too. Their count, or -1.
- * Nothing is written when b takes nothing.
- */
-static long rewrite_less(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b,
-			 pixman_box32_t *parts)
-{
-	size_t i = first_taken(r->boxes, r->n, b), q = 0;
-	if (i == r->n)
-		return 0;
-	if (reserve(scratch, 4 * r->n) < 0)
-		return -1;
-	size_t k = write_less(r->boxes, r->n, i, b, scratch->boxes, parts, &q);
-	pixman_box32_t *o = scratch->boxes;
-	scratch->boxes = r->boxes;
-	r->boxes = o;
-	size_t cap = r->cap;
-	r->cap = scratch->cap;
-	scratch->cap = cap;
-	r->n = k;
-	return (long)q;
-}
-
-/*
- * vis_bands_subtract() of a region of more than SMALL boxes, which b meets and does not cover:
- * only the bands b's rows meet change, and the one above and the one below them, which may
- * coalesce with what they become; those are written to scratch, and spliced into r between the
- * bands above and below, which stay in place. 0, or -1.
- */
-static int splice_less(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b)
-{
-	size_t from = first_below(r, b.y1);
-	if (from > 0) /* the band above them */
-		from = band_start(r, from - 1);
-	size_t to = from;
-	while (to < r->n && r->boxes[to].y1 < b.y2)
-		to = band_after(r, to);
-	if (to < r->n)
-		to = band_after(r, to); /* and the band below them */
-	/* A band meeting b becomes at most three (rewrite_less()). */
-	size_t m = to - from;
-	if (reserve(scratch, 4 * m) < 0 || reserve(r, r->n + 3 * m) < 0)
-		return -1;
-	struct out o = { scratch, 0 };
-	scratch->n = 0;
-	for (size_t i = from, j; i < to; i = j) {
-		const pixman_box32_t *f = &r->boxes[i];
-		int32_t y1 = f->y1, y2 = f->y2;
-		bool meets = false;
-		for (j = i; j < to && r->boxes[j].y1 == y1; j++)
-			meets |= r->boxes[j].x1 < b.x2 && b.x1 < r->boxes[j].x2;
-		size_t k = j - i;
-		if (!meets || y2 <= b.y1 || y1 >= b.y2) {
-			put_band(&o, f, k, y1, y2);
-			continue;
-		}
-		if (y1 < b.y1)
-			put_band(&o, f, k, y1, b.y1);
-		put_band_less(&o, f, k, y1 > b.y1 ? y1 : b.y1, y2 < b.y2 ? y2 : b.y2, b.x1, b.x2);
-		if (y2 > b.y2)
-			put_band(&o, f, k, b.y2, y2);
-	}
-	memmove(r->boxes + from + scratch->n, r->boxes + to, (r->n - to) * sizeof *r->boxes);
-	if (scratch->n)
-		memcpy(r->boxes + from, scratch->boxes, scratch->n * sizeof *r->boxes);
-	r->n = r->n - m + scratch->n;
-	return 0;
-}
-
 /* Sets r's extents after b was taken off it: the first and last bands' rows; the columns stay
  * unless b took pixels of the first or the last column (a box holding one keeps it, as b leaves
  * it alone). */
@@ -396,22 +299,57 @@ static void extents_less(struct vis_bands *r, pixman_box32_t b)
 		columns(r);
 }
 
-int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b)
+/*
+ * Takes b off r, which has several boxes and whose extents b meets without covering them,
+ * through scratch; when parts is not NULL (room for r->n), writes the bands of r ∩ b there too,
+ * *n_parts of them. Only the bands b's rows meet change, and the band above and the band below
+ * them, which may coalesce with what they become: write_less() writes those to scratch. A small
+ * region is written whole and its boxes change places with scratch's, which costs less than
+ * finding where to splice; a larger one gets them spliced in between the bands above and below,
+ * which stay in place. 0 (nothing written when b takes no pixel), or -1 with ENOMEM (r is then
+ * unchanged).
+ */
+static int less(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b,
+		pixman_box32_t *parts, size_t *n_parts)
 {
-	if (!vis_bands_meet(r, b))
-		return 0;
-	if (covers(b, r)) {
-		r->n = 0; /* b covers it all: the common end of a walk */
-		r->ext = (pixman_box32_t){ 0 };
-		return 0;
+	bool small = r->n <= SMALL;
+	size_t from = 0, to = r->n;
+	if (!small) {
+		from = first_below(r, b.y1);
+		if (from > 0) /* the band above them */
+			from = band_start(r, from - 1);
+		to = from;
+		while (to < r->n && r->boxes[to].y1 < b.y2)
+			to = band_after(r, to);
+		if (to < r->n)
+			to = band_after(r, to); /* and the band below them */
 	}
-	if (r->n == 1)
-		return box_less(r, b);
-	/* A small region is written again whole, which costs less than finding where to splice. */
-	if ((r->n <= SMALL ? rewrite_less(r, scratch, b, NULL) : splice_less(r, scratch, b)) < 0)
+	size_t m = to - from, i = first_taken(r->boxes + from, m, b);
+	if (i == m)
+		return 0;
+	if (reserve(scratch, 4 * m) < 0 || (!small && reserve(r, r->n + 3 * m) < 0))
 		return -1;
+	size_t k = write_less(r->boxes + from, m, i, b, scratch->boxes, parts, n_parts);
+	if (small) {
+		pixman_box32_t *boxes = r->boxes;
+		size_t cap = r->cap;
+		r->boxes = scratch->boxes;
+		r->cap = scratch->cap;
+		scratch->boxes = boxes;
+		scratch->cap = cap;
+		r->n = k;
+	} else {
+		memmove(r->boxes + from + k, r->boxes + to, (r->n - to) * sizeof *r->boxes);
+		memcpy(r->boxes + from, scratch->boxes, k * sizeof *r->boxes);
+		r->n = r->n - m + k;
+	}
 	extents_less(r, b);
 	return 0;
+}
+
+int vis_bands_subtract(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b)
+{
+	return vis_bands_take(r, scratch, b, NULL) < 0 ? -1 : 0;
 }
 
 long vis_bands_take(struct vis_bands *r, struct vis_bands *scratch, pixman_box32_t b,
@@ -419,28 +357,20 @@ long vis_bands_take(struct vis_bands *r, struct vis_bands *scratch, pixman_box32
 {
 	if (!vis_bands_meet(r, b))
 		return 0;
-	size_t n = r->n;
+	size_t n = r->n, parts = 0;
 	if (covers(b, r)) {
-		memcpy(out, r->boxes, n * sizeof *out);
-		r->n = 0;
+		if (out)
+			memcpy(out, r->boxes, n * sizeof *out);
+		r->n = 0; /* the common end of a walk */
 		r->ext = (pixman_box32_t){ 0 };
 		return (long)n;
 	}
 	if (n == 1) {
-		out[0] = vis_pbox_and(r->boxes[0], b);
+		if (out)
+			out[0] = vis_pbox_and(r->boxes[0], b);
 		return box_less(r, b) < 0 ? -1 : 1;
 	}
-	long parts;
-	if (n <= SMALL) {
-		if ((parts = rewrite_less(r, scratch, b, out)) <= 0)
-			return parts; /* no pixel taken: r is as it was */
-	} else if ((parts = (long)vis_bands_clip(r, b, out)) == 0) {
-		return 0;
-	} else if (splice_less(r, scratch, b) < 0) {
-		return -1;
-	}
-	extents_less(r, b);
-	return parts;
+	return less(r, scratch, b, out, &parts) < 0 ? -1 : (long)parts;
 }
 
 int vis_bands_set_less(struct vis_bands *r, const pixman_box32_t *b, size_t n, pixman_box32_t h)
@@ -456,48 +386,28 @@ int vis_bands_set_less(struct vis_bands *r, const pixman_box32_t *b, size_t n, p
 		memcpy(r->boxes, b, n * sizeof *b);
 		r->n = n;
 	}
-	if (r->n) {
-		r->ext.y1 = r->boxes[0].y1;
-		r->ext.y2 = r->boxes[r->n - 1].y2;
-		columns(r);
-	}
+	extents(r);
 	return 0;
 }
 
-/* Writes the band of src starting at box i, cut to b's columns, between rows y1 and y2; returns
- * the index of the band after it. */
-static size_t put_band_cut(struct out *o, const struct vis_bands *src, size_t i, int32_t y1,
-			   int32_t y2, pixman_box32_t b)
+/* Writes the boxes of src ∩ b to o, banded and coalesced (at most src->n), b meeting src;
+ * returns how many. */
+static size_t clip_into(pixman_box32_t *o, const struct vis_bands *src, pixman_box32_t b)
 {
-	size_t start = o->r->n;
-	for (int32_t band = src->boxes[i].y1; i < src->n && src->boxes[i].y1 == band; i++) {
-		int32_t x1 = src->boxes[i].x1 > b.x1 ? src->boxes[i].x1 : b.x1;
-		int32_t x2 = src->boxes[i].x2 < b.x2 ? src->boxes[i].x2 : b.x2;
-		if (x1 < x2)
-			put(o->r, x1, y1, x2, y2);
-	}
-	band_end(o, start);
-	return i;
-}
-
-/* Writes src ∩ b to dst's boxes, which have room for src->n, b meeting src, and sets its extents
- * if ext. */
-static void clip_into(struct vis_bands *dst, const struct vis_bands *src, pixman_box32_t b,
-		      bool ext)
-{
-	struct out o = { dst, 0 };
-	dst->n = 0;
+	size_t k = 0, last = 0;
 	for (size_t i = first_below(src, b.y1); i < src->n && src->boxes[i].y1 < b.y2;) {
 		int32_t y1 = src->boxes[i].y1 > b.y1 ? src->boxes[i].y1 : b.y1;
 		int32_t y2 = src->boxes[i].y2 < b.y2 ? src->boxes[i].y2 : b.y2;
-		i = put_band_cut(&o, src, i, y1, y2, b);
+		size_t start = k;
+		for (int32_t band = src->boxes[i].y1; i < src->n && src->boxes[i].y1 == band; i++) {
+			int32_t x1 = src->boxes[i].x1 > b.x1 ? src->boxes[i].x1 : b.x1;
+			int32_t x2 = src->boxes[i].x2 < b.x2 ? src->boxes[i].x2 : b.x2;
+			if (x1 < x2)
+				o[k++] = (pixman_box32_t){ x1, y1, x2, y2 };
+		}
+		k = close_band(o, &last, start, k);
 	}
-	dst->ext = (pixman_box32_t){ 0 };
-	if (ext && dst->n) {
-		dst->ext.y1 = dst->boxes[0].y1;
-		dst->ext.y2 = dst->boxes[dst->n - 1].y2;
-		columns(dst);
-	}
+	return k;
 }
 
 int vis_bands_intersect(struct vis_bands *dst, const struct vis_bands *src, pixman_box32_t b)
@@ -513,7 +423,8 @@ int vis_bands_intersect(struct vis_bands *dst, const struct vis_bands *src, pixm
 		return vis_bands_copy(dst, src);
 	if (reserve(dst, src->n) < 0)
 		return -1;
-	clip_into(dst, src, b, true);
+	dst->n = clip_into(dst->boxes, src, b);
+	extents(dst);
 	return 0;
 }
 
@@ -548,7 +459,5 @@ size_t vis_bands_clip(const struct vis_bands *r, pixman_box32_t b, pixman_box32_
 		memcpy(out, r->boxes, r->n * sizeof *out);
 		return r->n;
 	}
-	struct vis_bands view = { out, 0, r->n, { 0 } };
-	clip_into(&view, r, b, false);
-	return view.n;
+	return clip_into(out, r, b);
 }
