@@ -1,9 +1,10 @@
 /*
  * Unit tests of the banded regions (src/bands.h) against pixman's: boxes taken off a box one after
- * another (every other one with its part written out), on small grids where they share edges, cover each other exactly and take all that is
- * left, and near the 32-bit limits; after each, the same pixels as pixman's region, the
- * invariants (bands sorted, disjoint, coalesced; exact extents), and the areas, clips and
- * intersections of random boxes, and clips less another box.
+ * another (every other one with its part written out), on small grids where they share edges,
+ * cover each other exactly and take all that is left, on fine ones where the regions grow past
+ * those written again whole, and near the 32-bit limits; after each, the same pixels as pixman's
+ * region, the invariants (bands sorted, disjoint, coalesced; exact extents), and the areas,
+ * clips and intersections of random boxes, and clips less another box.
  */
 #include <stdbool.h>
 #include <stdio.h>
@@ -152,7 +153,8 @@ static void run(struct vis_rng *rng, int64_t origin, int64_t side, int64_t step,
 			CHECK(well_formed(&copy));
 			pixman_region32_t want, hr;
 			pixman_region32_init(&want);
-			pixman_region32_intersect_rect(&want, &p, c.x1, c.y1, (unsigned)(c.x2 - c.x1),
+			pixman_region32_intersect_rect(&want, &p, c.x1, c.y1,
+						       (unsigned)(c.x2 - c.x1),
 						       (unsigned)(c.y2 - c.y1));
 			pixman_region32_init_rect(&hr, h.x1, h.y1, (unsigned)(h.x2 - h.x1),
 						  (unsigned)(h.y2 - h.y1));
